@@ -1,0 +1,91 @@
+// What a world asks of its compute backend. One implementation, Solver<Exec> (solver.h), runs
+// the same passes on either executor: CpuExec (OpenMP) or CudaExec (one stream per world).
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "../core/params.h"
+#include "pbf_c_api.h"
+
+namespace pbf {
+
+// A result code with its message; ok() when code == PBF_OK.
+struct Status {
+    pbf_result code = PBF_OK;
+    std::string message;
+    bool ok() const { return code == PBF_OK; }
+    static Status error(pbf_result c, std::string m) { return Status{c, std::move(m)}; }
+};
+
+struct NozzleEmission {
+    uint32_t count;         // particles this substep
+    uint32_t sequence;      // running spiral index
+    uint32_t disc_points;
+    Vec3 center, direction, tangent, bitangent;
+    float radius, speed;
+};
+
+struct DrainBox {
+    Vec3 box_min, box_max;
+};
+
+// Everything one substep needs; built by the world on the host.
+struct SubstepInput {
+    SimConstants constants;
+    ColliderSet colliders;
+    std::vector<NozzleEmission> nozzles;
+    std::vector<DrainBox> drains;
+    uint32_t iterations = 1;
+};
+
+struct BlockEmission {
+    Vec3 origin;  // first particle centre
+    float spacing;
+    uint32_t nx, ny, nz;
+    Vec3 velocity;
+};
+
+struct StatsReadback {
+    uint32_t count = 0;
+    uint64_t emitted_total = 0, drained_total = 0;
+    double error_sum = 0.0, kinetic_energy = 0.0;
+    float error_max = 0.0f;
+};
+
+struct BackendConfig {
+    uint32_t capacity;
+    GridDims grid;
+    int32_t cuda_device;
+};
+
+class Backend {
+public:
+    virtual ~Backend() = default;
+    virtual pbf_backend kind() const = 0;
+    virtual std::string device_name() const = 0;
+    virtual uint64_t device_bytes() const = 0;
+
+    // Queues the substeps of one pbf_world_step; on CUDA, returns without waiting.
+    virtual Status step(const std::vector<SubstepInput>& substeps) = 0;
+    // Emits a lattice block (waits for the device); *emitted = particles that fitted.
+    virtual Status emit_block(const BlockEmission& block, const SimConstants& constants, uint32_t* emitted) = 0;
+    virtual Status particle_count(uint32_t* count) = 0;
+    // Copy-out in storage order. what: 0 positions, 1 velocities.
+    virtual Status copy_vec4(int what, float* out, uint32_t max_count, uint32_t* written) = 0;
+    virtual Status copy_ids(uint32_t* out, uint32_t max_count, uint32_t* written) = 0;
+    // Densities at the current positions, then sums over particles (waits for the device).
+    virtual Status read_stats(const SimConstants& constants, StatsReadback* out) = 0;
+    // Milliseconds the last step took on the backend (waits for it).
+    virtual Status last_step_ms(float* ms) = 0;
+    virtual Status map_positions(void** data, uint32_t* count) = 0;
+};
+
+// Factories; each returns null and sets *status on failure.
+std::unique_ptr<Backend> create_cpu_backend(const BackendConfig& config, Status* status);
+std::unique_ptr<Backend> create_cuda_backend(const BackendConfig& config, Status* status);
+// Whether a CUDA device is usable (false in CPU-only builds).
+bool cuda_device_available(int32_t device);
+
+}  // namespace pbf

@@ -1,0 +1,93 @@
+#include <unistd.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <new>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "../solver/solver.h"
+#include "cpu_exec.h"
+
+namespace pbf {
+
+Status CpuExec::init(uint32_t, uint32_t num_cells) {
+    // Refuse worlds that would not fit in physical memory rather than let the OS kill the
+    // process later when the pages are touched.
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+    byte_limit_ = (pages > 0 && page > 0) ? uint64_t(pages) * uint64_t(page) / 4 * 3 : UINT64_MAX;
+    histogram_.assign(size_t(num_cells) + 2, 0);
+    return Status{};
+}
+
+std::string CpuExec::device_name() const {
+#ifdef _OPENMP
+    return "CPU (" + std::to_string(omp_get_max_threads()) + " threads)";
+#else
+    return "CPU (1 thread)";
+#endif
+}
+
+void* CpuExec::alloc_bytes(size_t bytes) {
+    if (bytes_ + bytes > byte_limit_) {
+        last_error_ = "host memory limit (3/4 of physical memory) exceeded";
+        return nullptr;
+    }
+    void* p = ::operator new(bytes == 0 ? 16 : bytes, std::align_val_t(64), std::nothrow);
+    if (!p) {
+        last_error_ = "host allocation of " + std::to_string(bytes) + " bytes failed";
+        return nullptr;
+    }
+    bytes_ += bytes;
+    return p;
+}
+
+void CpuExec::release(void* p) {
+    if (p) ::operator delete(p, std::align_val_t(64));
+}
+
+void CpuExec::zero(void* p, size_t bytes) { std::memset(p, 0, bytes); }
+void CpuExec::download(void* dst, const void* src, size_t bytes) {
+    if (bytes) std::memcpy(dst, src, bytes);
+}
+
+void CpuExec::sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
+                         int* value_sel) {
+    std::fill(histogram_.begin(), histogram_.end(), 0u);
+    for (uint32_t i = 0; i < n; ++i) ++histogram_[keys[0][i] + 1];
+    for (size_t c = 1; c < histogram_.size(); ++c) histogram_[c] += histogram_[c - 1];
+    (void)max_key;
+    for (uint32_t i = 0; i < n; ++i) {
+        const uint32_t dst = histogram_[keys[0][i]]++;
+        keys[1][dst] = keys[0][i];
+        values[1][dst] = values[0][i];
+    }
+    *key_sel = *value_sel = 1;
+}
+
+void CpuExec::reduce_stats(const SimConstants& s, const float* density, const Vec4* velocities, uint32_t n,
+                           StatsReadback* out) {
+    double error_sum = 0.0, ke = 0.0;
+    float error_max = 0.0f;
+    const int64_t count = n;
+#pragma omp parallel for reduction(+ : error_sum, ke) reduction(max : error_max) if (count > 2048)
+    for (int64_t i = 0; i < count; ++i) {
+        const ParticleStats ps = particle_stats(s, density[i], velocities[i]);
+        error_sum += ps.compressive_error;
+        ke += ps.kinetic_energy;
+        error_max = fmaxf(error_max, ps.compressive_error);
+    }
+    out->error_sum = error_sum;
+    out->kinetic_energy = ke;
+    out->error_max = error_max;
+}
+
+std::unique_ptr<Backend> create_cpu_backend(const BackendConfig& config, Status* status) {
+    auto solver = std::make_unique<Solver<CpuExec>>();
+    *status = solver->init(config);
+    if (!status->ok()) return nullptr;
+    return solver;
+}
+
+}  // namespace pbf

@@ -1,0 +1,59 @@
+// CPU executor: the same ops as the GPU, run by an OpenMP parallel loop over particles.
+#pragma once
+#include <chrono>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "../core/passes.h"
+#include "backend.h"
+
+namespace pbf {
+
+class CpuExec {
+public:
+    static constexpr pbf_backend kKind = PBF_BACKEND_CPU;
+
+    Status init(uint32_t capacity, uint32_t num_cells);
+    void activate() {}
+    std::string device_name() const;
+    std::string last_error_text() const { return last_error_; }
+    uint64_t allocated_bytes() const { return bytes_; }
+
+    template <class T>
+    T* alloc(size_t count) {
+        return static_cast<T*>(alloc_bytes(count * sizeof(T)));
+    }
+    void release(void* p);
+    void zero(void* p, size_t bytes);
+    void download(void* dst, const void* src, size_t bytes);
+
+    template <class Op>
+    void for_each(uint32_t n, const Op& op) {
+        const int64_t count = n;
+#pragma omp parallel for schedule(static) if (count > 2048)
+        for (int64_t i = 0; i < count; ++i) op(static_cast<uint32_t>(i));
+    }
+
+    // Stable counting sort of (key, value) pairs, keys in 0..max_key; result in buffers [1].
+    void sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
+                    int* value_sel);
+    void reduce_stats(const SimConstants& s, const float* density, const Vec4* velocities, uint32_t n,
+                      StatsReadback* out);
+
+    void timer_begin() { t0_ = std::chrono::steady_clock::now(); }
+    void timer_end() { last_ms_ = std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0_).count(); }
+    float timer_ms() const { return last_ms_; }
+    Status check(const char*) const { return Status{}; }
+
+private:
+    void* alloc_bytes(size_t bytes);
+    uint64_t bytes_ = 0;
+    uint64_t byte_limit_ = 0;
+    std::vector<uint32_t> histogram_;
+    std::string last_error_;
+    std::chrono::steady_clock::time_point t0_{};
+    float last_ms_ = 0.0f;
+};
+
+}  // namespace pbf

@@ -1,0 +1,156 @@
+#include <cub/block/block_reduce.cuh>
+#include <cub/device/device_radix_sort.cuh>
+
+#include <algorithm>
+#include <cstring>
+
+#include "../solver/solver.h"
+#include "cuda_exec.cuh"
+
+namespace pbf {
+
+CudaExec::~CudaExec() {
+    if (sort_temp_) cudaFree(sort_temp_);
+    if (reduce_out_) cudaFree(reduce_out_);
+    if (start_) cudaEventDestroy(start_);
+    if (stop_) cudaEventDestroy(stop_);
+    if (stream_) cudaStreamDestroy(stream_);
+}
+
+Status CudaExec::init(uint32_t capacity, uint32_t num_cells) {
+    if (!cuda_device_available(device_))
+        return Status::error(PBF_ERROR_BACKEND_UNAVAILABLE, "no usable CUDA device " + std::to_string(device_));
+    record(cudaSetDevice(device_));
+    cudaDeviceProp prop{};
+    record(cudaGetDeviceProperties(&prop, device_));
+    name_ = prop.name;
+    record(cudaStreamCreateWithFlags(&stream_, cudaStreamNonBlocking));
+    record(cudaEventCreate(&start_));
+    record(cudaEventCreate(&stop_));
+    // Temporary storage for the largest sort this world can run, allocated once.
+    cub::DoubleBuffer<uint32_t> k(nullptr, nullptr), v(nullptr, nullptr);
+    record(cub::DeviceRadixSort::SortPairs(nullptr, sort_temp_bytes_, k, v, int(capacity), 0, 32, stream_));
+    sort_temp_ = alloc_bytes(sort_temp_bytes_ + 16);
+    reduce_out_ = static_cast<double*>(alloc_bytes(3 * sizeof(double)));
+    (void)num_cells;
+    return check("CUDA initialisation");
+}
+
+void* CudaExec::alloc_bytes(size_t bytes) {
+    void* p = nullptr;
+    const cudaError_t e = cudaMalloc(&p, bytes == 0 ? 16 : bytes);
+    if (e != cudaSuccess) {
+        // Out of memory is reported by the caller; clear it so the context stays usable.
+        (void)cudaGetLastError();
+        if (first_error_ == cudaSuccess) first_error_ = e;
+        return nullptr;
+    }
+    bytes_ += bytes;
+    return p;
+}
+
+void CudaExec::release(void* p) {
+    if (p) cudaFree(p);
+}
+
+void CudaExec::download(void* dst, const void* src, size_t bytes) {
+    if (bytes) record(cudaMemcpyAsync(dst, src, bytes, cudaMemcpyDeviceToHost, stream_));
+    record(cudaStreamSynchronize(stream_));
+}
+
+static int bits_for(uint32_t max_key) {
+    int bits = 1;
+    while (bits < 32 && (uint64_t(1) << bits) <= max_key) ++bits;
+    return bits;
+}
+
+void CudaExec::sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
+                          int* value_sel) {
+    cub::DoubleBuffer<uint32_t> k(keys[0], keys[1]), v(values[0], values[1]);
+    if (n > 0) {
+        size_t bytes = sort_temp_bytes_;
+        record(cub::DeviceRadixSort::SortPairs(sort_temp_, bytes, k, v, int(n), 0, bits_for(max_key), stream_));
+    }
+    *key_sel = k.selector;
+    *value_sel = v.selector;
+}
+
+namespace {
+constexpr int kReduceBlock = 256;
+__global__ void reduce_stats_kernel(SimConstants s, const float* density, const Vec4* velocities, uint32_t n,
+                                    double* out) {
+    double err = 0.0, ke = 0.0;
+    float max_err = 0.0f;
+    for (uint32_t i = blockIdx.x * blockDim.x + threadIdx.x; i < n; i += gridDim.x * blockDim.x) {
+        const ParticleStats ps = particle_stats(s, density[i], velocities[i]);
+        err += ps.compressive_error;
+        ke += ps.kinetic_energy;
+        max_err = fmaxf(max_err, ps.compressive_error);
+    }
+    using Reduce = cub::BlockReduce<double, kReduceBlock>;
+    using ReduceF = cub::BlockReduce<float, kReduceBlock>;
+    __shared__ typename Reduce::TempStorage t0;
+    __shared__ typename Reduce::TempStorage t1;
+    __shared__ typename ReduceF::TempStorage t2;
+    const double block_err = Reduce(t0).Sum(err);
+    const double block_ke = Reduce(t1).Sum(ke);
+    const float block_max = ReduceF(t2).Reduce(max_err, [](float a, float b) { return fmaxf(a, b); });
+    if (threadIdx.x == 0) {
+        atomicAdd(&out[0], block_err);
+        atomicAdd(&out[1], block_ke);
+        // Non-negative floats order like their bit patterns.
+        atomicMax(reinterpret_cast<unsigned int*>(&out[2]), __float_as_uint(block_max));
+    }
+}
+}  // namespace
+
+void CudaExec::reduce_stats(const SimConstants& s, const float* density, const Vec4* velocities, uint32_t n,
+                            StatsReadback* out) {
+    record(cudaMemsetAsync(reduce_out_, 0, 3 * sizeof(double), stream_));
+    if (n > 0) {
+        const uint32_t blocks = std::min<uint32_t>((n + kReduceBlock - 1) / kReduceBlock, 1024);
+        reduce_stats_kernel<<<blocks, kReduceBlock, 0, stream_>>>(s, density, velocities, n, reduce_out_);
+        record(cudaGetLastError());
+    }
+    double host[3] = {0, 0, 0};
+    download(host, reduce_out_, sizeof host);
+    out->error_sum = host[0];
+    out->kinetic_energy = host[1];
+    float max_err;
+    std::memcpy(&max_err, &host[2], sizeof(float));
+    out->error_max = max_err;
+}
+
+float CudaExec::timer_ms() {
+    if (!timed_) return 0.0f;
+    record(cudaEventSynchronize(stop_));
+    float ms = 0.0f;
+    record(cudaEventElapsedTime(&ms, start_, stop_));
+    return ms;
+}
+
+Status CudaExec::check(const char* what) const {
+    if (first_error_ == cudaSuccess) return Status{};
+    const pbf_result code =
+        first_error_ == cudaErrorMemoryAllocation ? PBF_ERROR_OUT_OF_MEMORY : PBF_ERROR_BACKEND;
+    return Status::error(code, std::string(what) + ": CUDA error " + cudaGetErrorName(first_error_) + " (" +
+                                   cudaGetErrorString(first_error_) + ")");
+}
+
+bool cuda_device_available(int32_t device) {
+    int count = 0;
+    if (cudaGetDeviceCount(&count) != cudaSuccess) {
+        (void)cudaGetLastError();
+        return false;
+    }
+    return device >= 0 && device < count;
+}
+
+std::unique_ptr<Backend> create_cuda_backend(const BackendConfig& config, Status* status) {
+    auto solver = std::make_unique<Solver<CudaExec>>(config.cuda_device);
+    *status = solver->init(config);
+    if (!status->ok()) return nullptr;
+    return solver;
+}
+
+}  // namespace pbf

@@ -1,0 +1,80 @@
+// CUDA executor: one stream per world, every buffer allocated at creation, kernels launched
+// asynchronously; errors are recorded (first one wins) and returned, never fatal.
+#pragma once
+#include <cuda_runtime.h>
+
+#include <string>
+
+#include "../core/passes.h"
+#include "backend.h"
+
+namespace pbf {
+
+template <class Op>
+__global__ void for_each_kernel(uint32_t n, Op op) {
+    const uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i < n) op(i);
+}
+
+class CudaExec {
+public:
+    static constexpr pbf_backend kKind = PBF_BACKEND_CUDA;
+    static constexpr int kBlock = 256;
+
+    explicit CudaExec(int device = 0) : device_(device) {}
+    ~CudaExec();
+    void set_device(int device) { device_ = device; }
+
+    Status init(uint32_t capacity, uint32_t num_cells);
+    void activate() { record(cudaSetDevice(device_)); }
+    std::string device_name() const { return name_; }
+    std::string last_error_text() const { return cudaGetErrorString(first_error_); }
+    uint64_t allocated_bytes() const { return bytes_; }
+    cudaStream_t stream() const { return stream_; }
+
+    template <class T>
+    T* alloc(size_t count) {
+        return static_cast<T*>(alloc_bytes(count * sizeof(T)));
+    }
+    void release(void* p);
+    void zero(void* p, size_t bytes) { record(cudaMemsetAsync(p, 0, bytes, stream_)); }
+    void download(void* dst, const void* src, size_t bytes);
+
+    template <class Op>
+    void for_each(uint32_t n, const Op& op) {
+        if (n == 0) return;
+        for_each_kernel<<<(n + kBlock - 1) / kBlock, kBlock, 0, stream_>>>(n, op);
+        record(cudaGetLastError());
+    }
+
+    void sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
+                    int* value_sel);
+    void reduce_stats(const SimConstants& s, const float* density, const Vec4* velocities, uint32_t n,
+                      StatsReadback* out);
+
+    void timer_begin() { record(cudaEventRecord(start_, stream_)); }
+    void timer_end() {
+        record(cudaEventRecord(stop_, stream_));
+        timed_ = true;
+    }
+    float timer_ms();
+    Status check(const char* what) const;
+
+private:
+    void* alloc_bytes(size_t bytes);
+    void record(cudaError_t e) {
+        if (e != cudaSuccess && first_error_ == cudaSuccess) first_error_ = e;
+    }
+    int device_ = 0;
+    cudaStream_t stream_ = nullptr;
+    cudaEvent_t start_ = nullptr, stop_ = nullptr;
+    bool timed_ = false;
+    void* sort_temp_ = nullptr;
+    size_t sort_temp_bytes_ = 0;
+    double* reduce_out_ = nullptr;  // [error_sum, kinetic_energy, error_max bits]
+    uint64_t bytes_ = 0;
+    std::string name_;
+    cudaError_t first_error_ = cudaSuccess;
+};
+
+}  // namespace pbf

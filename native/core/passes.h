@@ -1,0 +1,376 @@
+// The physics, written once: each struct is one per-particle operation, called as op(i) for
+// every particle i by the CPU backend (a parallel loop) and the CUDA backend (one thread each).
+// Ops hold raw pointers into the backend's buffers and the substep's constants by value.
+#pragma once
+#include "collide.h"
+#include "grid.h"
+#include "sph.h"
+
+namespace pbf {
+
+// ---- atomics usable from both backends -------------------------------------------------------
+PBF_HD uint32_t atomic_add_u32(uint32_t* addr, uint32_t v) {
+#if defined(__CUDA_ARCH__)
+    return atomicAdd(addr, v);
+#else
+    return __atomic_fetch_add(addr, v, __ATOMIC_RELAXED);
+#endif
+}
+
+// ---- grid build ------------------------------------------------------------------------------
+// Sort key of each slot: its cell, or num_cells for dead particles and slots past the count.
+struct CellKeyOp {
+    const Vec4* positions;
+    const uint32_t* ids;
+    const uint32_t* count;
+    GridDims grid;
+    uint32_t* keys;
+    uint32_t* order;
+    PBF_HD void operator()(uint32_t i) const {
+        const bool alive = i < *count && ids[i] != kDeadId;
+        keys[i] = alive ? cell_key(grid, xyz(positions[i])) : grid.num_cells;
+        order[i] = i;
+    }
+};
+
+// After sorting over n slots: cell_begin[c] = first sorted index with key >= c, for every c in
+// 0..num_cells, and *count = cell_begin[num_cells] (dead particles are dropped here).
+struct CellBeginOp {
+    const uint32_t* sorted_keys;
+    uint32_t n;
+    uint32_t num_cells;
+    uint32_t* cell_begin;
+    uint32_t* count;
+    PBF_HD void operator()(uint32_t i) const {  // i in 0..n inclusive
+        const uint32_t prev = i == 0 ? 0u : sorted_keys[i - 1] + 1u;
+        const uint32_t cur = i == n ? num_cells : sorted_keys[i];
+        for (uint32_t c = prev; c <= cur; ++c) cell_begin[c] = i;
+        if (prev <= num_cells && num_cells <= cur) *count = i;
+    }
+};
+
+// Moves particle data into sorted order (pred may be null when only positions are binned).
+struct GatherOp {
+    const uint32_t* order;
+    const Vec4 *pos_in, *vel_in, *pred_in;
+    const uint32_t* id_in;
+    Vec4 *pos_out, *vel_out, *pred_out;
+    uint32_t* id_out;
+    PBF_HD void operator()(uint32_t i) const {
+        const uint32_t src = order[i];
+        pos_out[i] = pos_in[src];
+        vel_out[i] = vel_in[src];
+        id_out[i] = id_in[src];
+        if (pred_in) pred_out[i] = pred_in[src];
+    }
+};
+
+// ---- densities ---------------------------------------------------------------------------------
+PBF_HD float density_at(const SimConstants& s, const uint32_t* cell_begin, const Vec4* pos, Vec3 xi) {
+    float rho = 0.0f;
+    for_each_neighbor(s.grid, cell_begin, xi, [&](uint32_t j) {
+        const Vec3 d = xi - xyz(pos[j]);
+        rho += poly6(length_sq(d), s.h2, s.poly6_coef);
+    });
+    return rho * s.mass;
+}
+
+// SPH density at the current positions; also stores ρ/ρ0 in positions' w (for colouring).
+struct DensityOp {
+    SimConstants s;
+    const uint32_t* cell_begin;
+    Vec4* positions;
+    float* density;
+    PBF_HD void operator()(uint32_t i) const {
+        const float rho = density_at(s, cell_begin, positions, xyz(positions[i]));
+        density[i] = rho;
+        positions[i].w = rho * s.inv_rest_density;
+    }
+};
+
+// ---- Local Density Calibration + external forces + prediction ----------------------------------
+// Meno & Tsuruno, Eq. 1-2: f_i = -K Σ_j ((ρ_j - ρ_i)/ρ0) h (1 - r/h) n_ij, n_ij = (x_j - x_i)/r.
+// The paper prints a scalar sum; its text fixes the direction: a particle is pushed toward
+// less dense neighbours and away from denser ones. With n_ij pointing from i to j, the minus
+// sign does exactly that (a denser j, ρ_ij > 0, pushes i along -n_ij, away from j). The unit
+// test "LDC force points from denser toward less dense" pins this reading.
+PBF_HD Vec3 ldc_force(const SimConstants& s, const uint32_t* cell_begin, const Vec4* pos, const float* density,
+                      uint32_t i) {
+    const Vec3 xi = xyz(pos[i]);
+    const float rho_i = density[i];
+    Vec3 f{0.0f, 0.0f, 0.0f};
+    for_each_neighbor(s.grid, cell_begin, xi, [&](uint32_t j) {
+        const Vec3 d = xyz(pos[j]) - xi;  // from i to j
+        const float r2 = length_sq(d);
+        if (r2 >= s.h2 || r2 <= 1e-20f) return;
+        const float r = sqrtf(r2);
+        const float rho_ij = (density[j] - rho_i) * s.inv_rest_density;
+        f += d * (rho_ij * s.h * (1.0f - r / s.h) / r);
+    });
+    return f * -s.ldc_k;
+}
+
+PBF_HD Vec3 clamp_speed(Vec3 v, float max_speed) {
+    const float sp2 = length_sq(v);
+    return sp2 > max_speed * max_speed ? v * (max_speed / sqrtf(sp2)) : v;
+}
+
+// v += (g + f_ldc) Δt ; x* = x + v Δt, projected out of colliders and walls.
+struct PredictOp {
+    SimConstants s;
+    ColliderSet colliders;
+    const uint32_t* cell_begin;  // used only with LDC
+    const float* density;        // ρ at the current positions, used only with LDC
+    const Vec4* positions;
+    Vec4* velocities;
+    Vec4* predicted;
+    PBF_HD void operator()(uint32_t i) const {
+        Vec3 accel = s.gravity;
+        if (s.ldc_enabled) accel += ldc_force(s, cell_begin, positions, density, i);
+        const Vec3 x = xyz(positions[i]);
+        const Vec3 v = clamp_speed(xyz(velocities[i]) + accel * s.dt, s.max_speed);
+        velocities[i] = make_vec4(v, 0.0f);
+        predicted[i] = make_vec4(collide(s, colliders, x + v * s.dt, x), 0.0f);
+    }
+};
+
+// ---- density constraint (Macklin & Müller 2013, Eq. 1-11) --------------------------------------
+// λ_i = -C_i / (Σ_k |∇_k C_i|² + ε) with C_i = ρ_i/ρ0 - 1. The constraint is unilateral
+// (C clamped at 0): particles at the free surface are not pulled together, which with few
+// iterations otherwise causes clumping. λ is stored in predicted[i].w for the Δp pass.
+struct LambdaOp {
+    SimConstants s;
+    const uint32_t* cell_begin;
+    Vec4* predicted;
+    float* density;
+    PBF_HD void operator()(uint32_t i) const {
+        const Vec3 xi = xyz(predicted[i]);
+        float rho = 0.0f, sum_grad2 = 0.0f;
+        Vec3 grad_i{0.0f, 0.0f, 0.0f};
+        const float scale = s.mass * s.inv_rest_density;
+        for_each_neighbor(s.grid, cell_begin, xi, [&](uint32_t j) {
+            const Vec3 d = xi - xyz(predicted[j]);
+            const float r2 = length_sq(d);
+            if (r2 >= s.h2) return;
+            rho += poly6(r2, s.h2, s.poly6_coef);
+            if (j == i) return;
+            const Vec3 g = spiky_gradient(d, sqrtf(r2), s.h, s.spiky_coef) * scale;
+            grad_i += g;
+            sum_grad2 += length_sq(g);
+        });
+        rho *= s.mass;
+        density[i] = rho;
+        const float c = fmaxf(rho * s.inv_rest_density - 1.0f, 0.0f);
+        sum_grad2 += length_sq(grad_i);
+        predicted[i].w = -c / (sum_grad2 + s.lambda_epsilon);
+    }
+};
+
+// Δp_i = (1/ρ0) Σ_j (λ_i + λ_j + s_corr) ∇W(x_i - x_j), s_corr = -k (W(r)/W(Δq))^n; Jacobi:
+// reads predicted, writes the corrected, collided position to corrected.
+struct DeltaOp {
+    SimConstants s;
+    ColliderSet colliders;
+    const uint32_t* cell_begin;
+    const Vec4* positions;  // x at the start of the substep (for friction)
+    const Vec4* predicted;
+    Vec4* corrected;
+    PBF_HD void operator()(uint32_t i) const {
+        const Vec4 pi = predicted[i];
+        const Vec3 xi = xyz(pi);
+        const float lambda_i = pi.w;
+        Vec3 dp{0.0f, 0.0f, 0.0f};
+        for_each_neighbor(s.grid, cell_begin, xi, [&](uint32_t j) {
+            if (j == i) return;
+            const Vec4 pj = predicted[j];
+            const Vec3 d = xi - xyz(pj);
+            const float r2 = length_sq(d);
+            if (r2 >= s.h2) return;
+            const float ratio = poly6(r2, s.h2, s.poly6_coef) * s.scorr_inv_w_dq;
+            const float scorr = -s.scorr_k * powf(ratio, s.scorr_n);
+            dp += spiky_gradient(d, sqrtf(r2), s.h, s.spiky_coef) * (lambda_i + pj.w + scorr);
+        });
+        dp = dp * (s.mass * s.inv_rest_density);
+        corrected[i] = make_vec4(collide(s, colliders, xi + dp, xyz(positions[i])), lambda_i);
+    }
+};
+
+// ---- velocity update, vorticity confinement, XSPH ---------------------------------------------
+// v = (x* - x)/Δt ; x = x* (w of positions carries ρ/ρ0 from the last λ pass).
+struct VelocityUpdateOp {
+    SimConstants s;
+    const Vec4* predicted;
+    const float* density;
+    Vec4* positions;
+    Vec4* velocities;
+    PBF_HD void operator()(uint32_t i) const {
+        const Vec3 x_new = xyz(predicted[i]);
+        const Vec3 v = clamp_speed((x_new - xyz(positions[i])) * s.inv_dt, s.max_speed);
+        velocities[i] = make_vec4(v, 0.0f);
+        positions[i] = make_vec4(x_new, density[i] * s.inv_rest_density);
+    }
+};
+
+// ω_i = Σ_j (m/ρ_j) v_ij × ∇_j W_ij, v_ij = v_j - v_i (Macklin & Müller Eq. 15).
+struct VorticityOp {
+    SimConstants s;
+    const uint32_t* cell_begin;
+    const Vec4* positions;
+    const Vec4* velocities;
+    Vec4* omega;
+    PBF_HD void operator()(uint32_t i) const {
+        const Vec3 xi = xyz(positions[i]);
+        const Vec3 vi = xyz(velocities[i]);
+        Vec3 w{0.0f, 0.0f, 0.0f};
+        for_each_neighbor(s.grid, cell_begin, xi, [&](uint32_t j) {
+            if (j == i) return;
+            const Vec4 pj = positions[j];
+            const Vec3 d = xi - xyz(pj);
+            const float r2 = length_sq(d);
+            if (r2 >= s.h2) return;
+            const float vol = s.mass / fmaxf(pj.w * s.rest_density, 1e-6f * s.rest_density);
+            // ∇_j W(x_i - x_j) = -∇_i W(x_i - x_j)
+            const Vec3 grad_j = -spiky_gradient(d, sqrtf(r2), s.h, s.spiky_coef);
+            w += cross(xyz(velocities[j]) - vi, grad_j) * vol;
+        });
+        omega[i] = make_vec4(w, length(w));
+    }
+};
+
+// f_vort = ε (N × ω), N = η/|η|, η = ∇|ω| (Eq. 16); then XSPH: v += c Σ_j (m/ρ_j) v_ij W_ij (Eq. 17).
+struct VorticityXsphOp {
+    SimConstants s;
+    const uint32_t* cell_begin;
+    const Vec4* positions;
+    const Vec4* velocities;
+    const Vec4* omega;
+    Vec4* velocities_out;
+    PBF_HD void operator()(uint32_t i) const {
+        const Vec3 xi = xyz(positions[i]);
+        const Vec3 vi = xyz(velocities[i]);
+        const float wi = omega[i].w;
+        Vec3 eta{0.0f, 0.0f, 0.0f}, xsph{0.0f, 0.0f, 0.0f};
+        for_each_neighbor(s.grid, cell_begin, xi, [&](uint32_t j) {
+            if (j == i) return;
+            const Vec4 pj = positions[j];
+            const Vec3 d = xi - xyz(pj);
+            const float r2 = length_sq(d);
+            if (r2 >= s.h2) return;
+            const float vol = s.mass / fmaxf(pj.w * s.rest_density, 1e-6f * s.rest_density);
+            eta += spiky_gradient(d, sqrtf(r2), s.h, s.spiky_coef) * ((omega[j].w - wi) * vol);
+            xsph += (xyz(velocities[j]) - vi) * (poly6(r2, s.h2, s.poly6_coef) * vol);
+        });
+        Vec3 v = vi + xsph * s.xsph_c;
+        const float eta_len = length(eta);
+        if (s.vorticity_epsilon > 0.0f && eta_len > 1e-9f) {
+            const Vec3 n = eta * (1.0f / eta_len);
+            v += cross(n, xyz(omega[i])) * (s.vorticity_epsilon * s.dt);
+        }
+        velocities_out[i] = make_vec4(clamp_speed(v, s.max_speed), 0.0f);
+    }
+};
+
+// ---- emission and drains -------------------------------------------------------------------
+// Fills slots count..count+n-1 (as far as capacity allows) with a lattice block.
+struct EmitBlockOp {
+    const uint32_t* count;
+    const uint32_t* next_id;
+    uint32_t capacity;
+    Vec3 origin;       // centre of the first particle
+    float spacing;
+    uint32_t nx, ny;   // lattice extent in x and y (z follows)
+    Vec3 velocity;
+    Vec4 *positions, *velocities;
+    uint32_t* ids;
+    PBF_HD void operator()(uint32_t k) const {
+        const uint32_t slot = *count + k;
+        if (slot >= capacity) return;
+        const uint32_t ix = k % nx, iy = (k / nx) % ny, iz = k / (nx * ny);
+        positions[slot] = make_vec4(origin + Vec3{ix * spacing, iy * spacing, iz * spacing}, 1.0f);
+        velocities[slot] = make_vec4(velocity, 0.0f);
+        ids[slot] = *next_id + k;
+    }
+};
+
+// Nozzle: n particles spread over a disc by a golden-angle spiral, and along the direction by
+// how far they would have travelled since their emission time within the substep.
+struct EmitNozzleOp {
+    const uint32_t* count;
+    const uint32_t* next_id;
+    uint32_t capacity;
+    uint32_t n;              // particles this substep
+    uint32_t sequence;       // running index for the spiral, so successive substeps interleave
+    uint32_t disc_points;    // spiral points that fill the disc at rest spacing
+    Vec3 center, direction, tangent, bitangent;
+    float radius, speed, dt;
+    Vec4 *positions, *velocities;
+    uint32_t* ids;
+    PBF_HD void operator()(uint32_t k) const {
+        const uint32_t slot = *count + k;
+        if (slot >= capacity) return;
+        const uint32_t m = (sequence + k) % disc_points;
+        const float r = radius * sqrtf((m + 0.5f) / static_cast<float>(disc_points));
+        const float angle = 2.39996323f * static_cast<float>(m);  // golden angle
+        const float travelled = speed * dt * (1.0f - (k + 0.5f) / static_cast<float>(n));
+        const Vec3 p = center + tangent * (r * cosf(angle)) + bitangent * (r * sinf(angle)) + direction * travelled;
+        positions[slot] = make_vec4(p, 1.0f);
+        velocities[slot] = make_vec4(direction * speed, 0.0f);
+        ids[slot] = *next_id + k;
+    }
+};
+
+// Run as one thread after an emission of `requested` particles: advances count and ids.
+struct CommitEmissionOp {
+    uint32_t* count;
+    uint32_t* next_id;
+    unsigned long long* emitted_total;
+    uint32_t capacity;
+    uint32_t requested;
+    PBF_HD void operator()(uint32_t) const {
+        const uint32_t room = capacity - *count;
+        const uint32_t added = requested < room ? requested : room;
+        *count += added;
+        *next_id += added;
+        *emitted_total += added;
+    }
+};
+
+// Marks particles inside the box as dead; the next grid build drops them.
+struct DrainOp {
+    const uint32_t* count;
+    const Vec4* positions;
+    Vec3 box_min, box_max;
+    uint32_t* ids;
+    uint32_t* drained;
+    PBF_HD void operator()(uint32_t i) const {
+        if (i >= *count || ids[i] == kDeadId) return;
+        const Vec3 p = xyz(positions[i]);
+        if (p.x < box_min.x || p.y < box_min.y || p.z < box_min.z || p.x > box_max.x || p.y > box_max.y ||
+            p.z > box_max.z)
+            return;
+        ids[i] = kDeadId;
+        atomic_add_u32(drained, 1u);
+    }
+};
+
+// Run as one thread after drains: folds the step's drained count into the total.
+struct CommitDrainOp {
+    uint32_t* drained;
+    unsigned long long* drained_total;
+    PBF_HD void operator()(uint32_t) const {
+        *drained_total += *drained;
+        *drained = 0;
+    }
+};
+
+// ---- statistics --------------------------------------------------------------------------------
+struct ParticleStats {
+    float compressive_error;  // max(ρ/ρ0 - 1, 0)
+    float kinetic_energy;     // ½ m v²
+};
+PBF_HD ParticleStats particle_stats(const SimConstants& s, float density, Vec4 velocity) {
+    return ParticleStats{fmaxf(density * s.inv_rest_density - 1.0f, 0.0f),
+                         0.5f * s.mass * length_sq(xyz(velocity))};
+}
+
+}  // namespace pbf

@@ -1,0 +1,36 @@
+// SPH smoothing kernels of Müller et al. 2003 as used by Macklin & Müller 2013 (PBF):
+// poly6 for densities, the spiky gradient for constraint gradients.
+#pragma once
+#include "vec.h"
+
+namespace pbf {
+
+constexpr float kPi = 3.14159265358979323846f;
+
+PBF_HD float poly6_coefficient(float h) { return 315.0f / (64.0f * kPi * powf(h, 9.0f)); }
+// Magnitude coefficient of ∇W_spiky: ∇W = -spiky_grad_coefficient · (h - r)² · r̂.
+PBF_HD float spiky_grad_coefficient(float h) { return 45.0f / (kPi * powf(h, 6.0f)); }
+
+// W_poly6(r) from r² (avoids a square root in the hot density loop); 0 outside h.
+PBF_HD float poly6(float r2, float h2, float coefficient) {
+    if (r2 >= h2) return 0.0f;
+    const float d = h2 - r2;
+    return coefficient * d * d * d;
+}
+
+// ∇_i W_spiky(x_i - x_j) for d = x_i - x_j at distance r (0 < r < h): points from i toward j
+// (towards the neighbour), scaled by the kernel slope.
+PBF_HD Vec3 spiky_gradient(Vec3 d, float r, float h, float coefficient) {
+    if (r <= 1e-12f || r >= h) return Vec3{0.0f, 0.0f, 0.0f};
+    const float t = h - r;
+    return d * (-coefficient * t * t / r);
+}
+
+// The spiky kernel itself (for the normalisation test): 15/(π h⁶) (h - r)³.
+PBF_HD float spiky(float r, float h) {
+    if (r >= h) return 0.0f;
+    const float t = h - r;
+    return 15.0f / (kPi * powf(h, 6.0f)) * t * t * t;
+}
+
+}  // namespace pbf

@@ -1,0 +1,58 @@
+// Small vector types shared by host and device code. Plain structs (no CUDA headers) so the
+// same physics compiles with g++ for the CPU backend and nvcc for the CUDA backend.
+#pragma once
+#include <cmath>
+#include <cstdint>
+
+#if defined(__CUDACC__)
+#define PBF_HD __host__ __device__ __forceinline__
+#else
+#define PBF_HD inline
+#endif
+
+namespace pbf {
+
+struct Vec3 {
+    float x, y, z;
+};
+
+// 16-byte aligned so the device loads and stores it with one 128-bit access.
+struct alignas(16) Vec4 {
+    float x, y, z, w;
+};
+
+PBF_HD Vec3 make_vec3(float x, float y, float z) { return Vec3{x, y, z}; }
+PBF_HD Vec3 xyz(const Vec4& v) { return Vec3{v.x, v.y, v.z}; }
+PBF_HD Vec4 make_vec4(const Vec3& v, float w) { return Vec4{v.x, v.y, v.z, w}; }
+
+PBF_HD Vec3 operator+(Vec3 a, Vec3 b) { return Vec3{a.x + b.x, a.y + b.y, a.z + b.z}; }
+PBF_HD Vec3 operator-(Vec3 a, Vec3 b) { return Vec3{a.x - b.x, a.y - b.y, a.z - b.z}; }
+PBF_HD Vec3 operator-(Vec3 a) { return Vec3{-a.x, -a.y, -a.z}; }
+PBF_HD Vec3 operator*(Vec3 a, float s) { return Vec3{a.x * s, a.y * s, a.z * s}; }
+PBF_HD Vec3 operator*(float s, Vec3 a) { return Vec3{a.x * s, a.y * s, a.z * s}; }
+PBF_HD Vec3& operator+=(Vec3& a, Vec3 b) { a.x += b.x; a.y += b.y; a.z += b.z; return a; }
+PBF_HD Vec3& operator-=(Vec3& a, Vec3 b) { a.x -= b.x; a.y -= b.y; a.z -= b.z; return a; }
+PBF_HD float dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+PBF_HD Vec3 cross(Vec3 a, Vec3 b) {
+    return Vec3{a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+PBF_HD float length_sq(Vec3 a) { return dot(a, a); }
+PBF_HD float length(Vec3 a) { return sqrtf(dot(a, a)); }
+PBF_HD Vec3 min3(Vec3 a, Vec3 b) { return Vec3{fminf(a.x, b.x), fminf(a.y, b.y), fminf(a.z, b.z)}; }
+PBF_HD Vec3 max3(Vec3 a, Vec3 b) { return Vec3{fmaxf(a.x, b.x), fmaxf(a.y, b.y), fmaxf(a.z, b.z)}; }
+PBF_HD float clampf(float v, float lo, float hi) { return fminf(fmaxf(v, lo), hi); }
+
+// Row-major 3x3 rotation; columns are the body axes in world space.
+struct Mat3 {
+    float m[9];
+};
+PBF_HD Vec3 mul(const Mat3& r, Vec3 v) {
+    return Vec3{r.m[0] * v.x + r.m[1] * v.y + r.m[2] * v.z, r.m[3] * v.x + r.m[4] * v.y + r.m[5] * v.z,
+                r.m[6] * v.x + r.m[7] * v.y + r.m[8] * v.z};
+}
+PBF_HD Vec3 mul_transpose(const Mat3& r, Vec3 v) {
+    return Vec3{r.m[0] * v.x + r.m[3] * v.y + r.m[6] * v.z, r.m[1] * v.x + r.m[4] * v.y + r.m[7] * v.z,
+                r.m[2] * v.x + r.m[5] * v.y + r.m[8] * v.z};
+}
+
+}  // namespace pbf

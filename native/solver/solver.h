@@ -1,0 +1,282 @@
+// The step, written once: the order of passes (Meno & Tsuruno Fig. 3 on top of Macklin &
+// Müller 2013), instantiated with CpuExec in cpu_backend.cpp and with CudaExec in
+// cuda_backend.cu. Exec supplies memory, for_each(n, op), a key/value sort and reductions.
+#pragma once
+#include <algorithm>
+#include <utility>
+
+#include "../backend/backend.h"
+#include "../core/passes.h"
+
+namespace pbf {
+
+// Counters that live in backend memory so the step never reads them back.
+struct DeviceCounters {
+    uint32_t count;         // live particles in slots [0, count)
+    uint32_t next_id;
+    uint32_t drained;       // drained this step, folded into drained_total
+    uint32_t pad;
+    unsigned long long emitted_total;
+    unsigned long long drained_total;
+};
+
+template <class Exec>
+class Solver final : public Backend {
+public:
+    template <class... ExecArgs>
+    explicit Solver(ExecArgs&&... args) : exec_(std::forward<ExecArgs>(args)...) {}
+    ~Solver() override {
+        exec_.activate();
+        release();
+    }
+
+    Status init(const BackendConfig& config) {
+        config_ = config;
+        Status st = exec_.init(config.capacity, config.grid.num_cells);
+        if (!st.ok()) return st;
+        const size_t n = config.capacity;
+        bool ok = true;
+        auto alloc = [&](auto*& p, size_t count) {
+            using T = std::remove_pointer_t<std::remove_reference_t<decltype(p)>>;
+            p = exec_.template alloc<T>(count);
+            ok = ok && p != nullptr;
+        };
+        for (int b = 0; b < 2; ++b) {
+            alloc(pos_[b], n);
+            alloc(vel_[b], n);
+            alloc(pred_[b], n);
+            alloc(ids_[b], n);
+            alloc(keys_[b], n);
+            alloc(order_[b], n);
+        }
+        alloc(density_, n);
+        alloc(cell_begin_, size_t(config.grid.num_cells) + 1);
+        alloc(counters_, 1);
+        if (!ok) {
+            return Status::error(PBF_ERROR_OUT_OF_MEMORY,
+                                 "cannot allocate " + std::to_string(config.capacity) + " particles on " +
+                                     exec_.device_name() + ": " + exec_.last_error_text());
+        }
+        // Unused slots hold finite data so passes that touch them (they never affect live
+        // particles) compute nothing undefined; all counters start at zero.
+        for (int b = 0; b < 2; ++b) {
+            exec_.zero(pos_[b], n * sizeof(Vec4));
+            exec_.zero(vel_[b], n * sizeof(Vec4));
+            exec_.zero(pred_[b], n * sizeof(Vec4));
+            exec_.zero(ids_[b], n * sizeof(uint32_t));
+        }
+        exec_.zero(density_, n * sizeof(float));
+        exec_.zero(cell_begin_, (size_t(config.grid.num_cells) + 1) * sizeof(uint32_t));
+        exec_.zero(counters_, sizeof(DeviceCounters));
+        return exec_.check("world initialisation");
+    }
+
+    pbf_backend kind() const override { return Exec::kKind; }
+    std::string device_name() const override { return exec_.device_name(); }
+    uint64_t device_bytes() const override { return exec_.allocated_bytes(); }
+
+    Status step(const std::vector<SubstepInput>& substeps) override {
+        exec_.activate();
+        exec_.timer_begin();
+        for (const SubstepInput& in : substeps) substep(in);
+        exec_.timer_end();
+        return exec_.check("pbf_world_step");
+    }
+
+    Status emit_block(const BlockEmission& b, const SimConstants& s, uint32_t* emitted) override {
+        exec_.activate();
+        uint32_t count = 0;
+        Status st = read_count(&count);
+        if (!st.ok()) return st;
+        const uint64_t requested = uint64_t(b.nx) * b.ny * b.nz;
+        const uint32_t fit = uint32_t(std::min<uint64_t>(requested, config_.capacity - count));
+        if (fit > 0) {
+            EmitBlockOp op{&counters_->count, &counters_->next_id, config_.capacity, b.origin, b.spacing, b.nx, b.ny,
+                           b.velocity, pos_[cur_], vel_[cur_], ids_[cur_]};
+            exec_.for_each(fit, op);
+            commit_emission(fit);
+            bound_ = count + fit;
+            // Keep the grid valid between API calls (stats and LDC rely on it).
+            build_grid(s, false);
+            density_valid_ = false;
+        }
+        *emitted = fit;
+        return exec_.check("pbf_world_emit_block");
+    }
+
+    Status particle_count(uint32_t* count) override {
+        exec_.activate();
+        return read_count(count);
+    }
+
+    Status copy_vec4(int what, float* out, uint32_t max_count, uint32_t* written) override {
+        exec_.activate();
+        uint32_t count = 0;
+        Status st = read_count(&count);
+        if (!st.ok()) return st;
+        const uint32_t n = std::min(count, max_count);
+        exec_.download(out, what == 0 ? static_cast<const void*>(pos_[cur_]) : vel_[cur_], size_t(n) * sizeof(Vec4));
+        *written = n;
+        return exec_.check("copy-out");
+    }
+
+    Status copy_ids(uint32_t* out, uint32_t max_count, uint32_t* written) override {
+        exec_.activate();
+        uint32_t count = 0;
+        Status st = read_count(&count);
+        if (!st.ok()) return st;
+        const uint32_t n = std::min(count, max_count);
+        exec_.download(out, ids_[cur_], size_t(n) * sizeof(uint32_t));
+        *written = n;
+        return exec_.check("copy-out");
+    }
+
+    Status read_stats(const SimConstants& s, StatsReadback* out) override {
+        exec_.activate();
+        if (!density_valid_) {  // the grid is valid between API calls: one density pass suffices
+            exec_.for_each(bound_, DensityOp{s, cell_begin_, pos_[cur_], density_});
+            density_valid_ = true;
+        }
+        DeviceCounters c{};
+        exec_.download(&c, counters_, sizeof c);
+        Status st = exec_.check("pbf_world_get_stats");
+        if (!st.ok()) return st;
+        out->count = c.count;
+        out->emitted_total = c.emitted_total;
+        out->drained_total = c.drained_total;
+        exec_.reduce_stats(s, density_, vel_[cur_], c.count, out);
+        return exec_.check("pbf_world_get_stats");
+    }
+
+    Status last_step_ms(float* ms) override {
+        exec_.activate();
+        *ms = exec_.timer_ms();
+        return exec_.check("step timer");
+    }
+
+    Status map_positions(void** data, uint32_t* count) override {
+        exec_.activate();
+        Status st = read_count(count);
+        *data = pos_[cur_];
+        return st;
+    }
+
+private:
+    void substep(const SubstepInput& in) {
+        const SimConstants& s = in.constants;
+        // Emission and drains first, so the grid builds below drop drained particles.
+        for (const NozzleEmission& nz : in.nozzles) {
+            if (nz.count == 0) continue;
+            EmitNozzleOp op{&counters_->count, &counters_->next_id, config_.capacity, nz.count, nz.sequence,
+                            nz.disc_points, nz.center, nz.direction, nz.tangent, nz.bitangent, nz.radius,
+                            nz.speed, s.dt, pos_[cur_], vel_[cur_], ids_[cur_]};
+            exec_.for_each(nz.count, op);
+            commit_emission(nz.count);
+            bound_ = std::min<uint64_t>(config_.capacity, uint64_t(bound_) + nz.count);
+        }
+        for (const DrainBox& d : in.drains) {
+            exec_.for_each(bound_, DrainOp{&counters_->count, pos_[cur_], d.box_min, d.box_max, ids_[cur_],
+                                           &counters_->drained});
+        }
+        if (!in.drains.empty()) exec_.for_each(1, CommitDrainOp{&counters_->drained, &counters_->drained_total});
+        if (!in.nozzles.empty() || !in.drains.empty()) grid_valid_ = density_valid_ = false;
+
+        // 1. LDC needs ρ at the current positions (grid of x).
+        if (s.ldc_enabled) {
+            if (!grid_valid_) build_grid(s, false);
+            if (!density_valid_) exec_.for_each(bound_, DensityOp{s, cell_begin_, pos_[cur_], density_});
+        }
+        // 2. forces (gravity + LDC), predict x*.
+        exec_.for_each(bound_, PredictOp{s, in.colliders, cell_begin_, density_, pos_[cur_], vel_[cur_], pred_[cur_]});
+        // 3. neighbours: grid of x*.
+        build_grid(s, true);
+        // 4. constraint iterations (Jacobi: Δp reads pred, writes the other pred buffer).
+        for (uint32_t it = 0; it < in.iterations; ++it) {
+            exec_.for_each(bound_, LambdaOp{s, cell_begin_, pred_[cur_], density_});
+            exec_.for_each(bound_, DeltaOp{s, in.colliders, cell_begin_, pos_[cur_], pred_[cur_], pred_[1 - cur_]});
+            swap_pred();
+        }
+        // 5. v = (x* - x)/Δt, x = x*; vorticity confinement and XSPH.
+        exec_.for_each(bound_, VelocityUpdateOp{s, pred_[cur_], density_, pos_[cur_], vel_[cur_]});
+        if (s.vorticity_epsilon > 0.0f || s.xsph_c > 0.0f) {
+            Vec4* omega = pred_[1 - cur_];  // free until the next substep
+            exec_.for_each(bound_, VorticityOp{s, cell_begin_, pos_[cur_], vel_[cur_], omega});
+            exec_.for_each(bound_,
+                           VorticityXsphOp{s, cell_begin_, pos_[cur_], vel_[cur_], omega, vel_[1 - cur_]});
+            swap_velocities();
+        }
+        grid_valid_ = true;  // built on x*, which the positions now are
+        density_valid_ = false;
+        // With LDC the next substep needs ρ(x); computing it now also serves the stats.
+        if (s.ldc_enabled) {
+            exec_.for_each(bound_, DensityOp{s, cell_begin_, pos_[cur_], density_});
+            density_valid_ = true;
+        }
+    }
+
+    // Sorts particles by the cell of x (by_predicted false) or of x*, moves their data into
+    // that order and rebuilds cell_begin; drops dead particles from the count.
+    void build_grid(const SimConstants& s, bool by_predicted) {
+        const uint32_t n = bound_;
+        const Vec4* binned = by_predicted ? pred_[cur_] : pos_[cur_];
+        exec_.for_each(n, CellKeyOp{binned, ids_[cur_], &counters_->count, s.grid, keys_[0], order_[0]});
+        int key_sel = 0, order_sel = 0;
+        exec_.sort_pairs(keys_, order_, n, s.grid.num_cells, &key_sel, &order_sel);
+        exec_.for_each(n + 1, CellBeginOp{keys_[key_sel], n, s.grid.num_cells, cell_begin_, &counters_->count});
+        const int o = 1 - cur_;
+        exec_.for_each(n, GatherOp{order_[order_sel], pos_[cur_], vel_[cur_], by_predicted ? pred_[cur_] : nullptr,
+                                   ids_[cur_], pos_[o], vel_[o], pred_[o], ids_[o]});
+        cur_ = o;
+        grid_valid_ = true;
+    }
+
+    void commit_emission(uint32_t requested) {
+        exec_.for_each(1, CommitEmissionOp{&counters_->count, &counters_->next_id, &counters_->emitted_total,
+                                           config_.capacity, requested});
+        grid_valid_ = density_valid_ = false;
+    }
+
+    // pos, vel, ids and pred share one "current" index after a gather; the Jacobi swap and the
+    // XSPH output swap only one array, so they exchange the buffers themselves.
+    void swap_pred() { std::swap(pred_[0], pred_[1]); }
+    void swap_velocities() { std::swap(vel_[0], vel_[1]); }
+
+    Status read_count(uint32_t* count) {
+        exec_.download(count, &counters_->count, sizeof(uint32_t));
+        Status st = exec_.check("reading the particle count");
+        if (st.ok()) bound_ = *count;  // exact again: launches shrink back to the live count
+        return st;
+    }
+
+    void release() {
+        for (int b = 0; b < 2; ++b) {
+            exec_.release(pos_[b]);
+            exec_.release(vel_[b]);
+            exec_.release(pred_[b]);
+            exec_.release(ids_[b]);
+            exec_.release(keys_[b]);
+            exec_.release(order_[b]);
+        }
+        exec_.release(density_);
+        exec_.release(cell_begin_);
+        exec_.release(counters_);
+    }
+
+    Exec exec_;
+    BackendConfig config_{};
+    Vec4* pos_[2] = {};
+    Vec4* vel_[2] = {};
+    Vec4* pred_[2] = {};
+    uint32_t* ids_[2] = {};
+    uint32_t* keys_[2] = {};
+    uint32_t* order_[2] = {};
+    float* density_ = nullptr;
+    uint32_t* cell_begin_ = nullptr;
+    DeviceCounters* counters_ = nullptr;
+    int cur_ = 0;
+    uint32_t bound_ = 0;  // upper bound of the live count known on the host (launch size)
+    bool grid_valid_ = true;
+    bool density_valid_ = false;
+};
+
+}  // namespace pbf

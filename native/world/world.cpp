@@ -1,0 +1,291 @@
+#include "world.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "../core/sph.h"
+
+namespace pbf {
+namespace {
+
+Vec3 to_vec3(const float v[3]) { return Vec3{v[0], v[1], v[2]}; }
+
+Eigen::Quaternionf to_quat(const float q[4]) { return Eigen::Quaternionf(q[3], q[0], q[1], q[2]).normalized(); }
+
+Mat3 to_mat3(const Eigen::Quaternionf& q) {
+    const Eigen::Matrix3f r = q.toRotationMatrix();
+    Mat3 m;
+    for (int row = 0; row < 3; ++row)
+        for (int col = 0; col < 3; ++col) m.m[row * 3 + col] = r(row, col);
+    return m;
+}
+
+ColliderPose pose_at(const ColliderEntry& e, float t) {
+    const Vec3 p = e.position + (e.target_position - e.position) * t;
+    const Eigen::Quaternionf q = to_quat(e.rotation).slerp(t, to_quat(e.target_rotation));
+    return ColliderPose{p, to_mat3(q)};
+}
+
+}  // namespace
+
+LatticeCalibration calibrate_lattice(float spacing, float h) {
+    const double d = spacing, hh = h;
+    const int reach = static_cast<int>(std::ceil(hh / d));
+    const double poly6 = 315.0 / (64.0 * M_PI * std::pow(hh, 9));
+    const double spiky = 45.0 / (M_PI * std::pow(hh, 6));
+    LatticeCalibration c{0.0, 0.0};
+    for (int z = -reach; z <= reach; ++z)
+        for (int y = -reach; y <= reach; ++y)
+            for (int x = -reach; x <= reach; ++x) {
+                const double r = d * std::sqrt(double(x * x + y * y + z * z));
+                if (r >= hh) continue;
+                c.kernel_sum += poly6 * std::pow(hh * hh - r * r, 3);
+                if (r > 0) c.gradient_norm2 += std::pow(spiky * (hh - r) * (hh - r), 2);
+            }
+    return c;
+}
+
+std::unique_ptr<World> World::create(const pbf_world_desc& desc, Status* status) {
+    std::unique_ptr<World> w(new World());
+    w->desc_ = desc;
+    w->params_ = desc.solver;
+    w->gravity_ = to_vec3(desc.gravity);
+    w->h_ = 4.0f * desc.particle_radius;
+    const float spacing = 2.0f * desc.particle_radius;
+    const LatticeCalibration cal = calibrate_lattice(spacing, w->h_);
+    w->mass_ = static_cast<float>(desc.rest_density / cal.kernel_sum);
+    // |∇_k C|² of a rest particle, with ∇C = (m/ρ0) ∇W.
+    const double m_over_rho = 1.0 / cal.kernel_sum;
+    w->gradient_norm2_ = static_cast<float>(cal.gradient_norm2 * m_over_rho * m_over_rho);
+
+    GridDims& g = w->grid_;
+    g.origin = to_vec3(desc.domain_min);
+    g.inv_cell = 1.0f / w->h_;
+    const double cells[3] = {std::ceil((desc.domain_max[0] - desc.domain_min[0]) / w->h_),
+                             std::ceil((desc.domain_max[1] - desc.domain_min[1]) / w->h_),
+                             std::ceil((desc.domain_max[2] - desc.domain_min[2]) / w->h_)};
+    const double total = std::max(1.0, cells[0]) * std::max(1.0, cells[1]) * std::max(1.0, cells[2]);
+    if (total > double(1u << 30)) {
+        *status = Status::error(PBF_ERROR_INVALID_ARGUMENT,
+                                "domain spans " + std::to_string(static_cast<uint64_t>(total)) +
+                                    " grid cells of size h = 4 * particle_radius; at most 2^30 are supported");
+        return nullptr;
+    }
+    g.nx = static_cast<int32_t>(std::max(1.0, cells[0]));
+    g.ny = static_cast<int32_t>(std::max(1.0, cells[1]));
+    g.nz = static_cast<int32_t>(std::max(1.0, cells[2]));
+    g.num_cells = static_cast<uint32_t>(total);
+
+    BackendConfig config{desc.max_particles, g, desc.cuda_device};
+    pbf_backend kind = desc.backend;
+    if (kind == PBF_BACKEND_AUTO) kind = cuda_device_available(desc.cuda_device) ? PBF_BACKEND_CUDA : PBF_BACKEND_CPU;
+    w->backend_ = kind == PBF_BACKEND_CUDA ? create_cuda_backend(config, status) : create_cpu_backend(config, status);
+    if (!w->backend_) return nullptr;
+    return w;
+}
+
+SimConstants World::constants(float dt) const {
+    SimConstants s{};
+    s.radius = desc_.particle_radius;
+    s.h = h_;
+    s.h2 = h_ * h_;
+    s.mass = mass_;
+    s.rest_density = desc_.rest_density;
+    s.inv_rest_density = 1.0f / desc_.rest_density;
+    s.poly6_coef = poly6_coefficient(h_);
+    s.spiky_coef = spiky_grad_coefficient(h_);
+    s.lambda_epsilon = params_.relaxation * gradient_norm2_;
+    const float dq = params_.scorr_dq * h_;
+    // s_corr enters beside λ_i + λ_j. Macklin & Müller's k = 0.1 presumes their units; here
+    // k·(W/W(Δq))^n is read as a density-ratio error and converted to λ's units by the rest
+    // gradient norm, so the same k behaves the same at any particle size.
+    s.scorr_k = params_.scorr_k / (gradient_norm2_ * (1.0f + params_.relaxation));
+    s.scorr_n = params_.scorr_n;
+    s.scorr_inv_w_dq = 1.0f / poly6(dq * dq, s.h2, s.poly6_coef);
+    s.xsph_c = params_.xsph_c;
+    s.vorticity_epsilon = params_.vorticity_epsilon;
+    s.max_speed = params_.max_speed;
+    s.ldc_enabled = params_.ldc_enabled;
+    s.ldc_k = params_.ldc_gain / (dt * dt);
+    s.dt = dt;
+    s.inv_dt = 1.0f / dt;
+    s.gravity = gravity_;
+    const Vec3 r{s.radius, s.radius, s.radius};
+    s.wall_min = to_vec3(desc_.domain_min) + r;
+    s.wall_max = to_vec3(desc_.domain_max) - r;
+    s.grid = grid_;
+    s.capacity = desc_.max_particles;
+    return s;
+}
+
+// Colliders for the substep covering fraction t0..t1 of the step (kinematic ones move
+// from their pose to their target over the step).
+ColliderSet World::colliders_at(float t0, float t1) {
+    ColliderSet set{};
+    colliders_.for_each([&](ColliderEntry& e) {
+        Collider c = e.collider;
+        c.prev = pose_at(e, t0);
+        c.cur = pose_at(e, t1);
+        set.items[set.count++] = c;
+    });
+    return set;
+}
+
+Status World::step(float dt) {
+    const uint32_t substeps = params_.substeps;
+    const float sub_dt = dt / static_cast<float>(substeps);
+    const float spacing = rest_spacing();
+    std::vector<SubstepInput> inputs(substeps);
+    for (uint32_t k = 0; k < substeps; ++k) {
+        SubstepInput& in = inputs[k];
+        in.constants = constants(sub_dt);
+        in.iterations = params_.iterations;
+        in.colliders = colliders_at(float(k) / substeps, float(k + 1) / substeps);
+        emitters_.for_each([&](EmitterEntry& e) {
+            if (!e.desc.enabled) return;
+            if (e.desc.type == PBF_EMITTER_DRAIN) {
+                in.drains.push_back(DrainBox{to_vec3(e.desc.box_min), to_vec3(e.desc.box_max)});
+                return;
+            }
+            e.accumulator += e.desc.particles_per_second * sub_dt;
+            const float whole = std::floor(e.accumulator);
+            e.accumulator -= whole;
+            const uint32_t n = static_cast<uint32_t>(std::min(whole, float(desc_.max_particles)));
+            const Vec3 dir = to_vec3(e.desc.direction);
+            // Any unit vector not parallel to dir, then an orthonormal frame around dir.
+            const Vec3 helper = std::fabs(dir.y) < 0.9f ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
+            const Vec3 t = cross(dir, helper) * (1.0f / length(cross(dir, helper)));
+            const Vec3 b = cross(dir, t);
+            const float area_points = kPi * e.desc.radius * e.desc.radius / (spacing * spacing);
+            NozzleEmission ne{n, e.sequence, std::max(1u, static_cast<uint32_t>(area_points)),
+                              to_vec3(e.desc.position), dir, t, b, e.desc.radius, e.desc.speed};
+            e.sequence += n;
+            in.nozzles.push_back(ne);
+        });
+    }
+    mapped_ = false;  // the mapping is valid until the next step
+    Status st = backend_->step(inputs);
+    // Kinematic colliders arrived at their targets.
+    colliders_.for_each([](ColliderEntry& e) {
+        e.position = e.target_position;
+        std::memcpy(e.rotation, e.target_rotation, sizeof e.rotation);
+    });
+    if (st.ok()) {
+        ++step_index_;
+        last_iterations_ = params_.iterations * substeps;
+    }
+    return st;
+}
+
+void World::get_info(pbf_world_info* info) const {
+    info->backend = backend_->kind();
+    info->max_particles = desc_.max_particles;
+    info->particle_radius = desc_.particle_radius;
+    info->rest_spacing = rest_spacing();
+    info->kernel_radius = h_;
+    info->particle_mass = mass_;
+    info->grid_cells = grid_.num_cells;
+    info->device_bytes = backend_->device_bytes();
+    const std::string name = backend_->device_name();
+    std::memset(info->device_name, 0, sizeof info->device_name);
+    std::strncpy(info->device_name, name.c_str(), sizeof info->device_name - 1);
+}
+
+Status World::get_stats(pbf_step_stats* out) {
+    StatsReadback r;
+    // Any substep's constants serve: the density pass and the reduction use no dt.
+    Status st = backend_->read_stats(constants(1.0f / 60.0f), &r);
+    if (!st.ok()) return st;
+    float ms = 0.0f;
+    st = backend_->last_step_ms(&ms);
+    if (!st.ok()) return st;
+    out->particle_count = r.count;
+    out->step_index = step_index_;
+    out->emitted_total = r.emitted_total;
+    out->drained_total = r.drained_total;
+    out->density_error_mean = r.count ? static_cast<float>(r.error_sum / r.count) : 0.0f;
+    out->density_error_max = r.error_max;
+    out->kinetic_energy = static_cast<float>(r.kinetic_energy);
+    out->step_time_ms = step_index_ ? ms : 0.0f;
+    out->iterations = last_iterations_;
+    out->reserved0 = 0;
+    return Status{};
+}
+
+Status World::emit_block(const pbf_block_desc& d, uint32_t* emitted) {
+    const float s = rest_spacing();
+    // Lattice points x = min + s/2 + k·s inside the box (at least one per axis).
+    auto points = [&](int axis) {
+        const double n = std::floor((d.box_max[axis] - d.box_min[axis]) / s);
+        return static_cast<uint32_t>(std::clamp(n, 1.0, double(desc_.max_particles)));
+    };
+    BlockEmission b{};
+    b.nx = points(0);
+    b.ny = points(1);
+    b.nz = points(2);
+    b.spacing = s;
+    b.origin = to_vec3(d.box_min) + Vec3{0.5f * s, 0.5f * s, 0.5f * s};
+    b.velocity = to_vec3(d.velocity);
+    if (uint64_t(b.nx) * b.ny * b.nz > desc_.max_particles) {
+        // Emit what fits: the lattice is filled x-first, so whole layers in z are kept.
+        b.nz = std::max<uint32_t>(1, desc_.max_particles / (b.nx * uint64_t(b.ny)) + 1);
+    }
+    mapped_ = false;
+    Status st = backend_->emit_block(b, constants(1.0f / 60.0f), emitted);
+    if (st.ok() && *emitted == 0)
+        return Status::error(PBF_ERROR_CAPACITY, "world is full (max_particles = " +
+                                                     std::to_string(desc_.max_particles) + "); nothing was emitted");
+    return st;
+}
+
+Status World::create_emitter(const pbf_emitter_desc& desc, pbf_emitter_id* out) {
+    EmitterEntry e;
+    e.desc = desc;
+    Vec3 dir = to_vec3(desc.direction);
+    dir = dir * (1.0f / length(dir));
+    e.desc.direction[0] = dir.x;
+    e.desc.direction[1] = dir.y;
+    e.desc.direction[2] = dir.z;
+    const auto h = emitters_.insert(e);
+    *out = pbf_emitter_id{h.index, h.generation};
+    return Status{};
+}
+
+Status World::create_collider(const pbf_collider_desc& d, pbf_collider_id* out) {
+    if (colliders_.size() >= kMaxColliders)
+        return Status::error(PBF_ERROR_CAPACITY,
+                             "a world holds at most " + std::to_string(kMaxColliders) + " colliders");
+    ColliderEntry e{};
+    e.collider.shape = static_cast<uint32_t>(d.shape);
+    e.collider.radius = d.radius;
+    e.collider.half_height = d.half_height;
+    e.collider.friction = d.friction;
+    e.collider.half_extents = to_vec3(d.half_extents);
+    e.motion = static_cast<uint32_t>(d.motion);
+    e.position = e.target_position = to_vec3(d.position);
+    const Eigen::Quaternionf q = to_quat(d.rotation);
+    const float qn[4] = {q.x(), q.y(), q.z(), q.w()};
+    std::memcpy(e.rotation, qn, sizeof qn);
+    std::memcpy(e.target_rotation, qn, sizeof qn);
+    const auto h = colliders_.insert(e);
+    *out = pbf_collider_id{h.index, h.generation};
+    return Status{};
+}
+
+Status World::map_positions(pbf_mapped_buffer* out) {
+    void* data = nullptr;
+    uint32_t count = 0;
+    Status st = backend_->map_positions(&data, &count);
+    if (!st.ok()) return st;
+    out->memory = backend_->kind() == PBF_BACKEND_CUDA ? PBF_MEMORY_CUDA_DEVICE : PBF_MEMORY_HOST;
+    out->data = data;
+    out->count = count;
+    out->stride_bytes = 16;
+    out->reserved0 = out->reserved1 = 0;
+    mapped_ = true;
+    return Status{};
+}
+
+}  // namespace pbf

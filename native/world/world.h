@@ -1,0 +1,81 @@
+// A world on the host side: parameters, emitters, colliders and the backend that holds the
+// particles. Inputs arrive validated by the C API layer; the world only applies them.
+#pragma once
+#include <memory>
+#include <vector>
+
+#include "../backend/backend.h"
+#include "slot_table.h"
+
+namespace pbf {
+
+struct ColliderEntry {
+    Collider collider;   // shape data; prev/cur poses are filled per substep
+    uint32_t motion;     // pbf_collider_motion
+    Vec3 position, target_position;
+    float rotation[4], target_rotation[4];  // unit quaternions (x, y, z, w)
+};
+
+struct EmitterEntry {
+    pbf_emitter_desc desc;  // normalised direction
+    float accumulator = 0.0f;  // fractional particles carried between substeps
+    uint32_t sequence = 0;
+};
+
+// Mass and ε scale for a rest lattice, so that a lattice at rest spacing has rest density.
+struct LatticeCalibration {
+    double kernel_sum;      // Σ_j W_poly6(|x_j|) over the lattice around one particle (incl. itself)
+    double gradient_norm2;  // Σ_j |∇W_ij|² around one particle
+};
+LatticeCalibration calibrate_lattice(float spacing, float h);
+
+class World {
+public:
+    // desc is validated; *status says why creation failed.
+    static std::unique_ptr<World> create(const pbf_world_desc& desc, Status* status);
+
+    Status step(float dt);
+    const pbf_solver_params& solver_params() const { return params_; }
+    void set_solver_params(const pbf_solver_params& p) { params_ = p; }
+    void set_gravity(Vec3 g) { gravity_ = g; }
+    void get_info(pbf_world_info* info) const;
+    Status get_stats(pbf_step_stats* stats);
+
+    Status emit_block(const pbf_block_desc& desc, uint32_t* emitted);
+    Status create_emitter(const pbf_emitter_desc& desc, pbf_emitter_id* out);
+    bool destroy_emitter(pbf_emitter_id id) { return emitters_.erase(id.index, id.generation); }
+    EmitterEntry* find_emitter(pbf_emitter_id id) { return emitters_.find(id.index, id.generation); }
+
+    Status create_collider(const pbf_collider_desc& desc, pbf_collider_id* out);
+    bool destroy_collider(pbf_collider_id id) { return colliders_.erase(id.index, id.generation); }
+    ColliderEntry* find_collider(pbf_collider_id id) { return colliders_.find(id.index, id.generation); }
+
+    Status particle_count(uint32_t* count) { return backend_->particle_count(count); }
+    Status copy_positions(float* out, uint32_t max, uint32_t* written) { return backend_->copy_vec4(0, out, max, written); }
+    Status copy_velocities(float* out, uint32_t max, uint32_t* written) { return backend_->copy_vec4(1, out, max, written); }
+    Status copy_ids(uint32_t* out, uint32_t max, uint32_t* written) { return backend_->copy_ids(out, max, written); }
+    Status map_positions(pbf_mapped_buffer* out);
+    void unmap() { mapped_ = false; }
+    bool mapped() const { return mapped_; }
+
+    float rest_spacing() const { return 2.0f * desc_.particle_radius; }
+
+private:
+    World() = default;
+    SimConstants constants(float dt) const;
+    ColliderSet colliders_at(float t0, float t1);
+
+    pbf_world_desc desc_{};
+    pbf_solver_params params_{};
+    Vec3 gravity_{};
+    float mass_ = 0.0f, h_ = 0.0f, gradient_norm2_ = 0.0f;
+    GridDims grid_{};
+    std::unique_ptr<Backend> backend_;
+    SlotTable<EmitterEntry> emitters_;
+    SlotTable<ColliderEntry> colliders_;
+    uint64_t step_index_ = 0;
+    uint32_t last_iterations_ = 0;
+    bool mapped_ = false;
+};
+
+}  // namespace pbf
