@@ -93,7 +93,9 @@ typedef enum pbf_log_level {
 } pbf_log_level;
 
 /* Receives every error message and informational events (world created, backend chosen).
- * May be called from any thread calling libpbf; message is valid only during the call. */
+ * May be called from any thread calling libpbf; message is valid only during the call.
+ * Calls are serialised under a library lock: the callback must not call libpbf. Once
+ * pbf_set_log_callback returns, no call with the previous callback/user_data is running. */
 typedef void (PBF_CALL* pbf_log_fn)(pbf_log_level level, const char* message, void* user_data);
 /* Pass NULL to remove. Process-wide. */
 PBF_API void PBF_CALL pbf_set_log_callback(pbf_log_fn callback, void* user_data);
@@ -109,7 +111,9 @@ typedef struct pbf_solver_params {
     uint32_t iterations;        /* density-constraint iterations per substep, 1..64 (default 4) */
     uint32_t substeps;          /* substeps per pbf_world_step, 1..16 (default 1) */
     float relaxation;           /* ε of λ (constraint force mixing), relative to the constraint
-                                   gradient norm of a particle at rest density; > 0 (default 0.01) */
+                                   gradient norm of a particle at rest density; > 0 (default 1).
+                                   Smaller converges faster per iteration but a Jacobi sweep
+                                   overshoots and a resting fluid boils. */
     float scorr_k;              /* tensile instability s_corr = -k (W(r)/W(Δq))^n; >= 0 (default 0.1) */
     float scorr_n;              /* exponent n, 1..8 (default 4) */
     float scorr_dq;             /* Δq as a fraction of h, 0..1 (default 0.2) */
@@ -117,7 +121,8 @@ typedef struct pbf_solver_params {
     float vorticity_epsilon;    /* vorticity confinement ε, in m/s; >= 0 (default 0.0005) */
     uint32_t ldc_enabled;       /* 1: Local Density Calibration before the iterations (default 1) */
     float ldc_gain;             /* LDC strength as K·Δt² (dimensionless; Δt the substep), so the
-                                   paper's K = ldc_gain / Δt². 0..1 (default 0.1) */
+                                   paper's K = ldc_gain / Δt². 0..1 (default 0.1). LDC acts on
+                                   compression only: densities below rest count as rest. */
     float max_speed;            /* particle speed clamp in m/s, > 0 (default 100) */
 } pbf_solver_params;
 
@@ -324,7 +329,7 @@ PBF_API pbf_result PBF_CALL pbf_world_copy_ids(pbf_world_id world, uint32_t* out
 
 typedef enum pbf_memory_kind {
     PBF_MEMORY_HOST = 1,        /* CPU backend: an ordinary host pointer */
-    PBF_MEMORY_CUDA_DEVICE = 2, /* CUDA backend: a device pointer on info.cuda_device */
+    PBF_MEMORY_CUDA_DEVICE = 2, /* CUDA backend: a device pointer on the world's desc.cuda_device */
     PBF_MEMORY_KIND_FORCE32 = 0x7FFFFFFF
 } pbf_memory_kind;
 

@@ -187,7 +187,7 @@ PBF_API pbf_result PBF_CALL pbf_solver_params_init(pbf_solver_params* p, uint32_
     p->struct_size = sizeof *p;
     p->iterations = 4;
     p->substeps = 1;
-    p->relaxation = 0.01f;
+    p->relaxation = 1.0f;
     p->scorr_k = 0.1f;
     p->scorr_n = 4.0f;
     p->scorr_dq = 0.2f;
@@ -412,6 +412,7 @@ PBF_API pbf_result PBF_CALL pbf_world_create_emitter(pbf_world_id id, const pbf_
         } else {
             return fail(PBF_ERROR_INVALID_ARGUMENT, std::string(fn) + ": type must be PBF_EMITTER_NOZZLE or PBF_EMITTER_DRAIN");
         }
+        PBF_REQUIRE_ARG(finite3(d->position) && finite3(d->direction) && std::isfinite(d->speed) && std::isfinite(d->radius) && std::isfinite(d->particles_per_second) && finite3(d->box_min) && finite3(d->box_max), "position, direction, speed, radius, particles_per_second, box_min and box_max must be finite, also where the type does not use them");
         PBF_LOCK_WORLD(w, id);
         return fail(w->create_emitter(*d, out));
     });
@@ -491,6 +492,7 @@ PBF_API pbf_result PBF_CALL pbf_world_create_collider(pbf_world_id id, const pbf
             PBF_REQUIRE_ARG(finite3(d->half_extents) && d->half_extents[0] > 0.0f && d->half_extents[1] > 0.0f &&
                                 d->half_extents[2] > 0.0f,
                             "half_extents must be finite and > 0");
+        PBF_REQUIRE_ARG(std::isfinite(d->radius) && std::isfinite(d->half_height) && finite3(d->half_extents), "radius, half_height and half_extents must be finite, also where the shape does not use them");
         PBF_LOCK_WORLD(w, id);
         return fail(w->create_collider(*d, out));
     });

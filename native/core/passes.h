@@ -97,14 +97,17 @@ struct DensityOp {
 PBF_HD Vec3 ldc_force(const SimConstants& s, const uint32_t* cell_begin, const Vec4* pos, const float* density,
                       uint32_t i) {
     const Vec3 xi = xyz(pos[i]);
-    const float rho_i = density[i];
+    // Densities below ρ0 count as ρ0: LDC smooths compression only. Read literally, Eq. 1 also
+    // evens out the density deficit of free-surface and wall particles (too few neighbours, not
+    // real expansion), pushing the fluid outward and boiling a resting tank.
+    const float rho_i = fmaxf(density[i], s.rest_density);
     Vec3 f{0.0f, 0.0f, 0.0f};
     for_each_neighbor(s.grid, cell_begin, xi, [&](uint32_t j) {
         const Vec3 d = xyz(pos[j]) - xi;  // from i to j
         const float r2 = length_sq(d);
         if (r2 >= s.h2 || r2 <= 1e-20f) return;
         const float r = sqrtf(r2);
-        const float rho_ij = (density[j] - rho_i) * s.inv_rest_density;
+        const float rho_ij = (fmaxf(density[j], s.rest_density) - rho_i) * s.inv_rest_density;
         f += d * (rho_ij * s.h * (1.0f - r / s.h) / r);
     });
     return f * -s.ldc_k;

@@ -1,0 +1,314 @@
+using System;
+using System.Numerics;
+using Pbf.Interop;
+
+namespace Pbf
+{
+    internal static class Convert3
+    {
+        public static Float3 ToNative(Vector3 v) { return new Float3(v.X, v.Y, v.Z); }
+        public static Vector3 FromNative(Float3 v) { return new Vector3(v.x, v.y, v.z); }
+        public static Float4 ToNative(Quaternion q) { return new Float4(q.X, q.Y, q.Z, q.W); }
+        public static Quaternion FromNative(Float4 q) { return new Quaternion(q.x, q.y, q.z, q.w); }
+    }
+
+    /// <summary>
+    /// Solver parameters (pbf_solver_params). Start from <see cref="Default"/> or
+    /// <see cref="World.GetSolverParams"/>, change what you need, pass it back: a value type, so
+    /// nothing changes in a world until <see cref="World.SetSolverParams"/>. The library checks
+    /// the ranges; an out-of-range value fails with <see cref="Result.InvalidArgument"/>.
+    /// </summary>
+    public struct SolverParams
+    {
+        pbf_solver_params _raw;
+
+        /// <summary>Wraps a raw pbf_solver_params.</summary>
+        public SolverParams(pbf_solver_params raw) { _raw = raw; }
+
+        /// <summary>The library's defaults (pbf_solver_params_init).</summary>
+        public static SolverParams Default
+        {
+            get
+            {
+                var p = new pbf_solver_params { struct_size = Native.SizeOf<pbf_solver_params>() };
+                PbfException.Check(Native.pbf_solver_params_init(ref p, p.struct_size));
+                return new SolverParams(p);
+            }
+        }
+
+        /// <summary>The raw struct. default(SolverParams) has struct_size 0, which the library refuses.</summary>
+        public pbf_solver_params ToNative() { return _raw; }
+
+        /// <summary>Density-constraint iterations per substep, 1..64 (default 4).</summary>
+        public int Iterations { get { return (int)_raw.iterations; } set { _raw.iterations = (uint)value; } }
+        /// <summary>Substeps per <see cref="World.Step"/>, 1..16 (default 1).</summary>
+        public int Substeps { get { return (int)_raw.substeps; } set { _raw.substeps = (uint)value; } }
+        /// <summary>Constraint force mixing ε, relative to a rest particle's gradient norm; &gt; 0 (default 0.01).</summary>
+        public float Relaxation { get { return _raw.relaxation; } set { _raw.relaxation = value; } }
+        /// <summary>Tensile instability k of s_corr = -k (W(r)/W(Δq))^n, 0..1 (default 0.1).</summary>
+        public float ScorrK { get { return _raw.scorr_k; } set { _raw.scorr_k = value; } }
+        /// <summary>Exponent n of s_corr, 1..8 (default 4).</summary>
+        public float ScorrN { get { return _raw.scorr_n; } set { _raw.scorr_n = value; } }
+        /// <summary>Δq as a fraction of the kernel radius, in (0, 1) (default 0.2).</summary>
+        public float ScorrDq { get { return _raw.scorr_dq; } set { _raw.scorr_dq = value; } }
+        /// <summary>XSPH viscosity c, 0..1 (default 0.01).</summary>
+        public float XsphC { get { return _raw.xsph_c; } set { _raw.xsph_c = value; } }
+        /// <summary>Vorticity confinement ε in m/s, &gt;= 0 (default 0.0005).</summary>
+        public float VorticityEpsilon { get { return _raw.vorticity_epsilon; } set { _raw.vorticity_epsilon = value; } }
+        /// <summary>Local Density Calibration before the iterations (default on).</summary>
+        public bool LdcEnabled { get { return _raw.ldc_enabled != 0; } set { _raw.ldc_enabled = value ? 1u : 0u; } }
+        /// <summary>LDC strength as K·Δt², 0..1 (default 0.1).</summary>
+        public float LdcGain { get { return _raw.ldc_gain; } set { _raw.ldc_gain = value; } }
+        /// <summary>Particle speed clamp in m/s, &gt; 0 (default 100).</summary>
+        public float MaxSpeed { get { return _raw.max_speed; } set { _raw.max_speed = value; } }
+    }
+
+    /// <summary>How to create a <see cref="World"/> (pbf_world_desc). A new WorldDesc holds the
+    /// library's defaults: AUTO backend, 65536 particles of radius 0.025 m, water density,
+    /// gravity -9.81 on y, domain (-1,0,-1)..(1,2,1).</summary>
+    public sealed class WorldDesc
+    {
+        pbf_world_desc _raw;
+        SolverParams _solver;
+
+        public WorldDesc()
+        {
+            _raw.struct_size = Native.SizeOf<pbf_world_desc>();
+            PbfException.Check(Native.pbf_world_desc_init(ref _raw, _raw.struct_size, Native.PBF_VERSION));
+            _solver = new SolverParams(_raw.solver);
+        }
+
+        /// <summary>The raw desc to pass to pbf_world_create (with <see cref="Solver"/> in it).</summary>
+        public pbf_world_desc ToNative()
+        {
+            pbf_world_desc d = _raw;
+            d.solver = _solver.ToNative();
+            return d;
+        }
+
+        /// <summary>Default Auto: CUDA when built in and a device exists, else CPU.</summary>
+        public Backend Backend { get { return (Backend)_raw.backend; } set { _raw.backend = (pbf_backend)value; } }
+        /// <summary>CUDA device ordinal (default 0).</summary>
+        public int CudaDevice { get { return _raw.cuda_device; } set { _raw.cuda_device = value; } }
+        /// <summary>Capacity, fixed for the world's life (default 65536).</summary>
+        public int MaxParticles { get { return (int)_raw.max_particles; } set { _raw.max_particles = (uint)value; } }
+        /// <summary>Rest spacing is 2·radius, kernel radius 4·radius (default 0.025 m).</summary>
+        public float ParticleRadius { get { return _raw.particle_radius; } set { _raw.particle_radius = value; } }
+        /// <summary>kg/m³ (default 1000).</summary>
+        public float RestDensity { get { return _raw.rest_density; } set { _raw.rest_density = value; } }
+        /// <summary>m/s² (default 0, -9.81, 0).</summary>
+        public Vector3 Gravity { get { return Convert3.FromNative(_raw.gravity); } set { _raw.gravity = Convert3.ToNative(value); } }
+        /// <summary>The walls: an axis-aligned box that contains all particles (default -1,0,-1).</summary>
+        public Vector3 DomainMin { get { return Convert3.FromNative(_raw.domain_min); } set { _raw.domain_min = Convert3.ToNative(value); } }
+        /// <summary>(default 1,2,1)</summary>
+        public Vector3 DomainMax { get { return Convert3.FromNative(_raw.domain_max); } set { _raw.domain_max = Convert3.ToNative(value); } }
+        /// <summary>The solver parameters, editable in place: desc.Solver.Iterations = 8.</summary>
+        public ref SolverParams Solver { get { return ref _solver; } }
+    }
+
+    /// <summary>A one-shot fill of an axis-aligned box on a cubic lattice at rest spacing (pbf_block_desc).</summary>
+    public sealed class BlockDesc
+    {
+        pbf_block_desc _raw;
+
+        public BlockDesc()
+        {
+            _raw.struct_size = Native.SizeOf<pbf_block_desc>();
+            PbfException.Check(Native.pbf_block_desc_init(ref _raw, _raw.struct_size));
+        }
+
+        public BlockDesc(Vector3 boxMin, Vector3 boxMax) : this()
+        {
+            BoxMin = boxMin;
+            BoxMax = boxMax;
+        }
+
+        public pbf_block_desc ToNative() { return _raw; }
+
+        public Vector3 BoxMin { get { return Convert3.FromNative(_raw.box_min); } set { _raw.box_min = Convert3.ToNative(value); } }
+        public Vector3 BoxMax { get { return Convert3.FromNative(_raw.box_max); } set { _raw.box_max = Convert3.ToNative(value); } }
+        /// <summary>Initial velocity (default 0).</summary>
+        public Vector3 Velocity { get { return Convert3.FromNative(_raw.velocity); } set { _raw.velocity = Convert3.ToNative(value); } }
+    }
+
+    /// <summary>A nozzle or a drain (pbf_emitter_desc). Use <see cref="Nozzle"/> or <see cref="Drain"/>.</summary>
+    public sealed class EmitterDesc
+    {
+        pbf_emitter_desc _raw;
+
+        public EmitterDesc(EmitterType type)
+        {
+            _raw.struct_size = Native.SizeOf<pbf_emitter_desc>();
+            PbfException.Check(Native.pbf_emitter_desc_init(ref _raw, _raw.struct_size));
+            _raw.type = (pbf_emitter_type)type;
+        }
+
+        /// <summary>A nozzle emitting particlesPerSecond through a disc of the given radius at
+        /// position, moving at speed along direction (normalised by the library).</summary>
+        public static EmitterDesc Nozzle(Vector3 position, Vector3 direction, float speed, float radius, float particlesPerSecond)
+        {
+            return new EmitterDesc(EmitterType.Nozzle)
+            {
+                Position = position,
+                Direction = direction,
+                Speed = speed,
+                Radius = radius,
+                ParticlesPerSecond = particlesPerSecond,
+            };
+        }
+
+        /// <summary>A drain removing the particles inside boxMin..boxMax at each step.</summary>
+        public static EmitterDesc Drain(Vector3 boxMin, Vector3 boxMax)
+        {
+            return new EmitterDesc(EmitterType.Drain) { BoxMin = boxMin, BoxMax = boxMax };
+        }
+
+        public pbf_emitter_desc ToNative() { return _raw; }
+
+        public EmitterType Type { get { return (EmitterType)_raw.type; } set { _raw.type = (pbf_emitter_type)value; } }
+        /// <summary>Default true.</summary>
+        public bool Enabled { get { return _raw.enabled != 0; } set { _raw.enabled = value ? 1u : 0u; } }
+        /// <summary>Nozzle: disc centre.</summary>
+        public Vector3 Position { get { return Convert3.FromNative(_raw.position); } set { _raw.position = Convert3.ToNative(value); } }
+        /// <summary>Nozzle: direction (default 0,-1,0).</summary>
+        public Vector3 Direction { get { return Convert3.FromNative(_raw.direction); } set { _raw.direction = Convert3.ToNative(value); } }
+        /// <summary>Nozzle: m/s, &gt; 0.</summary>
+        public float Speed { get { return _raw.speed; } set { _raw.speed = value; } }
+        /// <summary>Nozzle: disc radius in m, &gt; 0.</summary>
+        public float Radius { get { return _raw.radius; } set { _raw.radius = value; } }
+        /// <summary>Nozzle: &gt; 0.</summary>
+        public float ParticlesPerSecond { get { return _raw.particles_per_second; } set { _raw.particles_per_second = value; } }
+        /// <summary>Drain volume.</summary>
+        public Vector3 BoxMin { get { return Convert3.FromNative(_raw.box_min); } set { _raw.box_min = Convert3.ToNative(value); } }
+        public Vector3 BoxMax { get { return Convert3.FromNative(_raw.box_max); } set { _raw.box_max = Convert3.ToNative(value); } }
+    }
+
+    /// <summary>A collider (pbf_collider_desc). Use the factories, or set Shape and its fields.</summary>
+    public sealed class ColliderDesc
+    {
+        pbf_collider_desc _raw;
+
+        public ColliderDesc(ColliderShape shape)
+        {
+            _raw.struct_size = Native.SizeOf<pbf_collider_desc>();
+            PbfException.Check(Native.pbf_collider_desc_init(ref _raw, _raw.struct_size));
+            _raw.shape = (pbf_collider_shape)shape;
+        }
+
+        public static ColliderDesc Sphere(Vector3 center, float radius, ColliderMotion motion = ColliderMotion.Static)
+        {
+            return new ColliderDesc(ColliderShape.Sphere) { Position = center, Radius = radius, Motion = motion };
+        }
+
+        /// <summary>A capsule of the given radius around the segment from -halfHeight to
+        /// +halfHeight along the rotated y axis.</summary>
+        public static ColliderDesc Capsule(Vector3 center, Quaternion rotation, float radius, float halfHeight,
+                                           ColliderMotion motion = ColliderMotion.Static)
+        {
+            return new ColliderDesc(ColliderShape.Capsule)
+            {
+                Position = center, Rotation = rotation, Radius = radius, HalfHeight = halfHeight, Motion = motion,
+            };
+        }
+
+        public static ColliderDesc Box(Vector3 center, Quaternion rotation, Vector3 halfExtents,
+                                       ColliderMotion motion = ColliderMotion.Static)
+        {
+            return new ColliderDesc(ColliderShape.Box)
+            {
+                Position = center, Rotation = rotation, HalfExtents = halfExtents, Motion = motion,
+            };
+        }
+
+        /// <summary>The half-space below the plane through point with the given normal is solid.</summary>
+        public static ColliderDesc Plane(Vector3 point, Vector3 normal, ColliderMotion motion = ColliderMotion.Static)
+        {
+            return new ColliderDesc(ColliderShape.Plane) { Position = point, Rotation = FromUp(normal), Motion = motion };
+        }
+
+        /// <summary>The rotation that takes (0,1,0) to direction (normalised).</summary>
+        public static Quaternion FromUp(Vector3 direction)
+        {
+            float len = direction.Length();
+            if (!(len > 0.0f)) return Quaternion.Identity;  // zero or NaN: let the library judge the rest
+            Vector3 d = direction / len;
+            Vector3 up = Vector3.UnitY;
+            float c = Vector3.Dot(up, d);
+            if (c < -0.999999f) return new Quaternion(1.0f, 0.0f, 0.0f, 0.0f);  // half turn about x
+            Vector3 axis = Vector3.Cross(up, d);
+            return Quaternion.Normalize(new Quaternion(axis.X, axis.Y, axis.Z, 1.0f + c));
+        }
+
+        public pbf_collider_desc ToNative() { return _raw; }
+
+        public ColliderShape Shape { get { return (ColliderShape)_raw.shape; } set { _raw.shape = (pbf_collider_shape)value; } }
+        /// <summary>Default Static.</summary>
+        public ColliderMotion Motion { get { return (ColliderMotion)_raw.motion; } set { _raw.motion = (pbf_collider_motion)value; } }
+        public Vector3 Position { get { return Convert3.FromNative(_raw.position); } set { _raw.position = Convert3.ToNative(value); } }
+        /// <summary>Unit quaternion, normalised by the library (default identity).</summary>
+        public Quaternion Rotation { get { return Convert3.FromNative(_raw.rotation); } set { _raw.rotation = Convert3.ToNative(value); } }
+        /// <summary>Sphere, capsule.</summary>
+        public float Radius { get { return _raw.radius; } set { _raw.radius = value; } }
+        /// <summary>Capsule.</summary>
+        public float HalfHeight { get { return _raw.half_height; } set { _raw.half_height = value; } }
+        /// <summary>Box.</summary>
+        public Vector3 HalfExtents { get { return Convert3.FromNative(_raw.half_extents); } set { _raw.half_extents = Convert3.ToNative(value); } }
+        /// <summary>0 (slip) .. 1 (stick) tangential damping on contact (default 0).</summary>
+        public float Friction { get { return _raw.friction; } set { _raw.friction = value; } }
+    }
+
+    /// <summary>Statistics of the last step (pbf_step_stats); all zero before the first.</summary>
+    public struct StepStats
+    {
+        readonly pbf_step_stats _raw;
+        public StepStats(pbf_step_stats raw) { _raw = raw; }
+        public pbf_step_stats ToNative() { return _raw; }
+
+        public int ParticleCount { get { return (int)_raw.particle_count; } }
+        /// <summary>Steps taken so far.</summary>
+        public long StepIndex { get { return (long)_raw.step_index; } }
+        /// <summary>Particles ever emitted (blocks and nozzles).</summary>
+        public long EmittedTotal { get { return (long)_raw.emitted_total; } }
+        /// <summary>Particles ever removed by drains.</summary>
+        public long DrainedTotal { get { return (long)_raw.drained_total; } }
+        /// <summary>Mean over particles of max(ρ/ρ0 - 1, 0) after the step.</summary>
+        public float DensityErrorMean { get { return _raw.density_error_mean; } }
+        public float DensityErrorMax { get { return _raw.density_error_max; } }
+        /// <summary>Σ ½ m v², joules.</summary>
+        public float KineticEnergy { get { return _raw.kinetic_energy; } }
+        /// <summary>The last step's duration on its backend.</summary>
+        public float StepTimeMs { get { return _raw.step_time_ms; } }
+        /// <summary>Constraint iterations run in the last step, all substeps.</summary>
+        public int Iterations { get { return (int)_raw.iterations; } }
+    }
+
+    /// <summary>What a world is and where it runs (pbf_world_info).</summary>
+    public struct WorldInfo
+    {
+        readonly pbf_world_info _raw;
+        readonly string _deviceName;
+        public WorldInfo(pbf_world_info raw)
+        {
+            _raw = raw;
+            _deviceName = raw.device_name.ToString();
+        }
+        public pbf_world_info ToNative() { return _raw; }
+
+        /// <summary>The backend in use (never Auto).</summary>
+        public Backend Backend { get { return (Backend)_raw.backend; } }
+        public int MaxParticles { get { return (int)_raw.max_particles; } }
+        public float ParticleRadius { get { return _raw.particle_radius; } }
+        /// <summary>2·radius.</summary>
+        public float RestSpacing { get { return _raw.rest_spacing; } }
+        /// <summary>h = 4·radius.</summary>
+        public float KernelRadius { get { return _raw.kernel_radius; } }
+        /// <summary>Calibrated so a rest lattice has the rest density.</summary>
+        public float ParticleMass { get { return _raw.particle_mass; } }
+        /// <summary>Uniform grid cells over the domain (cell size h).</summary>
+        public long GridCells { get { return _raw.grid_cells; } }
+        /// <summary>Memory the world allocated on its backend.</summary>
+        public long DeviceBytes { get { return (long)_raw.device_bytes; } }
+        /// <summary>e.g. "NVIDIA H100 80GB HBM3" or "CPU (8 threads)".</summary>
+        public string DeviceName { get { return _deviceName ?? string.Empty; } }
+    }
+}

@@ -1,0 +1,110 @@
+using System;
+using System.Numerics;
+using Pbf.Interop;
+
+namespace Pbf
+{
+    /// <summary>
+    /// A nozzle or a drain of a <see cref="World"/>. After <see cref="Destroy"/> the native handle
+    /// is stale: other calls throw <see cref="PbfException"/> with <see cref="Result.InvalidHandle"/>.
+    /// After the world is disposed they throw <see cref="ObjectDisposedException"/>.
+    /// </summary>
+    public sealed class Emitter : IDisposable
+    {
+        readonly World _world;
+        readonly pbf_emitter_id _id;
+        bool _destroyed;
+
+        internal Emitter(World world, pbf_emitter_id id, EmitterType type)
+        {
+            _world = world;
+            _id = id;
+            Type = type;
+        }
+
+        public World World { get { return _world; } }
+        public pbf_emitter_id Id { get { return _id; } }
+        public EmitterType Type { get; private set; }
+        /// <summary>True after Destroy, or once its world is disposed.</summary>
+        public bool IsDestroyed { get { return _destroyed || _world.IsDisposed; } }
+
+        public void SetEnabled(bool enabled)
+        {
+            PbfException.Check(Native.pbf_emitter_set_enabled(_world.Handle, _id, enabled ? 1u : 0u));
+        }
+
+        /// <summary>Nozzle: a = position, b = direction. Drain: a = box min, b = box max.</summary>
+        public void SetTransform(Vector3 a, Vector3 b)
+        {
+            Float3 na = Convert3.ToNative(a), nb = Convert3.ToNative(b);
+            PbfException.Check(Native.pbf_emitter_set_transform(_world.Handle, _id, ref na, ref nb));
+        }
+
+        /// <summary>Removes the emitter from its world. Idempotent; a no-op once the world is disposed.</summary>
+        public void Destroy()
+        {
+            if (_destroyed || _world.IsDisposed) { _destroyed = true; return; }
+            PbfException.Check(Native.pbf_world_destroy_emitter(_world.Handle, _id));
+            _destroyed = true;
+        }
+
+        /// <summary>Destroy, without throwing.</summary>
+        public void Dispose()
+        {
+            try { Destroy(); }
+            catch (PbfException) { }
+            catch (ObjectDisposedException) { }
+        }
+    }
+
+    /// <summary>
+    /// A collider of a <see cref="World"/>. After <see cref="Destroy"/> the native handle is
+    /// stale: other calls throw <see cref="PbfException"/> with <see cref="Result.InvalidHandle"/>.
+    /// After the world is disposed they throw <see cref="ObjectDisposedException"/>.
+    /// </summary>
+    public sealed class Collider : IDisposable
+    {
+        readonly World _world;
+        readonly pbf_collider_id _id;
+        bool _destroyed;
+
+        internal Collider(World world, pbf_collider_id id, ColliderShape shape, ColliderMotion motion)
+        {
+            _world = world;
+            _id = id;
+            Shape = shape;
+            Motion = motion;
+        }
+
+        public World World { get { return _world; } }
+        public pbf_collider_id Id { get { return _id; } }
+        public ColliderShape Shape { get; private set; }
+        public ColliderMotion Motion { get; private set; }
+        public bool IsDestroyed { get { return _destroyed || _world.IsDisposed; } }
+
+        /// <summary>Kinematic colliders only (else <see cref="Result.InvalidState"/>): the pose
+        /// reached at the end of the next step; the solver moves the collider there over that step.</summary>
+        public void SetPose(Vector3 position, Quaternion rotation)
+        {
+            Float3 p = Convert3.ToNative(position);
+            Float4 q = Convert3.ToNative(rotation);
+            PbfException.Check(Native.pbf_collider_set_pose(_world.Handle, _id, ref p, ref q));
+        }
+
+        /// <summary>Removes the collider from its world. Idempotent; a no-op once the world is disposed.</summary>
+        public void Destroy()
+        {
+            if (_destroyed || _world.IsDisposed) { _destroyed = true; return; }
+            PbfException.Check(Native.pbf_world_destroy_collider(_world.Handle, _id));
+            _destroyed = true;
+        }
+
+        /// <summary>Destroy, without throwing.</summary>
+        public void Dispose()
+        {
+            try { Destroy(); }
+            catch (PbfException) { }
+            catch (ObjectDisposedException) { }
+        }
+    }
+}

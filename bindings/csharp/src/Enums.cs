@@ -1,0 +1,85 @@
+// Friendly enums of the Pbf namespace. Their values equal the header's (tests check each one),
+// so a cast converts to and from the raw Pbf.Interop enums.
+namespace Pbf
+{
+    /// <summary>pbf_result: why a libpbf call failed (carried by <see cref="PbfException"/>).</summary>
+    public enum Result
+    {
+        Ok = 0,
+        /// <summary>NULL pointer, NaN/Inf or out-of-range value.</summary>
+        InvalidArgument = 1,
+        /// <summary>Zeroed, forged or stale (destroyed) handle.</summary>
+        InvalidHandle = 2,
+        /// <summary>A desc's struct_size does not match the library's: bindings and library disagree.</summary>
+        StructSize = 3,
+        /// <summary>Header (bindings) and library major versions differ.</summary>
+        VersionMismatch = 4,
+        /// <summary>Nothing fits: world at max_particles, or a table is full.</summary>
+        Capacity = 5,
+        OutOfMemory = 6,
+        /// <summary>CUDA asked for but not built in, or no device.</summary>
+        BackendUnavailable = 7,
+        /// <summary>A device call failed; the message carries its text.</summary>
+        BackendError = 8,
+        /// <summary>The call does not fit the object's current state.</summary>
+        InvalidState = 9,
+        /// <summary>A bug in libpbf; please report the message.</summary>
+        Internal = 10,
+    }
+
+    /// <summary>pbf_backend.</summary>
+    public enum Backend
+    {
+        /// <summary>CUDA when built in and a device exists, else CPU.</summary>
+        Auto = 0,
+        Cpu = 1,
+        Cuda = 2,
+    }
+
+    /// <summary>pbf_log_level.</summary>
+    public enum LogLevel
+    {
+        Debug = 0,
+        Info = 1,
+        Warning = 2,
+        Error = 3,
+    }
+
+    /// <summary>pbf_emitter_type.</summary>
+    public enum EmitterType
+    {
+        /// <summary>Emits particles_per_second through a disc, along a direction.</summary>
+        Nozzle = 1,
+        /// <summary>Removes particles inside a box at each step.</summary>
+        Drain = 2,
+    }
+
+    /// <summary>pbf_collider_shape.</summary>
+    public enum ColliderShape
+    {
+        /// <summary>The half-space below the plane through Position with normal Rotation·(0,1,0) is solid.</summary>
+        Plane = 1,
+        Sphere = 2,
+        /// <summary>Radius around the segment from -HalfHeight to +HalfHeight on local y.</summary>
+        Capsule = 3,
+        /// <summary>HalfExtents, oriented by Rotation.</summary>
+        Box = 4,
+    }
+
+    /// <summary>pbf_collider_motion.</summary>
+    public enum ColliderMotion
+    {
+        Static = 0,
+        /// <summary>Pose set each frame with <see cref="Collider.SetPose"/>; its motion over a step pushes fluid.</summary>
+        Kinematic = 1,
+    }
+
+    /// <summary>pbf_memory_kind: where a mapped buffer lives.</summary>
+    public enum MemoryKind
+    {
+        /// <summary>CPU backend: an ordinary host pointer.</summary>
+        Host = 1,
+        /// <summary>CUDA backend: a device pointer.</summary>
+        CudaDevice = 2,
+    }
+}

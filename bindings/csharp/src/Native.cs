@@ -1,0 +1,515 @@
+// Raw layer: a one-to-one mirror of include/pbf_c_api.h (C ABI v1).
+//
+// Names, field order and field types follow the header exactly so that a reader can check the
+// two side by side; tests/LayoutTests.cs compares every size and offset with the header at test
+// time. Every struct here is blittable (no bool, char, string or array fields) and every
+// signature passes only primitives, blittable structs, IntPtr, and ref/out to those, so no
+// marshalling code runs: the same declarations work on .NET, Mono and IL2CPP.
+//
+// Pointer parameters that C allows to be NULL, or that tests need to pass as NULL, also have an
+// IntPtr overload. Most code should use the friendly layer (namespace Pbf) instead.
+using System;
+using System.Runtime.InteropServices;
+
+namespace Pbf.Interop
+{
+    // ---- Enums (all 32-bit, as the header's *_FORCE32 members force) -------------------------
+    public enum pbf_result : int
+    {
+        PBF_OK = 0,
+        PBF_ERROR_INVALID_ARGUMENT = 1,
+        PBF_ERROR_INVALID_HANDLE = 2,
+        PBF_ERROR_STRUCT_SIZE = 3,
+        PBF_ERROR_VERSION_MISMATCH = 4,
+        PBF_ERROR_CAPACITY = 5,
+        PBF_ERROR_OUT_OF_MEMORY = 6,
+        PBF_ERROR_BACKEND_UNAVAILABLE = 7,
+        PBF_ERROR_BACKEND = 8,
+        PBF_ERROR_INVALID_STATE = 9,
+        PBF_ERROR_INTERNAL = 10,
+        PBF_RESULT_FORCE32 = 0x7FFFFFFF,
+    }
+
+    public enum pbf_log_level : int
+    {
+        PBF_LOG_DEBUG = 0,
+        PBF_LOG_INFO = 1,
+        PBF_LOG_WARNING = 2,
+        PBF_LOG_ERROR = 3,
+        PBF_LOG_LEVEL_FORCE32 = 0x7FFFFFFF,
+    }
+
+    public enum pbf_backend : int
+    {
+        PBF_BACKEND_AUTO = 0,
+        PBF_BACKEND_CPU = 1,
+        PBF_BACKEND_CUDA = 2,
+        PBF_BACKEND_FORCE32 = 0x7FFFFFFF,
+    }
+
+    public enum pbf_emitter_type : int
+    {
+        PBF_EMITTER_NOZZLE = 1,
+        PBF_EMITTER_DRAIN = 2,
+        PBF_EMITTER_TYPE_FORCE32 = 0x7FFFFFFF,
+    }
+
+    public enum pbf_collider_shape : int
+    {
+        PBF_SHAPE_PLANE = 1,
+        PBF_SHAPE_SPHERE = 2,
+        PBF_SHAPE_CAPSULE = 3,
+        PBF_SHAPE_BOX = 4,
+        PBF_SHAPE_FORCE32 = 0x7FFFFFFF,
+    }
+
+    public enum pbf_collider_motion : int
+    {
+        PBF_MOTION_STATIC = 0,
+        PBF_MOTION_KINEMATIC = 1,
+        PBF_MOTION_FORCE32 = 0x7FFFFFFF,
+    }
+
+    public enum pbf_memory_kind : int
+    {
+        PBF_MEMORY_HOST = 1,
+        PBF_MEMORY_CUDA_DEVICE = 2,
+        PBF_MEMORY_KIND_FORCE32 = 0x7FFFFFFF,
+    }
+
+    // ---- Fixed-size C arrays -------------------------------------------------------------------
+    /// <summary>float[3] of the header.</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct Float3
+    {
+        public float x, y, z;
+        public Float3(float x, float y, float z) { this.x = x; this.y = y; this.z = z; }
+        public override string ToString() { return "(" + x + ", " + y + ", " + z + ")"; }
+    }
+
+    /// <summary>float[4] of the header (quaternions as x, y, z, w).</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct Float4
+    {
+        public float x, y, z, w;
+        public Float4(float x, float y, float z, float w) { this.x = x; this.y = y; this.z = z; this.w = w; }
+    }
+
+    /// <summary>char[128] of the header: a NUL-terminated UTF-8 string.</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct Char128
+    {
+        public byte c000, c001, c002, c003, c004, c005, c006, c007, c008, c009, c010, c011, c012, c013, c014, c015;
+        public byte c016, c017, c018, c019, c020, c021, c022, c023, c024, c025, c026, c027, c028, c029, c030, c031;
+        public byte c032, c033, c034, c035, c036, c037, c038, c039, c040, c041, c042, c043, c044, c045, c046, c047;
+        public byte c048, c049, c050, c051, c052, c053, c054, c055, c056, c057, c058, c059, c060, c061, c062, c063;
+        public byte c064, c065, c066, c067, c068, c069, c070, c071, c072, c073, c074, c075, c076, c077, c078, c079;
+        public byte c080, c081, c082, c083, c084, c085, c086, c087, c088, c089, c090, c091, c092, c093, c094, c095;
+        public byte c096, c097, c098, c099, c100, c101, c102, c103, c104, c105, c106, c107, c108, c109, c110, c111;
+        public byte c112, c113, c114, c115, c116, c117, c118, c119, c120, c121, c122, c123, c124, c125, c126, c127;
+
+        public const int Length = 128;
+
+        /// <summary>The bytes up to the first NUL (or all 128), decoded as UTF-8.</summary>
+        public override string ToString()
+        {
+            Span<byte> bytes = MemoryMarshal.AsBytes(MemoryMarshal.CreateSpan(ref this, 1));
+            int n = bytes.IndexOf((byte)0);
+            if (n < 0) n = bytes.Length;
+            return System.Text.Encoding.UTF8.GetString(bytes.Slice(0, n).ToArray());
+        }
+    }
+
+    // ---- Handles -------------------------------------------------------------------------------
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_world_id
+    {
+        public uint index;
+        public uint generation;
+        public override string ToString() { return "{" + index + ", " + generation + "}"; }
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_emitter_id
+    {
+        public uint index;
+        public uint generation;
+        public override string ToString() { return "{" + index + ", " + generation + "}"; }
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_collider_id
+    {
+        public uint index;
+        public uint generation;
+        public override string ToString() { return "{" + index + ", " + generation + "}"; }
+    }
+
+    // ---- Descs and results ---------------------------------------------------------------------
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_solver_params
+    {
+        public uint struct_size;
+        public uint iterations;
+        public uint substeps;
+        public float relaxation;
+        public float scorr_k;
+        public float scorr_n;
+        public float scorr_dq;
+        public float xsph_c;
+        public float vorticity_epsilon;
+        public uint ldc_enabled;
+        public float ldc_gain;
+        public float max_speed;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_world_desc
+    {
+        public uint struct_size;
+        public uint header_version;
+        public pbf_backend backend;
+        public int cuda_device;
+        public uint max_particles;
+        public float particle_radius;
+        public float rest_density;
+        public Float3 gravity;
+        public Float3 domain_min;
+        public Float3 domain_max;
+        public pbf_solver_params solver;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_world_info
+    {
+        public uint struct_size;
+        public pbf_backend backend;
+        public uint max_particles;
+        public float particle_radius;
+        public float rest_spacing;
+        public float kernel_radius;
+        public float particle_mass;
+        public uint grid_cells;
+        public ulong device_bytes;
+        public Char128 device_name;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_step_stats
+    {
+        public uint struct_size;
+        public uint particle_count;
+        public ulong step_index;
+        public ulong emitted_total;
+        public ulong drained_total;
+        public float density_error_mean;
+        public float density_error_max;
+        public float kinetic_energy;
+        public float step_time_ms;
+        public uint iterations;
+        public uint reserved0;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_block_desc
+    {
+        public uint struct_size;
+        public Float3 box_min;
+        public Float3 box_max;
+        public Float3 velocity;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_emitter_desc
+    {
+        public uint struct_size;
+        public pbf_emitter_type type;
+        public uint enabled;
+        public Float3 position;
+        public Float3 direction;
+        public float speed;
+        public float radius;
+        public float particles_per_second;
+        public Float3 box_min;
+        public Float3 box_max;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_collider_desc
+    {
+        public uint struct_size;
+        public pbf_collider_shape shape;
+        public pbf_collider_motion motion;
+        public Float3 position;
+        public Float4 rotation;
+        public float radius;
+        public float half_height;
+        public Float3 half_extents;
+        public float friction;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_mapped_buffer
+    {
+        public uint struct_size;
+        public pbf_memory_kind memory;
+        public IntPtr data;
+        public uint count;
+        public uint stride_bytes;
+        public uint reserved0;
+        public uint reserved1;
+    }
+
+    /// <summary>typedef void (*pbf_log_fn)(pbf_log_level, const char*, void*).</summary>
+    [UnmanagedFunctionPointer(CallingConvention.Cdecl)]
+    public delegate void pbf_log_fn(pbf_log_level level, IntPtr message, IntPtr user_data);
+
+    // ---- Functions -----------------------------------------------------------------------------
+    public static class Native
+    {
+        /// <summary>The native library's name: libpbf.so / libpbf.dylib / pbf.dll. Where libpbf is
+        /// linked statically into the player (iOS, WebGL; or any build defining PBF_STATIC_LINK)
+        /// it is "__Internal".</summary>
+#if PBF_STATIC_LINK || ((UNITY_IOS || UNITY_TVOS || UNITY_WEBGL) && !UNITY_EDITOR)
+        public const string Library = "__Internal";
+#else
+        public const string Library = "pbf";
+#endif
+
+        public const uint PBF_VERSION_MAJOR = 1;
+        public const uint PBF_VERSION_MINOR = 0;
+        public const uint PBF_VERSION_PATCH = 0;
+        /// <summary>The header version these bindings mirror: major in bits 22..31, minor in 12..21, patch in 0..11.</summary>
+        public const uint PBF_VERSION = (PBF_VERSION_MAJOR << 22) | (PBF_VERSION_MINOR << 12) | PBF_VERSION_PATCH;
+
+        public static uint PBF_MAKE_VERSION(uint major, uint minor, uint patch) { return (major << 22) | (minor << 12) | patch; }
+        public static uint PBF_VERSION_GET_MAJOR(uint v) { return v >> 22; }
+        public static uint PBF_VERSION_GET_MINOR(uint v) { return (v >> 12) & 0x3FFu; }
+        public static uint PBF_VERSION_GET_PATCH(uint v) { return v & 0xFFFu; }
+
+        // Version, errors, logging
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern uint pbf_get_version();
+
+        /// <summary>const char*: UTF-8, owned by the library, valid until this thread's next libpbf call.</summary>
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern IntPtr pbf_last_error_message();
+
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern IntPtr pbf_result_string(pbf_result result);
+
+        /// <summary>callback: a function pointer from Marshal.GetFunctionPointerForDelegate of a
+        /// pbf_log_fn kept alive by the caller, or IntPtr.Zero to remove.</summary>
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern void pbf_set_log_callback(IntPtr callback, IntPtr user_data);
+
+        // Solver parameters
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_solver_params_init(ref pbf_solver_params @params, uint struct_size);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_solver_params_init(IntPtr @params, uint struct_size);
+
+        // World
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_desc_init(ref pbf_world_desc desc, uint struct_size, uint header_version);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_desc_init(IntPtr desc, uint struct_size, uint header_version);
+
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_create(ref pbf_world_desc desc, out pbf_world_id out_world);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_create(IntPtr desc, out pbf_world_id out_world);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_create(ref pbf_world_desc desc, IntPtr out_world);
+
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_destroy(pbf_world_id world);
+
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_step(pbf_world_id world, float dt);
+
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_get_solver_params(pbf_world_id world, ref pbf_solver_params out_params);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_get_solver_params(pbf_world_id world, IntPtr out_params);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_set_solver_params(pbf_world_id world, ref pbf_solver_params @params);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_set_solver_params(pbf_world_id world, IntPtr @params);
+
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_set_gravity(pbf_world_id world, ref Float3 gravity);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_set_gravity(pbf_world_id world, IntPtr gravity);
+
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_get_info(pbf_world_id world, ref pbf_world_info out_info);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_get_info(pbf_world_id world, IntPtr out_info);
+
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_get_stats(pbf_world_id world, ref pbf_step_stats out_stats);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_get_stats(pbf_world_id world, IntPtr out_stats);
+
+        // Emitters and drains
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_block_desc_init(ref pbf_block_desc desc, uint struct_size);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_block_desc_init(IntPtr desc, uint struct_size);
+
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_emit_block(pbf_world_id world, ref pbf_block_desc desc, out uint out_emitted);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_emit_block(pbf_world_id world, ref pbf_block_desc desc, IntPtr out_emitted);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_emit_block(pbf_world_id world, IntPtr desc, IntPtr out_emitted);
+
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_emitter_desc_init(ref pbf_emitter_desc desc, uint struct_size);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_emitter_desc_init(IntPtr desc, uint struct_size);
+
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_create_emitter(pbf_world_id world, ref pbf_emitter_desc desc, out pbf_emitter_id out_emitter);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_create_emitter(pbf_world_id world, IntPtr desc, out pbf_emitter_id out_emitter);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_create_emitter(pbf_world_id world, ref pbf_emitter_desc desc, IntPtr out_emitter);
+
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_destroy_emitter(pbf_world_id world, pbf_emitter_id emitter);
+
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_emitter_set_enabled(pbf_world_id world, pbf_emitter_id emitter, uint enabled);
+
+        /// <summary>Nozzle: a = position, b = direction. Drain: a = box_min, b = box_max.</summary>
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_emitter_set_transform(pbf_world_id world, pbf_emitter_id emitter, ref Float3 a, ref Float3 b);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_emitter_set_transform(pbf_world_id world, pbf_emitter_id emitter, IntPtr a, IntPtr b);
+
+        // Colliders
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_collider_desc_init(ref pbf_collider_desc desc, uint struct_size);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_collider_desc_init(IntPtr desc, uint struct_size);
+
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_create_collider(pbf_world_id world, ref pbf_collider_desc desc, out pbf_collider_id out_collider);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_create_collider(pbf_world_id world, IntPtr desc, out pbf_collider_id out_collider);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_create_collider(pbf_world_id world, ref pbf_collider_desc desc, IntPtr out_collider);
+
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_destroy_collider(pbf_world_id world, pbf_collider_id collider);
+
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_collider_set_pose(pbf_world_id world, pbf_collider_id collider, ref Float3 position, ref Float4 rotation);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_collider_set_pose(pbf_world_id world, pbf_collider_id collider, IntPtr position, IntPtr rotation);
+
+        // Particles
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_get_particle_count(pbf_world_id world, out uint out_count);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_get_particle_count(pbf_world_id world, IntPtr out_count);
+
+        /// <summary>out_xyzw: max_count * 4 floats. The ref overload passes the address of the
+        /// first element (pinned by the runtime for the call), e.g. ref array[0] or
+        /// ref MemoryMarshal.GetReference(span).</summary>
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_copy_positions(pbf_world_id world, ref float out_xyzw, uint max_count, out uint out_written);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_copy_positions(pbf_world_id world, IntPtr out_xyzw, uint max_count, out uint out_written);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_copy_positions(pbf_world_id world, IntPtr out_xyzw, uint max_count, IntPtr out_written);
+
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_copy_velocities(pbf_world_id world, ref float out_xyzw, uint max_count, out uint out_written);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_copy_velocities(pbf_world_id world, IntPtr out_xyzw, uint max_count, out uint out_written);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_copy_velocities(pbf_world_id world, IntPtr out_xyzw, uint max_count, IntPtr out_written);
+
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_copy_ids(pbf_world_id world, ref uint out_ids, uint max_count, out uint out_written);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_copy_ids(pbf_world_id world, IntPtr out_ids, uint max_count, out uint out_written);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_copy_ids(pbf_world_id world, IntPtr out_ids, uint max_count, IntPtr out_written);
+
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_map_positions(pbf_world_id world, ref pbf_mapped_buffer out_buffer);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_map_positions(pbf_world_id world, IntPtr out_buffer);
+
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_unmap(pbf_world_id world);
+
+        // ---- Helpers that the header provides as static inline functions ----------------------
+        /// <summary>Marshal.SizeOf(T) as the struct_size a desc carries (computed once per type).</summary>
+        public static uint SizeOf<T>() where T : struct { return SizeCache<T>.Value; }
+
+        static class SizeCache<T> where T : struct
+        {
+            public static readonly uint Value = (uint)Marshal.SizeOf(typeof(T));
+        }
+
+        /// <summary>pbf_solver_params_default(): the library's defaults.</summary>
+        public static pbf_solver_params pbf_solver_params_default()
+        {
+            var p = new pbf_solver_params { struct_size = SizeOf<pbf_solver_params>() };
+            pbf_solver_params_init(ref p, p.struct_size);
+            return p;
+        }
+
+        /// <summary>pbf_world_desc_default(): the library's defaults, header_version = PBF_VERSION.</summary>
+        public static pbf_world_desc pbf_world_desc_default()
+        {
+            var d = new pbf_world_desc { struct_size = SizeOf<pbf_world_desc>() };
+            pbf_world_desc_init(ref d, d.struct_size, PBF_VERSION);
+            return d;
+        }
+
+        public static pbf_block_desc pbf_block_desc_default()
+        {
+            var d = new pbf_block_desc { struct_size = SizeOf<pbf_block_desc>() };
+            pbf_block_desc_init(ref d, d.struct_size);
+            return d;
+        }
+
+        public static pbf_emitter_desc pbf_emitter_desc_default()
+        {
+            var d = new pbf_emitter_desc { struct_size = SizeOf<pbf_emitter_desc>() };
+            pbf_emitter_desc_init(ref d, d.struct_size);
+            return d;
+        }
+
+        public static pbf_collider_desc pbf_collider_desc_default()
+        {
+            var d = new pbf_collider_desc { struct_size = SizeOf<pbf_collider_desc>() };
+            pbf_collider_desc_init(ref d, d.struct_size);
+            return d;
+        }
+
+        /// <summary>Decodes a NUL-terminated UTF-8 string owned by the library ("" for NULL).</summary>
+        public static string Utf8ToString(IntPtr text)
+        {
+            if (text == IntPtr.Zero) return string.Empty;
+            int n = 0;
+            while (Marshal.ReadByte(text, n) != 0) ++n;
+            if (n == 0) return string.Empty;
+            var bytes = new byte[n];
+            Marshal.Copy(text, bytes, 0, n);
+            return System.Text.Encoding.UTF8.GetString(bytes);
+        }
+
+        /// <summary>pbf_last_error_message() as a string.</summary>
+        public static string LastErrorMessage() { return Utf8ToString(pbf_last_error_message()); }
+
+        /// <summary>pbf_result_string() as a string.</summary>
+        public static string ResultString(pbf_result result) { return Utf8ToString(pbf_result_string(result)); }
+    }
+}

@@ -1,0 +1,260 @@
+using System;
+using System.Numerics;
+using System.Runtime.InteropServices;
+using System.Threading;
+using Pbf.Interop;
+
+namespace Pbf
+{
+    /// <summary>
+    /// A fluid world: particles, emitters, colliders and the backend (CPU or CUDA) that steps them.
+    /// Every failing call throws <see cref="PbfException"/> with the native result and message, and
+    /// changes nothing. After <see cref="Dispose"/> every member throws
+    /// <see cref="ObjectDisposedException"/>. Calls on one world may come from any thread (the
+    /// library serialises them); calls on different worlds run in parallel.
+    /// </summary>
+    public sealed class World : IDisposable
+    {
+        readonly pbf_world_id _id;
+        int _disposed;
+
+        World(pbf_world_id id) { _id = id; }
+
+        /// <summary>A world of the library's defaults (see <see cref="WorldDesc"/>).</summary>
+        public static World Create() { return Create(new WorldDesc()); }
+
+        /// <summary>Creates a world; every buffer is allocated here, up front (capacity
+        /// desc.MaxParticles), so a world that fits never fails later for lack of memory.</summary>
+        public static World Create(WorldDesc desc)
+        {
+            if (desc == null) throw new ArgumentNullException("desc");
+            pbf_world_desc raw = desc.ToNative();
+            pbf_world_id id;
+            PbfException.Check(Native.pbf_world_create(ref raw, out id));
+            return new World(id);
+        }
+
+        ~World() { Destroy(); }
+
+        /// <summary>Destroys the native world. Idempotent; never throws.</summary>
+        public void Dispose()
+        {
+            Destroy();
+            GC.SuppressFinalize(this);
+        }
+
+        void Destroy()
+        {
+            if (Interlocked.Exchange(ref _disposed, 1) != 0) return;
+            // Fails only if the raw layer already destroyed this id: nothing left to release.
+            Native.pbf_world_destroy(_id);
+        }
+
+        public bool IsDisposed { get { return Volatile.Read(ref _disposed) != 0; } }
+
+        /// <summary>The raw handle, for the Pbf.Interop layer. Throws once disposed.</summary>
+        public pbf_world_id Id { get { return Handle; } }
+
+        internal pbf_world_id Handle
+        {
+            get
+            {
+                if (Volatile.Read(ref _disposed) != 0) throw new ObjectDisposedException("Pbf.World");
+                return _id;
+            }
+        }
+
+        // ---- simulation ----------------------------------------------------------------------
+        /// <summary>Advances by dt seconds (0 &lt; dt &lt;= 1), split into Solver.Substeps substeps.
+        /// On CUDA it returns without waiting for the GPU.</summary>
+        public void Step(float dt) { PbfException.Check(Native.pbf_world_step(Handle, dt)); }
+
+        /// <summary>A copy of the world's solver parameters.</summary>
+        public SolverParams GetSolverParams()
+        {
+            var p = new pbf_solver_params { struct_size = Native.SizeOf<pbf_solver_params>() };
+            PbfException.Check(Native.pbf_world_get_solver_params(Handle, ref p));
+            return new SolverParams(p);
+        }
+
+        /// <summary>Replaces the solver parameters; they apply from the next step.</summary>
+        public void SetSolverParams(SolverParams parameters)
+        {
+            pbf_solver_params p = parameters.ToNative();
+            PbfException.Check(Native.pbf_world_set_solver_params(Handle, ref p));
+        }
+
+        public void SetGravity(Vector3 gravity)
+        {
+            Float3 g = Convert3.ToNative(gravity);
+            PbfException.Check(Native.pbf_world_set_gravity(Handle, ref g));
+        }
+
+        /// <summary>Backend, device, capacity and particle constants of this world.</summary>
+        public WorldInfo Info
+        {
+            get
+            {
+                var info = new pbf_world_info { struct_size = Native.SizeOf<pbf_world_info>() };
+                PbfException.Check(Native.pbf_world_get_info(Handle, ref info));
+                return new WorldInfo(info);
+            }
+        }
+
+        /// <summary>Statistics of the last step (waits for it to finish on CUDA).</summary>
+        public StepStats Stats
+        {
+            get
+            {
+                var stats = new pbf_step_stats { struct_size = Native.SizeOf<pbf_step_stats>() };
+                PbfException.Check(Native.pbf_world_get_stats(Handle, ref stats));
+                return new StepStats(stats);
+            }
+        }
+
+        // ---- emitting ------------------------------------------------------------------------
+        /// <summary>Fills the box with particles at rest spacing; returns how many were emitted
+        /// (what fits under MaxParticles). Throws with <see cref="Result.Capacity"/> when the
+        /// world is already full.</summary>
+        public int EmitBlock(BlockDesc desc)
+        {
+            if (desc == null) throw new ArgumentNullException("desc");
+            pbf_block_desc raw = desc.ToNative();
+            uint emitted;
+            PbfException.Check(Native.pbf_world_emit_block(Handle, ref raw, out emitted));
+            return (int)emitted;
+        }
+
+        public int EmitBlock(Vector3 boxMin, Vector3 boxMax) { return EmitBlock(new BlockDesc(boxMin, boxMax)); }
+
+        public int EmitBlock(Vector3 boxMin, Vector3 boxMax, Vector3 velocity)
+        {
+            return EmitBlock(new BlockDesc(boxMin, boxMax) { Velocity = velocity });
+        }
+
+        public Emitter CreateEmitter(EmitterDesc desc)
+        {
+            if (desc == null) throw new ArgumentNullException("desc");
+            pbf_emitter_desc raw = desc.ToNative();
+            pbf_emitter_id id;
+            PbfException.Check(Native.pbf_world_create_emitter(Handle, ref raw, out id));
+            return new Emitter(this, id, desc.Type);
+        }
+
+        /// <summary>A nozzle: particlesPerSecond through a disc of the given radius at position,
+        /// moving at speed along direction.</summary>
+        public Emitter CreateNozzle(Vector3 position, Vector3 direction, float speed, float radius, float particlesPerSecond)
+        {
+            return CreateEmitter(EmitterDesc.Nozzle(position, direction, speed, radius, particlesPerSecond));
+        }
+
+        /// <summary>A drain: removes the particles inside boxMin..boxMax at each step.</summary>
+        public Emitter CreateDrain(Vector3 boxMin, Vector3 boxMax) { return CreateEmitter(EmitterDesc.Drain(boxMin, boxMax)); }
+
+        public Collider CreateCollider(ColliderDesc desc)
+        {
+            if (desc == null) throw new ArgumentNullException("desc");
+            pbf_collider_desc raw = desc.ToNative();
+            pbf_collider_id id;
+            PbfException.Check(Native.pbf_world_create_collider(Handle, ref raw, out id));
+            return new Collider(this, id, desc.Shape, desc.Motion);
+        }
+
+        // ---- particles -----------------------------------------------------------------------
+        public int ParticleCount
+        {
+            get
+            {
+                uint count;
+                PbfException.Check(Native.pbf_world_get_particle_count(Handle, out count));
+                return (int)count;
+            }
+        }
+
+        /// <summary>Copies min(ParticleCount, destination.Length / 4) particles as x, y, z, w
+        /// (w = density ratio ρ/ρ0, for colouring); returns how many. Index k of positions,
+        /// velocities and ids copied between two steps is one particle. Allocates nothing.</summary>
+        public int CopyPositions(float[] destination) { return CopyVec4(0, Floats(destination)); }
+        public int CopyPositions(Span<float> destination) { return CopyVec4(0, destination); }
+        /// <summary>Into any 16-byte vector type (System.Numerics.Vector4, UnityEngine.Vector4, ...).</summary>
+        public int CopyPositions<T>(T[] destination) where T : struct { return CopyVec4(0, Floats<T>(destination)); }
+        public int CopyPositions<T>(Span<T> destination) where T : struct { return CopyVec4(0, MemoryMarshal.Cast<T, float>(destination)); }
+
+        /// <summary>Velocities as vx, vy, vz, 0; same order as <see cref="CopyPositions(float[])"/>.</summary>
+        public int CopyVelocities(float[] destination) { return CopyVec4(1, Floats(destination)); }
+        public int CopyVelocities(Span<float> destination) { return CopyVec4(1, destination); }
+        public int CopyVelocities<T>(T[] destination) where T : struct { return CopyVec4(1, Floats<T>(destination)); }
+        public int CopyVelocities<T>(Span<T> destination) where T : struct { return CopyVec4(1, MemoryMarshal.Cast<T, float>(destination)); }
+
+        /// <summary>Stable particle ids (assigned 0, 1, 2, ... at emission), same order as the positions.</summary>
+        public int CopyIds(uint[] destination)
+        {
+            if (destination == null) throw new ArgumentNullException("destination");
+            return CopyIds(new Span<uint>(destination));
+        }
+
+        public int CopyIds(Span<uint> destination)
+        {
+            pbf_world_id id = Handle;
+            uint written;
+            pbf_result r = destination.Length == 0
+                ? Native.pbf_world_copy_ids(id, IntPtr.Zero, 0, out written)
+                : Native.pbf_world_copy_ids(id, ref MemoryMarshal.GetReference(destination), (uint)destination.Length, out written);
+            PbfException.Check(r);
+            return (int)written;
+        }
+
+        static Span<float> Floats(float[] destination)
+        {
+            if (destination == null) throw new ArgumentNullException("destination");
+            return new Span<float>(destination);
+        }
+
+        static Span<float> Floats<T>(T[] destination) where T : struct
+        {
+            if (destination == null) throw new ArgumentNullException("destination");
+            return MemoryMarshal.Cast<T, float>(new Span<T>(destination));
+        }
+
+        int CopyVec4(int which, Span<float> destination)
+        {
+            pbf_world_id id = Handle;
+            uint max = (uint)(destination.Length / 4);
+            uint written;
+            pbf_result r;
+            if (max == 0)
+                r = which == 0 ? Native.pbf_world_copy_positions(id, IntPtr.Zero, 0, out written)
+                               : Native.pbf_world_copy_velocities(id, IntPtr.Zero, 0, out written);
+            else if (which == 0)
+                r = Native.pbf_world_copy_positions(id, ref MemoryMarshal.GetReference(destination), max, out written);
+            else
+                r = Native.pbf_world_copy_velocities(id, ref MemoryMarshal.GetReference(destination), max, out written);
+            PbfException.Check(r);
+            return (int)written;
+        }
+
+        /// <summary>
+        /// Maps the live position buffer without a copy (x, y, z, w floats, StrideBytes apart).
+        /// Host memory on the CPU backend, a CUDA device pointer on CUDA. Valid until
+        /// <see cref="Unmap"/>, the next <see cref="Step"/>, any call that adds or removes
+        /// particles, or Dispose. Read-only. Dispose the result (or call Unmap) when done.
+        /// </summary>
+        public MappedPositions MapPositions()
+        {
+            var buffer = new pbf_mapped_buffer { struct_size = Native.SizeOf<pbf_mapped_buffer>() };
+            PbfException.Check(Native.pbf_world_map_positions(Handle, ref buffer));
+            return new MappedPositions(this, buffer);
+        }
+
+        /// <summary>Ends a mapping; throws <see cref="Result.InvalidState"/> if none is active.</summary>
+        public void Unmap() { PbfException.Check(Native.pbf_world_unmap(Handle)); }
+
+        internal void UnmapIfMapped()
+        {
+            if (IsDisposed) return;
+            pbf_result r = Native.pbf_world_unmap(_id);
+            if (r != pbf_result.PBF_OK && r != pbf_result.PBF_ERROR_INVALID_STATE && r != pbf_result.PBF_ERROR_INVALID_HANDLE)
+                PbfException.Check(r);
+        }
+    }
+}

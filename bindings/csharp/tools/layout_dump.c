@@ -1,0 +1,185 @@
+/* Prints the layout of every struct, the value of every enum constant and the version macros of
+ * include/pbf_c_api.h, one fact a line, for the C# layout parity test (tests/LayoutTests.cs):
+ *
+ *   const  NAME VALUE
+ *   enum   TYPE NAME VALUE
+ *   struct TYPE SIZE
+ *   field  TYPE NAME OFFSET SIZE
+ *
+ * Built and run by run_tests.sh against the header as it is at test time:
+ *   cc -std=c99 -I include bindings/csharp/tools/layout_dump.c -o layout_dump && ./layout_dump
+ * When the header gains a struct, field or enum constant, add it here: a new field changes its
+ * struct's size, which the test already catches, and the listing below names what moved. */
+#include <stddef.h>
+#include <stdio.h>
+
+#include "pbf_c_api.h"
+
+#define CONST(name) printf("const %s %lu\n", #name, (unsigned long)(name))
+#define ENUM(type, name) printf("enum %s %s %ld\n", #type, #name, (long)(name))
+#define STRUCT(type) printf("struct %s %lu\n", #type, (unsigned long)sizeof(type))
+#define FIELD(type, name) \
+    printf("field %s %s %lu %lu\n", #type, #name, (unsigned long)offsetof(type, name), \
+           (unsigned long)sizeof(((type*)0)->name))
+
+int main(void) {
+    CONST(PBF_VERSION_MAJOR);
+    CONST(PBF_VERSION_MINOR);
+    CONST(PBF_VERSION_PATCH);
+    CONST(PBF_VERSION);
+
+    ENUM(pbf_result, PBF_OK);
+    ENUM(pbf_result, PBF_ERROR_INVALID_ARGUMENT);
+    ENUM(pbf_result, PBF_ERROR_INVALID_HANDLE);
+    ENUM(pbf_result, PBF_ERROR_STRUCT_SIZE);
+    ENUM(pbf_result, PBF_ERROR_VERSION_MISMATCH);
+    ENUM(pbf_result, PBF_ERROR_CAPACITY);
+    ENUM(pbf_result, PBF_ERROR_OUT_OF_MEMORY);
+    ENUM(pbf_result, PBF_ERROR_BACKEND_UNAVAILABLE);
+    ENUM(pbf_result, PBF_ERROR_BACKEND);
+    ENUM(pbf_result, PBF_ERROR_INVALID_STATE);
+    ENUM(pbf_result, PBF_ERROR_INTERNAL);
+    ENUM(pbf_result, PBF_RESULT_FORCE32);
+
+    ENUM(pbf_log_level, PBF_LOG_DEBUG);
+    ENUM(pbf_log_level, PBF_LOG_INFO);
+    ENUM(pbf_log_level, PBF_LOG_WARNING);
+    ENUM(pbf_log_level, PBF_LOG_ERROR);
+    ENUM(pbf_log_level, PBF_LOG_LEVEL_FORCE32);
+
+    ENUM(pbf_backend, PBF_BACKEND_AUTO);
+    ENUM(pbf_backend, PBF_BACKEND_CPU);
+    ENUM(pbf_backend, PBF_BACKEND_CUDA);
+    ENUM(pbf_backend, PBF_BACKEND_FORCE32);
+
+    ENUM(pbf_emitter_type, PBF_EMITTER_NOZZLE);
+    ENUM(pbf_emitter_type, PBF_EMITTER_DRAIN);
+    ENUM(pbf_emitter_type, PBF_EMITTER_TYPE_FORCE32);
+
+    ENUM(pbf_collider_shape, PBF_SHAPE_PLANE);
+    ENUM(pbf_collider_shape, PBF_SHAPE_SPHERE);
+    ENUM(pbf_collider_shape, PBF_SHAPE_CAPSULE);
+    ENUM(pbf_collider_shape, PBF_SHAPE_BOX);
+    ENUM(pbf_collider_shape, PBF_SHAPE_FORCE32);
+
+    ENUM(pbf_collider_motion, PBF_MOTION_STATIC);
+    ENUM(pbf_collider_motion, PBF_MOTION_KINEMATIC);
+    ENUM(pbf_collider_motion, PBF_MOTION_FORCE32);
+
+    ENUM(pbf_memory_kind, PBF_MEMORY_HOST);
+    ENUM(pbf_memory_kind, PBF_MEMORY_CUDA_DEVICE);
+    ENUM(pbf_memory_kind, PBF_MEMORY_KIND_FORCE32);
+
+    /* The enums themselves are struct fields; their size must be 4 in C as in C#. */
+    printf("enumsize pbf_result %lu\n", (unsigned long)sizeof(pbf_result));
+    printf("enumsize pbf_log_level %lu\n", (unsigned long)sizeof(pbf_log_level));
+    printf("enumsize pbf_backend %lu\n", (unsigned long)sizeof(pbf_backend));
+    printf("enumsize pbf_emitter_type %lu\n", (unsigned long)sizeof(pbf_emitter_type));
+    printf("enumsize pbf_collider_shape %lu\n", (unsigned long)sizeof(pbf_collider_shape));
+    printf("enumsize pbf_collider_motion %lu\n", (unsigned long)sizeof(pbf_collider_motion));
+    printf("enumsize pbf_memory_kind %lu\n", (unsigned long)sizeof(pbf_memory_kind));
+
+    STRUCT(pbf_world_id);
+    FIELD(pbf_world_id, index);
+    FIELD(pbf_world_id, generation);
+
+    STRUCT(pbf_emitter_id);
+    FIELD(pbf_emitter_id, index);
+    FIELD(pbf_emitter_id, generation);
+
+    STRUCT(pbf_collider_id);
+    FIELD(pbf_collider_id, index);
+    FIELD(pbf_collider_id, generation);
+
+    STRUCT(pbf_solver_params);
+    FIELD(pbf_solver_params, struct_size);
+    FIELD(pbf_solver_params, iterations);
+    FIELD(pbf_solver_params, substeps);
+    FIELD(pbf_solver_params, relaxation);
+    FIELD(pbf_solver_params, scorr_k);
+    FIELD(pbf_solver_params, scorr_n);
+    FIELD(pbf_solver_params, scorr_dq);
+    FIELD(pbf_solver_params, xsph_c);
+    FIELD(pbf_solver_params, vorticity_epsilon);
+    FIELD(pbf_solver_params, ldc_enabled);
+    FIELD(pbf_solver_params, ldc_gain);
+    FIELD(pbf_solver_params, max_speed);
+
+    STRUCT(pbf_world_desc);
+    FIELD(pbf_world_desc, struct_size);
+    FIELD(pbf_world_desc, header_version);
+    FIELD(pbf_world_desc, backend);
+    FIELD(pbf_world_desc, cuda_device);
+    FIELD(pbf_world_desc, max_particles);
+    FIELD(pbf_world_desc, particle_radius);
+    FIELD(pbf_world_desc, rest_density);
+    FIELD(pbf_world_desc, gravity);
+    FIELD(pbf_world_desc, domain_min);
+    FIELD(pbf_world_desc, domain_max);
+    FIELD(pbf_world_desc, solver);
+
+    STRUCT(pbf_world_info);
+    FIELD(pbf_world_info, struct_size);
+    FIELD(pbf_world_info, backend);
+    FIELD(pbf_world_info, max_particles);
+    FIELD(pbf_world_info, particle_radius);
+    FIELD(pbf_world_info, rest_spacing);
+    FIELD(pbf_world_info, kernel_radius);
+    FIELD(pbf_world_info, particle_mass);
+    FIELD(pbf_world_info, grid_cells);
+    FIELD(pbf_world_info, device_bytes);
+    FIELD(pbf_world_info, device_name);
+
+    STRUCT(pbf_step_stats);
+    FIELD(pbf_step_stats, struct_size);
+    FIELD(pbf_step_stats, particle_count);
+    FIELD(pbf_step_stats, step_index);
+    FIELD(pbf_step_stats, emitted_total);
+    FIELD(pbf_step_stats, drained_total);
+    FIELD(pbf_step_stats, density_error_mean);
+    FIELD(pbf_step_stats, density_error_max);
+    FIELD(pbf_step_stats, kinetic_energy);
+    FIELD(pbf_step_stats, step_time_ms);
+    FIELD(pbf_step_stats, iterations);
+    FIELD(pbf_step_stats, reserved0);
+
+    STRUCT(pbf_block_desc);
+    FIELD(pbf_block_desc, struct_size);
+    FIELD(pbf_block_desc, box_min);
+    FIELD(pbf_block_desc, box_max);
+    FIELD(pbf_block_desc, velocity);
+
+    STRUCT(pbf_emitter_desc);
+    FIELD(pbf_emitter_desc, struct_size);
+    FIELD(pbf_emitter_desc, type);
+    FIELD(pbf_emitter_desc, enabled);
+    FIELD(pbf_emitter_desc, position);
+    FIELD(pbf_emitter_desc, direction);
+    FIELD(pbf_emitter_desc, speed);
+    FIELD(pbf_emitter_desc, radius);
+    FIELD(pbf_emitter_desc, particles_per_second);
+    FIELD(pbf_emitter_desc, box_min);
+    FIELD(pbf_emitter_desc, box_max);
+
+    STRUCT(pbf_collider_desc);
+    FIELD(pbf_collider_desc, struct_size);
+    FIELD(pbf_collider_desc, shape);
+    FIELD(pbf_collider_desc, motion);
+    FIELD(pbf_collider_desc, position);
+    FIELD(pbf_collider_desc, rotation);
+    FIELD(pbf_collider_desc, radius);
+    FIELD(pbf_collider_desc, half_height);
+    FIELD(pbf_collider_desc, half_extents);
+    FIELD(pbf_collider_desc, friction);
+
+    STRUCT(pbf_mapped_buffer);
+    FIELD(pbf_mapped_buffer, struct_size);
+    FIELD(pbf_mapped_buffer, memory);
+    FIELD(pbf_mapped_buffer, data);
+    FIELD(pbf_mapped_buffer, count);
+    FIELD(pbf_mapped_buffer, stride_bytes);
+    FIELD(pbf_mapped_buffer, reserved0);
+    FIELD(pbf_mapped_buffer, reserved1);
+
+    return 0;
+}

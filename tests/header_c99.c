@@ -1,0 +1,110 @@
+/* Compiled as strict C99 (-std=c99 -Wall -Wextra -pedantic -Werror): the public header is pure
+ * C99, and the layout of every public struct is pinned. The C# bindings mirror these numbers;
+ * changing one is an ABI break (bump PBF_VERSION_MAJOR). 64-bit targets only. */
+#include <stddef.h>
+
+#include "pbf_c_api.h"
+
+#define PBF_STATIC_ASSERT(name, cond) typedef char pbf_static_assert_##name[(cond) ? 1 : -1]
+#define SIZE_IS(T, n) PBF_STATIC_ASSERT(size_##T, sizeof(T) == (n))
+#define OFFSET_IS(T, f, n) PBF_STATIC_ASSERT(offset_##T##_##f, offsetof(T, f) == (n))
+
+PBF_STATIC_ASSERT(pointer_is_64_bit, sizeof(void*) == 8);
+PBF_STATIC_ASSERT(enum_result_is_32_bit, sizeof(pbf_result) == 4);
+PBF_STATIC_ASSERT(enum_backend_is_32_bit, sizeof(pbf_backend) == 4);
+PBF_STATIC_ASSERT(enum_log_level_is_32_bit, sizeof(pbf_log_level) == 4);
+PBF_STATIC_ASSERT(enum_emitter_type_is_32_bit, sizeof(pbf_emitter_type) == 4);
+PBF_STATIC_ASSERT(enum_shape_is_32_bit, sizeof(pbf_collider_shape) == 4);
+PBF_STATIC_ASSERT(enum_motion_is_32_bit, sizeof(pbf_collider_motion) == 4);
+PBF_STATIC_ASSERT(enum_memory_is_32_bit, sizeof(pbf_memory_kind) == 4);
+
+SIZE_IS(pbf_world_id, 8);
+SIZE_IS(pbf_emitter_id, 8);
+SIZE_IS(pbf_collider_id, 8);
+SIZE_IS(pbf_solver_params, 48);
+OFFSET_IS(pbf_solver_params, iterations, 4);
+OFFSET_IS(pbf_solver_params, substeps, 8);
+OFFSET_IS(pbf_solver_params, relaxation, 12);
+OFFSET_IS(pbf_solver_params, scorr_k, 16);
+OFFSET_IS(pbf_solver_params, scorr_n, 20);
+OFFSET_IS(pbf_solver_params, scorr_dq, 24);
+OFFSET_IS(pbf_solver_params, xsph_c, 28);
+OFFSET_IS(pbf_solver_params, vorticity_epsilon, 32);
+OFFSET_IS(pbf_solver_params, ldc_enabled, 36);
+OFFSET_IS(pbf_solver_params, ldc_gain, 40);
+OFFSET_IS(pbf_solver_params, max_speed, 44);
+SIZE_IS(pbf_world_desc, 112);
+OFFSET_IS(pbf_world_desc, header_version, 4);
+OFFSET_IS(pbf_world_desc, backend, 8);
+OFFSET_IS(pbf_world_desc, cuda_device, 12);
+OFFSET_IS(pbf_world_desc, max_particles, 16);
+OFFSET_IS(pbf_world_desc, particle_radius, 20);
+OFFSET_IS(pbf_world_desc, rest_density, 24);
+OFFSET_IS(pbf_world_desc, gravity, 28);
+OFFSET_IS(pbf_world_desc, domain_min, 40);
+OFFSET_IS(pbf_world_desc, domain_max, 52);
+OFFSET_IS(pbf_world_desc, solver, 64);
+SIZE_IS(pbf_world_info, 168);
+OFFSET_IS(pbf_world_info, backend, 4);
+OFFSET_IS(pbf_world_info, max_particles, 8);
+OFFSET_IS(pbf_world_info, particle_radius, 12);
+OFFSET_IS(pbf_world_info, rest_spacing, 16);
+OFFSET_IS(pbf_world_info, kernel_radius, 20);
+OFFSET_IS(pbf_world_info, particle_mass, 24);
+OFFSET_IS(pbf_world_info, grid_cells, 28);
+OFFSET_IS(pbf_world_info, device_bytes, 32);
+OFFSET_IS(pbf_world_info, device_name, 40);
+SIZE_IS(pbf_step_stats, 56);
+OFFSET_IS(pbf_step_stats, particle_count, 4);
+OFFSET_IS(pbf_step_stats, step_index, 8);
+OFFSET_IS(pbf_step_stats, emitted_total, 16);
+OFFSET_IS(pbf_step_stats, drained_total, 24);
+OFFSET_IS(pbf_step_stats, density_error_mean, 32);
+OFFSET_IS(pbf_step_stats, density_error_max, 36);
+OFFSET_IS(pbf_step_stats, kinetic_energy, 40);
+OFFSET_IS(pbf_step_stats, step_time_ms, 44);
+OFFSET_IS(pbf_step_stats, iterations, 48);
+OFFSET_IS(pbf_step_stats, reserved0, 52);
+SIZE_IS(pbf_block_desc, 40);
+OFFSET_IS(pbf_block_desc, box_min, 4);
+OFFSET_IS(pbf_block_desc, box_max, 16);
+OFFSET_IS(pbf_block_desc, velocity, 28);
+SIZE_IS(pbf_emitter_desc, 72);
+OFFSET_IS(pbf_emitter_desc, type, 4);
+OFFSET_IS(pbf_emitter_desc, enabled, 8);
+OFFSET_IS(pbf_emitter_desc, position, 12);
+OFFSET_IS(pbf_emitter_desc, direction, 24);
+OFFSET_IS(pbf_emitter_desc, speed, 36);
+OFFSET_IS(pbf_emitter_desc, radius, 40);
+OFFSET_IS(pbf_emitter_desc, particles_per_second, 44);
+OFFSET_IS(pbf_emitter_desc, box_min, 48);
+OFFSET_IS(pbf_emitter_desc, box_max, 60);
+SIZE_IS(pbf_collider_desc, 64);
+OFFSET_IS(pbf_collider_desc, shape, 4);
+OFFSET_IS(pbf_collider_desc, motion, 8);
+OFFSET_IS(pbf_collider_desc, position, 12);
+OFFSET_IS(pbf_collider_desc, rotation, 24);
+OFFSET_IS(pbf_collider_desc, radius, 40);
+OFFSET_IS(pbf_collider_desc, half_height, 44);
+OFFSET_IS(pbf_collider_desc, half_extents, 48);
+OFFSET_IS(pbf_collider_desc, friction, 60);
+SIZE_IS(pbf_mapped_buffer, 32);
+OFFSET_IS(pbf_mapped_buffer, memory, 4);
+OFFSET_IS(pbf_mapped_buffer, data, 8);
+OFFSET_IS(pbf_mapped_buffer, count, 16);
+OFFSET_IS(pbf_mapped_buffer, stride_bytes, 20);
+OFFSET_IS(pbf_mapped_buffer, reserved0, 24);
+OFFSET_IS(pbf_mapped_buffer, reserved1, 28);
+
+/* The header's inline defaults compile as C99 and are usable from C. */
+int pbf_header_c99_defaults_ok(void);
+int pbf_header_c99_defaults_ok(void) {
+    pbf_world_desc w = pbf_world_desc_default();
+    pbf_block_desc b = pbf_block_desc_default();
+    pbf_emitter_desc e = pbf_emitter_desc_default();
+    pbf_collider_desc c = pbf_collider_desc_default();
+    pbf_solver_params p = pbf_solver_params_default();
+    return w.struct_size == sizeof w && w.header_version == PBF_VERSION && b.struct_size == sizeof b &&
+           e.struct_size == sizeof e && c.struct_size == sizeof c && p.struct_size == sizeof p &&
+           p.iterations == 4;
+}

@@ -1,0 +1,248 @@
+// The per-particle operations run directly on small host arrays (white-box): LDC's direction
+// and effect, and the density constraint's λ and Δp. A one-cell grid makes every particle a
+// neighbour candidate, so these tests do not depend on the grid build.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "core/passes.h"
+#include "world/world.h"
+
+using namespace pbf;
+
+namespace {
+
+struct Scene {
+    SimConstants s{};
+    ColliderSet colliders{};
+    std::vector<Vec4> pos, vel, pred, corrected;
+    std::vector<float> density;
+    std::vector<uint32_t> cell_begin;
+
+    explicit Scene(float spacing, float dt = 1.0f / 60.0f) {
+        const float h = 2.0f * spacing;
+        const LatticeCalibration c = calibrate_lattice(spacing, h);
+        s.radius = 0.5f * spacing;
+        s.h = h;
+        s.h2 = h * h;
+        s.rest_density = 1000.0f;
+        s.inv_rest_density = 1.0f / s.rest_density;
+        s.mass = float(s.rest_density / c.kernel_sum);
+        s.poly6_coef = poly6_coefficient(h);
+        s.spiky_coef = spiky_grad_coefficient(h);
+        s.lambda_epsilon = 0.01f * float(c.gradient_norm2 / (c.kernel_sum * c.kernel_sum));
+        s.scorr_k = 0.0f;
+        s.scorr_n = 4.0f;
+        s.scorr_inv_w_dq = 1.0f;
+        s.max_speed = 100.0f;
+        s.dt = dt;
+        s.inv_dt = 1.0f / dt;
+        s.gravity = Vec3{0, 0, 0};
+        s.wall_min = Vec3{-100, -100, -100};
+        s.wall_max = Vec3{100, 100, 100};
+        s.grid = GridDims{Vec3{-100, -100, -100}, 1.0f / 200.0f, 1, 1, 1, 1};
+    }
+    void add(Vec3 p) { pos.push_back(make_vec4(p, 1.0f)); }
+    uint32_t n() const { return uint32_t(pos.size()); }
+    void finish() {
+        vel.assign(n(), Vec4{0, 0, 0, 0});
+        pred.assign(n(), Vec4{0, 0, 0, 0});
+        corrected.assign(n(), Vec4{0, 0, 0, 0});
+        density.assign(n(), 0.0f);
+        cell_begin = {0u, n()};
+    }
+    template <class Op>
+    void run(const Op& op) {
+        for (uint32_t i = 0; i < n(); ++i) op(i);
+    }
+    void densities(std::vector<Vec4>& at) { run(DensityOp{s, cell_begin.data(), at.data(), density.data()}); }
+};
+
+// Spread (std) of ρ/ρ0 over particles at least `margin` inside the lattice's bounding box.
+double interior_spread(const std::vector<Vec4>& lattice, const std::vector<float>& density, float rho0, float lo,
+                       float hi) {
+    double sum = 0, sum2 = 0;
+    int n = 0;
+    for (size_t i = 0; i < density.size(); ++i) {
+        const Vec4 p = lattice[i];
+        if (p.x < lo || p.y < lo || p.z < lo || p.x > hi || p.y > hi || p.z > hi) continue;
+        const double r = density[i] / rho0;
+        sum += r;
+        sum2 += r * r;
+        ++n;
+    }
+    const double mean = sum / n;
+    return std::sqrt(std::max(0.0, sum2 / n - mean * mean));
+}
+
+}  // namespace
+
+TEST_CASE("LDC force points from denser toward less dense neighbours", "[ldc]") {
+    Scene sc(0.05f);
+    sc.add(Vec3{0, 0, 0});
+    sc.add(Vec3{0.05f, 0, 0});   // +x neighbour
+    sc.add(Vec3{-0.05f, 0, 0});  // -x neighbour
+    sc.finish();
+    sc.s.ldc_enabled = 1;
+    sc.s.ldc_k = 100.0f;
+    const float rho0 = sc.s.rest_density;
+
+    SECTION("denser neighbour on +x, less dense on -x: pushed toward -x") {
+        sc.density = {rho0, 1.2f * rho0, 0.8f * rho0};
+        const Vec3 f = ldc_force(sc.s, sc.cell_begin.data(), sc.pos.data(), sc.density.data(), 0);
+        CHECK(f.x < 0.0f);
+        CHECK(std::fabs(f.y) < 1e-6f);
+        CHECK(std::fabs(f.z) < 1e-6f);
+    }
+    SECTION("mirror image: pushed toward +x") {
+        sc.density = {rho0, 0.8f * rho0, 1.2f * rho0};
+        CHECK(ldc_force(sc.s, sc.cell_begin.data(), sc.pos.data(), sc.density.data(), 0).x > 0.0f);
+    }
+    SECTION("equal densities: no force") {
+        sc.density = {rho0, rho0, rho0};
+        CHECK(length(ldc_force(sc.s, sc.cell_begin.data(), sc.pos.data(), sc.density.data(), 0)) == 0.0f);
+    }
+    SECTION("a particle denser than both neighbours is pushed by neither side (symmetric)") {
+        sc.density = {1.3f * rho0, rho0, rho0};
+        CHECK(std::fabs(ldc_force(sc.s, sc.cell_begin.data(), sc.pos.data(), sc.density.data(), 0).x) < 1e-6f);
+        // Each neighbour is pushed away from the dense centre, toward lower density.
+        CHECK(ldc_force(sc.s, sc.cell_begin.data(), sc.pos.data(), sc.density.data(), 1).x > 0.0f);
+        CHECK(ldc_force(sc.s, sc.cell_begin.data(), sc.pos.data(), sc.density.data(), 2).x < 0.0f);
+    }
+    SECTION("the weight is the linear hat h(1 - r/h): a closer neighbour pushes harder") {
+        sc.density = {rho0, 1.2f * rho0, rho0};
+        const float far = -ldc_force(sc.s, sc.cell_begin.data(), sc.pos.data(), sc.density.data(), 0).x;
+        sc.pos[1].x = 0.025f;
+        const float near = -ldc_force(sc.s, sc.cell_begin.data(), sc.pos.data(), sc.density.data(), 0).x;
+        // f = K ρ_ij h (1 - r/h): r = h/2 gives 0.5h, r = h/4 gives 0.75h.
+        CHECK(near / far == Approx(1.5f).epsilon(1e-4));
+        CHECK(far == Approx(100.0f * 0.2f * 0.1f * 0.5f).epsilon(1e-4));
+    }
+}
+
+namespace {
+// One application of LDC from rest on a jittered lattice (gravity off); returns the interior
+// density spread before and after.
+std::pair<double, double> ldc_once(float gain, uint32_t seed) {
+    const float d = 0.05f;
+    Scene sc(d);
+    std::mt19937 rng(seed);
+    std::normal_distribution<float> jitter(0.0f, 0.12f * d);
+    const int n = 12;
+    for (int z = 0; z < n; ++z)
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) sc.add(Vec3{x * d + jitter(rng), y * d + jitter(rng), z * d + jitter(rng)});
+    sc.finish();
+    sc.s.ldc_enabled = 1;
+    sc.s.ldc_k = gain / (sc.s.dt * sc.s.dt);
+    const float lo = 2.0f * sc.s.h, hi = (n - 1) * d - 2.0f * sc.s.h;
+    sc.densities(sc.pos);
+    std::vector<Vec4> start = sc.pos;
+    const double before = interior_spread(start, sc.density, sc.s.rest_density, lo, hi);
+    sc.run(PredictOp{sc.s, sc.colliders, sc.cell_begin.data(), sc.density.data(), sc.pos.data(), sc.vel.data(),
+                     sc.pred.data()});
+    sc.densities(sc.pred);
+    const double after = interior_spread(start, sc.density, sc.s.rest_density, lo, hi);
+    return {before, after};
+}
+}  // namespace
+
+TEST_CASE("LDC applied once reduces the spread of densities on a perturbed lattice", "[ldc]") {
+    for (uint32_t seed : {1u, 2u, 3u}) {
+        const auto [before, after] = ldc_once(0.1f, seed);
+        INFO("seed " << seed << ": spread " << before << " -> " << after);
+        CHECK(before > 0.02);           // the jitter made a real spread
+        CHECK(after < 0.85 * before);   // LDC smooths it
+    }
+}
+
+TEST_CASE("LDC with the opposite sign would increase the spread (the reading of Eq. 1 matters)", "[ldc]") {
+    const auto [before, after] = ldc_once(-0.1f, 7u);
+    CHECK(after > before);
+}
+
+TEST_CASE("LDC off leaves a resting lattice at rest (gravity off)", "[ldc]") {
+    Scene sc(0.05f);
+    for (int z = 0; z < 4; ++z)
+        for (int y = 0; y < 4; ++y)
+            for (int x = 0; x < 4; ++x) sc.add(Vec3{x * 0.05f, y * 0.05f, z * 0.05f});
+    sc.finish();
+    sc.s.ldc_enabled = 0;
+    sc.run(PredictOp{sc.s, sc.colliders, sc.cell_begin.data(), sc.density.data(), sc.pos.data(), sc.vel.data(),
+                     sc.pred.data()});
+    for (uint32_t i = 0; i < sc.n(); ++i) {
+        CHECK(sc.pred[i].x == sc.pos[i].x);
+        CHECK(sc.pred[i].y == sc.pos[i].y);
+    }
+}
+
+TEST_CASE("density constraint: λ < 0 only where compressed, and Δp reduces compression", "[pbf]") {
+    const float d = 0.05f;
+    Scene sc(d);
+    const int n = 11;
+    const float squeeze = 0.92f;  // lattice at 92 % of rest spacing: ~28 % too dense inside
+    for (int z = 0; z < n; ++z)
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) sc.add(Vec3{x * d * squeeze, y * d * squeeze, z * d * squeeze});
+    sc.finish();
+    sc.pred = sc.pos;
+    const float lo = sc.s.h, hi = (n - 1) * d * squeeze - sc.s.h;
+    auto interior_error = [&]() {
+        double e = 0;
+        int k = 0;
+        for (uint32_t i = 0; i < sc.n(); ++i) {
+            const Vec4 p = sc.pos[i];
+            if (p.x < lo || p.y < lo || p.z < lo || p.x > hi || p.y > hi || p.z > hi) continue;
+            e += std::max(0.0, sc.density[i] / double(sc.s.rest_density) - 1.0);
+            ++k;
+        }
+        REQUIRE(k > 0);
+        return e / k;
+    };
+    sc.run(LambdaOp{sc.s, sc.cell_begin.data(), sc.pred.data(), sc.density.data()});
+    const double error_before = interior_error();
+    CHECK(error_before > 0.2);
+    const uint32_t centre = (n / 2) * n * n + (n / 2) * n + n / 2;
+    CHECK(sc.pred[centre].w < 0.0f);
+    CHECK(sc.pred[0].w == 0.0f);  // a corner particle is under-dense: unilateral, no pull
+    for (int it = 0; it < 4; ++it) {
+        sc.run(LambdaOp{sc.s, sc.cell_begin.data(), sc.pred.data(), sc.density.data()});
+        sc.run(DeltaOp{sc.s, sc.colliders, sc.cell_begin.data(), sc.pos.data(), sc.pred.data(), sc.corrected.data()});
+        std::swap(sc.pred, sc.corrected);
+    }
+    sc.run(LambdaOp{sc.s, sc.cell_begin.data(), sc.pred.data(), sc.density.data()});
+    const double error_after = interior_error();
+    INFO("interior compressive error " << error_before << " -> " << error_after);
+    CHECK(error_after < 0.5 * error_before);
+    // Symmetry: the centre particle of a symmetric lattice does not move.
+    CHECK(std::fabs(sc.pred[centre].x - sc.pos[centre].x) < 1e-5f);
+}
+
+TEST_CASE("colliders push particle centres out to one radius from the surface", "[collide]") {
+    Scene sc(0.05f);
+    const float r = sc.s.radius;
+    auto pose = [](Vec3 p) { return ColliderPose{p, Mat3{{1, 0, 0, 0, 1, 0, 0, 0, 1}}}; };
+    Collider sphere{kShapeSphere, 0.2f, 0.0f, 0.0f, Vec3{0, 0, 0}, pose(Vec3{0, 0, 0}), pose(Vec3{0, 0, 0})};
+    Collider box{kShapeBox, 0.0f, 0.0f, 0.0f, Vec3{0.1f, 0.2f, 0.3f}, pose(Vec3{1, 0, 0}), pose(Vec3{1, 0, 0})};
+    Collider capsule{kShapeCapsule, 0.1f, 0.3f, 0.0f, Vec3{0, 0, 0}, pose(Vec3{0, 1, 0}), pose(Vec3{0, 1, 0})};
+    Collider plane{kShapePlane, 0.0f, 0.0f, 0.0f, Vec3{0, 0, 0}, pose(Vec3{0, -1, 0}), pose(Vec3{0, -1, 0})};
+    ColliderSet set{};
+    set.items[set.count++] = sphere;
+    set.items[set.count++] = box;
+    set.items[set.count++] = capsule;
+    set.items[set.count++] = plane;
+    Vec3 n;
+    const Vec3 in_sphere = collide(sc.s, set, Vec3{0.05f, 0.0f, 0.0f}, Vec3{0, 0, 0});
+    CHECK(collider_distance(sphere, sphere.cur, in_sphere, n) == Approx(r).margin(1e-5));
+    CHECK(in_sphere.x > 0.0f);
+    const Vec3 in_box = collide(sc.s, set, Vec3{1.08f, 0.0f, 0.0f}, Vec3{1.08f, 0, 0});
+    CHECK(in_box.x == Approx(1.1f + r).margin(1e-5));  // out through the nearest (+x) face
+    const Vec3 in_capsule = collide(sc.s, set, Vec3{0.0f, 1.25f, 0.05f}, Vec3{0, 1.25f, 0.05f});
+    CHECK(in_capsule.z == Approx(0.1f + r).margin(1e-5));
+    const Vec3 below_plane = collide(sc.s, set, Vec3{3.0f, -1.5f, 0.0f}, Vec3{3.0f, -1.5f, 0.0f});
+    CHECK(below_plane.y == Approx(-1.0f + r).margin(1e-5));
+    const Vec3 free = collide(sc.s, set, Vec3{3.0f, 3.0f, 3.0f}, Vec3{3.0f, 3.0f, 3.0f});
+    CHECK(free.x == 3.0f);
+    CHECK(free.y == 3.0f);
+}
