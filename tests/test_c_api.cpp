@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -532,7 +533,7 @@ TEST_CASE("world desc: NaN, Inf and out-of-range fields are refused", "[api][nan
         {"max_particles 0", [](pbf_world_desc& d) { d.max_particles = 0; }, "max_particles"},
         {"max_particles 2^30+1", [](pbf_world_desc& d) { d.max_particles = (1u << 30) + 1; }, "max_particles"},
         {"backend 7", [](pbf_world_desc& d) { d.backend = static_cast<pbf_backend>(7); }, "backend"},
-        {"backend -1", [](pbf_world_desc& d) { d.backend = static_cast<pbf_backend>(-1); }, "backend"},
+        {"backend -1", [](pbf_world_desc& d) { const int32_t v = -1; std::memcpy(&d.backend, &v, sizeof v); }, "backend"},
         {"cuda_device -1", [](pbf_world_desc& d) { d.cuda_device = -1; }, "cuda_device"},
         {"particle_radius 0", [](pbf_world_desc& d) { d.particle_radius = 0; }, "particle_radius"},
         {"particle_radius -1", [](pbf_world_desc& d) { d.particle_radius = -1; }, "particle_radius"},
@@ -1420,6 +1421,70 @@ TEST_CASE("ids: unique, stable across steps, particles move continuously", "[api
     CHECK(worst > 0.0f);
     CHECK(worst <= max_step * 1.001f);
     CHECK(reordered);
+}
+
+TEST_CASE("destroy racing with calls on another thread: they finish or get INVALID_HANDLE", "[api][thread][handle]") {
+    for (int round = 0; round < 3; ++round) {
+        pbf_world_desc d = small_desc();
+        pbf_world_id id{};
+        REQUIRE_OK(pbf_world_create(&d, &id));
+        const pbf_block_desc b = block(-0.15f, 0.0f, -0.15f, 0.15f, 0.3f, 0.15f);
+        REQUIRE_OK(pbf_world_emit_block(id, &b, nullptr));
+        std::vector<pbf_result> results;
+        std::thread worker([&] {
+            for (;;) {
+                uint32_t n = 0;
+                const pbf_result r1 = pbf_world_step(id, kDt);
+                const pbf_result r2 = pbf_world_get_particle_count(id, &n);
+                results.push_back(r1);
+                results.push_back(r2);
+                if (r1 != PBF_OK || r2 != PBF_OK) break;
+            }
+        });
+        std::this_thread::sleep_for(std::chrono::milliseconds(5 * round));
+        REQUIRE_OK(pbf_world_destroy(id));
+        worker.join();
+        REQUIRE_FALSE(results.empty());
+        for (pbf_result r : results) CHECK((r == PBF_OK || r == PBF_ERROR_INVALID_HANDLE));
+        CHECK(results.back() == PBF_ERROR_INVALID_HANDLE);
+    }
+}
+
+// =============================================================================================
+TEST_CASE("robustness: particles emitted outside the domain or with extreme finite inputs stay finite",
+          "[api][robust]") {
+    pbf_world_desc d = small_desc();
+    d.solver.max_speed = 20.0f;
+    TestWorld w(d);
+    // A block above the domain and one beside it, with an absurd but finite velocity.
+    CHECK(w.emit(block(0.0f, 5.0f, 0.0f, 0.11f, 5.11f, 0.11f)) > 0u);
+    pbf_block_desc fast = block(-3.0f, 0.2f, -0.1f, -2.89f, 0.31f, 0.01f);
+    fast.velocity[0] = 1e30f;
+    CHECK(w.emit(fast) > 0u);
+    const float g[3] = {1e30f, -1e30f, 0.0f};
+    REQUIRE_OK(pbf_world_set_gravity(w, g));
+    for (int i = 0; i < 5; ++i) REQUIRE_OK(pbf_world_step(w, 1.0f));
+    const uint32_t n = w.count();
+    const std::vector<float> pos = w.positions();
+    std::vector<float> vel(size_t(n) * 4);
+    uint32_t written = 0;
+    REQUIRE_OK(pbf_world_copy_velocities(w, vel.data(), n, &written));
+    REQUIRE(written == n);
+    const float slack = 1e-4f;
+    for (uint32_t k = 0; k < n; ++k) {
+        for (int a = 0; a < 3; ++a) {
+            REQUIRE(std::isfinite(pos[size_t(k) * 4 + a]));
+            REQUIRE(pos[size_t(k) * 4 + a] >= d.domain_min[a] - slack);
+            REQUIRE(pos[size_t(k) * 4 + a] <= d.domain_max[a] + slack);
+        }
+        const float* v = &vel[size_t(k) * 4];
+        REQUIRE(std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) <= d.solver.max_speed * 1.001f);
+    }
+    pbf_step_stats s{};
+    s.struct_size = sizeof s;
+    REQUIRE_OK(pbf_world_get_stats(w, &s));
+    CHECK(std::isfinite(s.kinetic_energy));
+    CHECK(std::isfinite(s.density_error_max));
 }
 
 // =============================================================================================

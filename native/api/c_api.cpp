@@ -569,3 +569,20 @@ PBF_API pbf_result PBF_CALL pbf_world_unmap(pbf_world_id id) {
 }
 
 }  // extern "C"
+
+// ---- internal hooks (not exported) -----------------------------------------------------------
+#include "internal.h"
+
+namespace pbf {
+pbf_result internal_set_profiling(pbf_world_id id, bool on) {
+    const char* fn = "internal_set_profiling";
+    PBF_LOCK_WORLD(w, id);
+    w->backend().set_profiling(on);
+    return PBF_OK;
+}
+pbf_result internal_stage_times(pbf_world_id id, StageTimes* out) {
+    const char* fn = "internal_stage_times";
+    PBF_LOCK_WORLD(w, id);
+    return fail(w->backend().stage_times(out));
+}
+}  // namespace pbf

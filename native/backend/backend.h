@@ -54,6 +54,27 @@ struct StatsReadback {
     float error_max = 0.0f;
 };
 
+// Stages of a step, for pbf_bench's per-stage table (profiling on: the step is timed stage by
+// stage, which costs a wait per read-out; off by default).
+enum Stage : int {
+    kStageEmitDrain,
+    kStageGridX,
+    kStageDensityX,
+    kStageForcesPredict,
+    kStageGridPredicted,
+    kStageLambda,
+    kStageDeltaCollide,
+    kStageVelocity,
+    kStageVorticity,
+    kStageVorticityXsph,
+    kStageDensityEnd,
+    kStageCount
+};
+const char* stage_name(int stage);
+struct StageTimes {
+    float ms[kStageCount] = {};
+};
+
 struct BackendConfig {
     uint32_t capacity;
     GridDims grid;
@@ -80,6 +101,9 @@ public:
     // Milliseconds the last step took on the backend (waits for it).
     virtual Status last_step_ms(float* ms) = 0;
     virtual Status map_positions(void** data, uint32_t* count) = 0;
+    virtual void set_profiling(bool on) = 0;
+    // Per-stage milliseconds of the last step (waits for it); zeros unless profiling is on.
+    virtual Status stage_times(StageTimes* out) = 0;
 };
 
 // Factories; each returns null and sets *status on failure.

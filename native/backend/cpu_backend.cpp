@@ -12,6 +12,13 @@
 
 namespace pbf {
 
+const char* stage_name(int stage) {
+    static const char* const names[kStageCount] = {
+        "emit+drain", "grid(x)", "density(x)", "forces+LDC+predict", "grid(x*)", "lambda",
+        "delta+collide", "velocity", "vorticity", "vorticity+xsph", "density(end)"};
+    return stage >= 0 && stage < kStageCount ? names[stage] : "?";
+}
+
 Status CpuExec::init(uint32_t, uint32_t num_cells) {
     // Refuse worlds that would not fit in physical memory rather than let the OS kill the
     // process later when the pages are touched.

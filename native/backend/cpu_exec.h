@@ -46,8 +46,28 @@ public:
     float timer_ms() const { return last_ms_; }
     Status check(const char*) const { return Status{}; }
 
+    // Stage timeline: a mark starts a stage (and ends the previous one).
+    void profile_enable(bool on) { profiling_ = on; }
+    void profile_reset() { marks_ = 0; }
+    void profile_mark(int stage) {
+        if (!profiling_ || marks_ >= kMaxMarks) return;
+        mark_stage_[marks_] = stage;
+        mark_time_[marks_++] = std::chrono::steady_clock::now();
+    }
+    void profile_read(float* ms, int stages) const {
+        for (int k = 0; k < stages; ++k) ms[k] = 0.0f;
+        for (int k = 0; k + 1 < marks_; ++k)
+            if (mark_stage_[k] < stages)
+                ms[mark_stage_[k]] += std::chrono::duration<float, std::milli>(mark_time_[k + 1] - mark_time_[k]).count();
+    }
+
 private:
+    static constexpr int kMaxMarks = 1024;
     void* alloc_bytes(size_t bytes);
+    bool profiling_ = false;
+    int marks_ = 0;
+    int mark_stage_[kMaxMarks] = {};
+    std::chrono::steady_clock::time_point mark_time_[kMaxMarks];
     uint64_t bytes_ = 0;
     uint64_t byte_limit_ = 0;
     std::vector<uint32_t> histogram_;

@@ -9,7 +9,26 @@
 
 namespace pbf {
 
+void CudaExec::profile_enable(bool on) {
+    if (on && !mark_event_[0])
+        for (cudaEvent_t& e : mark_event_) record(cudaEventCreate(&e));
+    profiling_ = on && mark_event_[0] != nullptr;
+}
+
+void CudaExec::profile_read(float* ms, int stages) {
+    for (int k = 0; k < stages; ++k) ms[k] = 0.0f;
+    if (marks_ == 0) return;
+    record(cudaEventSynchronize(mark_event_[marks_ - 1]));
+    for (int k = 0; k + 1 < marks_; ++k) {
+        float t = 0.0f;
+        record(cudaEventElapsedTime(&t, mark_event_[k], mark_event_[k + 1]));
+        if (mark_stage_[k] < stages) ms[mark_stage_[k]] += t;
+    }
+}
+
 CudaExec::~CudaExec() {
+    for (cudaEvent_t e : mark_event_)
+        if (e) cudaEventDestroy(e);
     if (sort_temp_) cudaFree(sort_temp_);
     if (reduce_out_) cudaFree(reduce_out_);
     if (start_) cudaEventDestroy(start_);

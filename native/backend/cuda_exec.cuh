@@ -60,8 +60,23 @@ public:
     float timer_ms();
     Status check(const char* what) const;
 
+    // Stage timeline: a mark records an event that starts a stage (and ends the previous one).
+    void profile_enable(bool on);
+    void profile_reset() { marks_ = 0; }
+    void profile_mark(int stage) {
+        if (!profiling_ || marks_ >= kMaxMarks) return;
+        mark_stage_[marks_] = stage;
+        record(cudaEventRecord(mark_event_[marks_++], stream_));
+    }
+    void profile_read(float* ms, int stages);
+
 private:
+    static constexpr int kMaxMarks = 1024;
     void* alloc_bytes(size_t bytes);
+    bool profiling_ = false;
+    int marks_ = 0;
+    int mark_stage_[kMaxMarks] = {};
+    cudaEvent_t mark_event_[kMaxMarks] = {};
     void record(cudaError_t e) {
         if (e != cudaSuccess && first_error_ == cudaSuccess) first_error_ = e;
     }

@@ -78,7 +78,9 @@ public:
     Status step(const std::vector<SubstepInput>& substeps) override {
         exec_.activate();
         exec_.timer_begin();
+        exec_.profile_reset();
         for (const SubstepInput& in : substeps) substep(in);
+        exec_.profile_mark(kStageCount);
         exec_.timer_end();
         return exec_.check("pbf_world_step");
     }
@@ -161,9 +163,17 @@ public:
         return st;
     }
 
+    void set_profiling(bool on) override { exec_.profile_enable(on); }
+    Status stage_times(StageTimes* out) override {
+        exec_.activate();
+        exec_.profile_read(out->ms, kStageCount);
+        return exec_.check("stage timing");
+    }
+
 private:
     void substep(const SubstepInput& in) {
         const SimConstants& s = in.constants;
+        exec_.profile_mark(kStageEmitDrain);
         // Emission and drains first, so the grid builds below drop drained particles.
         for (const NozzleEmission& nz : in.nozzles) {
             if (nz.count == 0) continue;
@@ -183,24 +193,33 @@ private:
 
         // 1. LDC needs ρ at the current positions (grid of x).
         if (s.ldc_enabled) {
+            exec_.profile_mark(kStageGridX);
             if (!grid_valid_) build_grid(s, false);
+            exec_.profile_mark(kStageDensityX);
             if (!density_valid_) exec_.for_each(bound_, DensityOp{s, cell_begin_, pos_[cur_], density_});
         }
+        exec_.profile_mark(kStageForcesPredict);
         // 2. forces (gravity + LDC), predict x*.
         exec_.for_each(bound_, PredictOp{s, in.colliders, cell_begin_, density_, pos_[cur_], vel_[cur_], pred_[cur_]});
         // 3. neighbours: grid of x*.
+        exec_.profile_mark(kStageGridPredicted);
         build_grid(s, true);
         // 4. constraint iterations (Jacobi: Δp reads pred, writes the other pred buffer).
         for (uint32_t it = 0; it < in.iterations; ++it) {
+            exec_.profile_mark(kStageLambda);
             exec_.for_each(bound_, LambdaOp{s, cell_begin_, pred_[cur_], density_});
+            exec_.profile_mark(kStageDeltaCollide);
             exec_.for_each(bound_, DeltaOp{s, in.colliders, cell_begin_, pos_[cur_], pred_[cur_], pred_[1 - cur_]});
             swap_pred();
         }
         // 5. v = (x* - x)/Δt, x = x*; vorticity confinement and XSPH.
+        exec_.profile_mark(kStageVelocity);
         exec_.for_each(bound_, VelocityUpdateOp{s, pred_[cur_], density_, pos_[cur_], vel_[cur_]});
         if (s.vorticity_epsilon > 0.0f || s.xsph_c > 0.0f) {
             Vec4* omega = pred_[1 - cur_];  // free until the next substep
+            exec_.profile_mark(kStageVorticity);
             exec_.for_each(bound_, VorticityOp{s, cell_begin_, pos_[cur_], vel_[cur_], omega});
+            exec_.profile_mark(kStageVorticityXsph);
             exec_.for_each(bound_,
                            VorticityXsphOp{s, cell_begin_, pos_[cur_], vel_[cur_], omega, vel_[1 - cur_]});
             swap_velocities();
@@ -209,6 +228,7 @@ private:
         density_valid_ = false;
         // With LDC the next substep needs ρ(x); computing it now also serves the stats.
         if (s.ldc_enabled) {
+            exec_.profile_mark(kStageDensityEnd);
             exec_.for_each(bound_, DensityOp{s, cell_begin_, pos_[cur_], density_});
             density_valid_ = true;
         }

@@ -59,6 +59,7 @@ public:
     bool mapped() const { return mapped_; }
 
     float rest_spacing() const { return 2.0f * desc_.particle_radius; }
+    Backend& backend() { return *backend_; }
 
 private:
     World() = default;

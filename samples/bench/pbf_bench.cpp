@@ -1,0 +1,228 @@
+// pbf_bench: time full solver steps on either backend, for docs/perf.md.
+//
+//   pbf_bench [--backend cpu|cuda|both] [--scene dam,tank] [--particles 65536,262144,1000000]
+//             [--iterations 1,2,4] [--ldc 0,1] [--steps 100] [--warmup 20] [--stages]
+//             [--csv FILE]
+//
+// One "step" is one solver step (pbf_world_step with substeps = 1): LDC when on, prediction,
+// grid build on x*, the constraint iterations with collisions, velocity update, vorticity
+// confinement and XSPH. dt keeps the fastest particle under 0.4 h per step, so the scene stays
+// physical at every resolution. GPU times come from CUDA events recorded on the world's stream
+// around each step (the backend's own step timer), CPU times from a steady clock.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "api/internal.h"
+#include "pbf_c_api.h"
+
+namespace {
+
+std::vector<std::string> split(const std::string& s) {
+    std::vector<std::string> out;
+    size_t start = 0;
+    while (start <= s.size()) {
+        const size_t comma = s.find(',', start);
+        out.push_back(s.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    return out;
+}
+
+struct Config {
+    std::string scene;
+    uint32_t particles, iterations, ldc;
+    pbf_backend backend;
+};
+
+struct Result {
+    bool ok = false;
+    std::string device, error;
+    double ms_median = 0, ms_min = 0, ms_max = 0, bytes_per_particle = 0, error_mean = 0, error_max = 0;
+    uint32_t count = 0;
+    float dt = 0;
+    pbf::StageTimes stages;
+};
+
+void set3(float* d, float x, float y, float z) {
+    d[0] = x;
+    d[1] = y;
+    d[2] = z;
+}
+
+Result run(const Config& c, int warmup, int steps, bool stages) {
+    Result r;
+    // Dam: column a x 2a x a/2 in a 4a x 2.5a x a/2 tank. Tank: fluid 2a x a x a in 2a x 2a x a.
+    const bool dam = c.scene == "dam";
+    const float a = 1.0f;
+    const float fluid_volume = dam ? a * 2 * a * 0.5f * a : 2 * a * a * a;
+    const float spacing = std::cbrt(fluid_volume / float(c.particles));
+    const float h = 2.0f * spacing;
+    const float depth = dam ? 2.0f * a : a;
+    const float dt = std::min(1.0f / 60.0f, 0.4f * h / std::sqrt(2.0f * 9.81f * depth));
+    r.dt = dt;
+
+    pbf_world_desc d = pbf_world_desc_default();
+    d.backend = c.backend;
+    d.max_particles = c.particles + c.particles / 8 + 1024;
+    d.particle_radius = 0.5f * spacing;
+    set3(d.domain_min, 0, 0, 0);
+    if (dam) set3(d.domain_max, 4 * a, 2.5f * a, 0.5f * a);
+    else set3(d.domain_max, 2 * a, 2 * a, a);
+    d.solver.iterations = c.iterations;
+    d.solver.ldc_enabled = c.ldc;
+    pbf_world_id w;
+    if (pbf_world_create(&d, &w) != PBF_OK) {
+        r.error = pbf_last_error_message();
+        return r;
+    }
+    pbf_world_info info;
+    std::memset(&info, 0, sizeof info);
+    info.struct_size = sizeof info;
+    pbf_world_get_info(w, &info);
+    r.device = info.device_name;
+    r.bytes_per_particle = double(info.device_bytes) / d.max_particles;
+
+    pbf_block_desc b = pbf_block_desc_default();
+    if (dam) set3(b.box_max, a, 2 * a, 0.5f * a);
+    else set3(b.box_max, 2 * a, a, a);
+    uint32_t emitted = 0;
+    if (pbf_world_emit_block(w, &b, &emitted) != PBF_OK) {
+        r.error = pbf_last_error_message();
+        pbf_world_destroy(w);
+        return r;
+    }
+    r.count = emitted;
+    if (stages) pbf::internal_set_profiling(w, true);
+
+    pbf_step_stats s;
+    std::memset(&s, 0, sizeof s);
+    s.struct_size = sizeof s;
+    std::vector<double> times;
+    for (int k = 0; k < warmup + steps; ++k) {
+        if (pbf_world_step(w, dt) != PBF_OK || pbf_world_get_stats(w, &s) != PBF_OK) {
+            r.error = pbf_last_error_message();
+            pbf_world_destroy(w);
+            return r;
+        }
+        if (k < warmup) continue;
+        times.push_back(s.step_time_ms);
+        r.error_mean += s.density_error_mean;
+        r.error_max = std::max<double>(r.error_max, s.density_error_max);
+        if (stages) {
+            pbf::StageTimes t;
+            pbf::internal_stage_times(w, &t);
+            for (int i = 0; i < pbf::kStageCount; ++i) r.stages.ms[i] += t.ms[i] / steps;
+        }
+    }
+    r.error_mean /= steps;
+    std::sort(times.begin(), times.end());
+    r.ms_median = times[times.size() / 2];
+    r.ms_min = times.front();
+    r.ms_max = times.back();
+    r.ok = std::isfinite(s.kinetic_energy);
+    if (!r.ok) r.error = "simulation diverged";
+    pbf_world_destroy(w);
+    return r;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::string backends = "both", scenes = "dam,tank", particles = "65536,262144,1000000", iterations = "4",
+                ldcs = "0,1", csv_path;
+    int steps = 100, warmup = 20;
+    bool stages = false;
+    for (int i = 1; i < argc; ++i) {
+        const std::string arg = argv[i];
+        auto value = [&]() -> std::string {
+            if (i + 1 >= argc) {
+                std::fprintf(stderr, "pbf_bench: %s needs a value\n", arg.c_str());
+                std::exit(2);
+            }
+            return argv[++i];
+        };
+        if (arg == "--backend") backends = value();
+        else if (arg == "--scene") scenes = value();
+        else if (arg == "--particles") particles = value();
+        else if (arg == "--iterations") iterations = value();
+        else if (arg == "--ldc") ldcs = value();
+        else if (arg == "--steps") steps = std::atoi(value().c_str());
+        else if (arg == "--warmup") warmup = std::atoi(value().c_str());
+        else if (arg == "--csv") csv_path = value();
+        else if (arg == "--stages") stages = true;
+        else {
+            std::fprintf(stderr, "pbf_bench: unknown argument %s (see the comment at the top of pbf_bench.cpp)\n",
+                         arg.c_str());
+            return 2;
+        }
+    }
+    if (steps < 1 || warmup < 0) return 2;
+
+    std::vector<pbf_backend> backend_list;
+    for (const std::string& b : split(backends)) {
+        if (b == "cpu" || b == "both") backend_list.push_back(PBF_BACKEND_CPU);
+        if (b == "cuda" || b == "both") backend_list.push_back(PBF_BACKEND_CUDA);
+    }
+
+    FILE* csv = csv_path.empty() ? nullptr : std::fopen(csv_path.c_str(), "w");
+    if (csv) {
+        std::fprintf(csv, "scene,particles,iterations,ldc,backend,device,ms_median,ms_min,ms_max,particle_steps_per_s,"
+                          "bytes_per_particle,density_error_mean,density_error_max,dt");
+        for (int k = 0; k < pbf::kStageCount; ++k) std::fprintf(csv, ",stage_%s_ms", pbf::stage_name(k));
+        std::fprintf(csv, "\n");
+    }
+    std::printf("| scene | particles | iter | LDC | backend | device | ms median | min | max | particle-steps/s | "
+                "B/particle | density err mean | max |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    int failures = 0;
+    std::vector<std::pair<Config, Result>> staged;
+    for (pbf_backend backend : backend_list)
+        for (const std::string& scene : split(scenes))
+            for (const std::string& n : split(particles))
+                for (const std::string& it : split(iterations))
+                    for (const std::string& l : split(ldcs)) {
+                        const Config c{scene, uint32_t(std::strtoul(n.c_str(), nullptr, 10)),
+                                       uint32_t(std::atoi(it.c_str())), uint32_t(std::atoi(l.c_str())), backend};
+                        const Result r = run(c, warmup, steps, stages);
+                        const char* bname = backend == PBF_BACKEND_CUDA ? "cuda" : "cpu";
+                        if (!r.ok) {
+                            std::printf("| %s | %u | %u | %u | %s | - | failed: %s |\n", scene.c_str(), c.particles,
+                                        c.iterations, c.ldc, bname, r.error.c_str());
+                            ++failures;
+                            continue;
+                        }
+                        const double rate = r.count / (r.ms_median / 1000.0);
+                        std::printf("| %s | %u | %u | %u | %s | %s | %.3f | %.3f | %.3f | %.3g | %.1f | %.5f | %.4f |\n",
+                                    scene.c_str(), r.count, c.iterations, c.ldc, bname, r.device.c_str(), r.ms_median,
+                                    r.ms_min, r.ms_max, rate, r.bytes_per_particle, r.error_mean, r.error_max);
+                        std::fflush(stdout);
+                        if (csv) {
+                            std::fprintf(csv, "%s,%u,%u,%u,%s,%s,%.4f,%.4f,%.4f,%.6g,%.2f,%.6f,%.6f,%.6f", scene.c_str(),
+                                         r.count, c.iterations, c.ldc, bname, r.device.c_str(), r.ms_median, r.ms_min,
+                                         r.ms_max, rate, r.bytes_per_particle, r.error_mean, r.error_max, r.dt);
+                            for (int k = 0; k < pbf::kStageCount; ++k) std::fprintf(csv, ",%.4f", r.stages.ms[k]);
+                            std::fprintf(csv, "\n");
+                        }
+                        if (stages) staged.push_back({c, r});
+                    }
+    if (stages && !staged.empty()) {
+        std::printf("\nPer-stage ms per step (profiled run; stage marks add a little overhead):\n| config |");
+        for (int k = 0; k < pbf::kStageCount; ++k) std::printf(" %s |", pbf::stage_name(k));
+        std::printf("\n|---|");
+        for (int k = 0; k < pbf::kStageCount; ++k) std::printf("---|");
+        std::printf("\n");
+        for (const auto& [c, r] : staged) {
+            std::printf("| %s %u it%u ldc%u %s |", c.scene.c_str(), r.count, c.iterations, c.ldc,
+                        c.backend == PBF_BACKEND_CUDA ? "cuda" : "cpu");
+            for (int k = 0; k < pbf::kStageCount; ++k) std::printf(" %.3f |", r.stages.ms[k]);
+            std::printf("\n");
+        }
+    }
+    if (csv) std::fclose(csv);
+    return failures ? 1 : 0;
+}

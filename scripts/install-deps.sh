@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Installs the Debian/Ubuntu packages that libpbf's build, tests and samples need, but only
+# those that are missing (checked with dpkg -s). Uses sudo when not run as root.
+# Prints nothing when everything is already installed.
+set -euo pipefail
+
+packages=(cmake g++ make pkg-config libeigen3-dev catch2 libpng-dev
+          mono-mcs mono-runtime nunit-console libnunit-cil-dev)
+
+missing=()
+for p in "${packages[@]}"; do
+  # dpkg -s also succeeds for a removed package whose config files remain: check its status.
+  if ! dpkg -s "$p" 2>/dev/null | grep -q '^Status: install ok installed'; then
+    missing+=("$p")
+  fi
+done
+[ "${#missing[@]}" -eq 0 ] && exit 0
+
+if ! command -v apt-get >/dev/null 2>&1; then
+  echo "install-deps.sh: missing ${missing[*]}, and apt-get is not available: install them by hand" >&2
+  exit 1
+fi
+sudo=()
+if [ "$(id -u)" -ne 0 ]; then
+  if ! command -v sudo >/dev/null 2>&1; then
+    echo "install-deps.sh: missing ${missing[*]}; run as root or install sudo" >&2
+    exit 1
+  fi
+  sudo=(sudo)
+fi
+
+echo "install-deps.sh: installing ${missing[*]}"
+log="$(mktemp)"
+trap 'rm -f "$log"' EXIT
+if ! { "${sudo[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update -q &&
+       "${sudo[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y -q "${missing[@]}"; } >"$log" 2>&1; then
+  cat "$log" >&2
+  echo "install-deps.sh: apt-get failed" >&2
+  exit 1
+fi

@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# Builds libpbf (scripts/build.sh, into build/) and runs every test this machine can run:
+#   1. ctest: the C/C++ suites (unit, CPU scenes, C ABI); the [gpu] suite shows as Skipped
+#      where no CUDA device can be used;
+#   2. bindings/csharp/run_tests.sh: the C# bindings' NUnit tests against build/lib.
+# Both run even if the first fails; exits non-zero if the build or either suite fails.
+set -uo pipefail
+
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root" || exit 1
+build="build"
+
+if ! bash scripts/build.sh "$build"; then
+  echo "run_tests.sh: the build failed" >&2
+  exit 1
+fi
+
+echo
+echo "== ctest (C/C++ tests; [gpu] tests are Skipped without a CUDA device)"
+ctest_log="$build/run_tests.ctest.log"
+ctest --test-dir "$build" --output-on-failure --no-tests=error -j2 2>&1 | tee "$ctest_log"
+ctest_rc=${PIPESTATUS[0]}
+
+echo
+echo "== C# bindings (bindings/csharp/run_tests.sh $build/lib)"
+cs_log="$build/run_tests.csharp.log"
+bash bindings/csharp/run_tests.sh "$build/lib" 2>&1 | tee "$cs_log"
+cs_rc=${PIPESTATUS[0]}
+
+ctest_summary="$(grep -E 'tests passed, [0-9]+ tests? failed out of' "$ctest_log" | tail -n 1)"
+ctest_skipped="$(grep -c '(Skipped)$' "$ctest_log")"
+cs_summary="$(grep -E '^csharp: ' "$cs_log" | tail -n 1)"
+
+echo
+echo "== summary"
+if [ -n "$ctest_summary" ]; then
+  echo "ctest:  $ctest_summary ($ctest_skipped skipped) [exit $ctest_rc]"
+else
+  echo "ctest:  no summary line (exit $ctest_rc)"
+fi
+if [ -n "$cs_summary" ]; then
+  echo "csharp: ${cs_summary#csharp: } [exit $cs_rc]"
+else
+  echo "csharp: no summary line (exit $cs_rc)"
+fi
+
+if [ "$ctest_rc" -ne 0 ] || [ "$cs_rc" -ne 0 ]; then
+  echo "run_tests.sh: FAILED"
+  exit 1
+fi
+echo "run_tests.sh: all passed"
