@@ -101,6 +101,11 @@ public:
     // Milliseconds the last step took on the backend (waits for it).
     virtual Status last_step_ms(float* ms) = 0;
     virtual Status map_positions(void** data, uint32_t* count) = 0;
+    // For zero-copy interop. The world's CUDA stream (null on the CPU backend).
+    virtual void* cuda_stream() const = 0;
+    // Enqueues a copy of the live positions (float4 each) into device memory dst on the world's
+    // stream, without waiting; *written = particles copied (needs the count: waits for it).
+    virtual Status copy_positions_device(void* dst, uint32_t max_count, uint32_t* written) = 0;
     virtual void set_profiling(bool on) = 0;
     // Per-stage milliseconds of the last step (waits for it); zeros unless profiling is on.
     virtual Status stage_times(StageTimes* out) = 0;

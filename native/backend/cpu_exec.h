@@ -27,6 +27,8 @@ public:
     void release(void* p);
     void zero(void* p, size_t bytes);
     void download(void* dst, const void* src, size_t bytes);
+    void copy_device(void* dst, const void* src, size_t bytes) { download(dst, src, bytes); }
+    void* native_stream() const { return nullptr; }
 
     template <class Op>
     void for_each(uint32_t n, const Op& op) {

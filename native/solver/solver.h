@@ -163,6 +163,17 @@ public:
         return st;
     }
 
+    void* cuda_stream() const override { return exec_.native_stream(); }
+    Status copy_positions_device(void* dst, uint32_t max_count, uint32_t* written) override {
+        exec_.activate();
+        uint32_t count = 0;
+        Status st = read_count(&count);
+        if (!st.ok()) return st;
+        const uint32_t n = std::min(count, max_count);
+        exec_.copy_device(dst, pos_[cur_], size_t(n) * sizeof(Vec4));
+        *written = n;
+        return exec_.check("device copy of positions");
+    }
     void set_profiling(bool on) override { exec_.profile_enable(on); }
     Status stage_times(StageTimes* out) override {
         exec_.activate();
