@@ -18,12 +18,12 @@ namespace {
 
 // ---- errors and logging --------------------------------------------------------------------
 thread_local std::string t_last_error;
-std::mutex g_log_mutex;
+std::recursive_mutex g_log_mutex;  // recursive: an error raised inside the callback does not self-deadlock
 pbf_log_fn g_log_fn = nullptr;
 void* g_log_user = nullptr;
 
 void log_message(pbf_log_level level, const std::string& message) {
-    std::lock_guard<std::mutex> lock(g_log_mutex);
+    std::lock_guard<std::recursive_mutex> lock(g_log_mutex);
     if (g_log_fn) g_log_fn(level, message.c_str(), g_log_user);
 }
 
@@ -49,6 +49,16 @@ pbf_result guarded(const char* fn, F&& body) {
 }
 
 // ---- argument checks -----------------------------------------------------------------------
+// An enum field as the 32 bits the caller stored: a C caller may store any int, and reading an
+// out-of-range value through the C++ enum type is undefined behaviour.
+template <class E>
+int32_t raw(const E& e) {
+    static_assert(sizeof(E) == sizeof(int32_t), "ABI enums are 32 bits");
+    int32_t v;
+    std::memcpy(&v, &e, sizeof v);
+    return v;
+}
+
 bool finite3(const float v[3]) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 
 #define PBF_REQUIRE(cond, code, msg)                    \
@@ -173,7 +183,7 @@ PBF_API const char* PBF_CALL pbf_result_string(pbf_result r) {
 }
 
 PBF_API void PBF_CALL pbf_set_log_callback(pbf_log_fn callback, void* user_data) {
-    std::lock_guard<std::mutex> lock(g_log_mutex);
+    std::lock_guard<std::recursive_mutex> lock(g_log_mutex);
     g_log_fn = callback;
     g_log_user = user_data;
 }
@@ -261,7 +271,7 @@ PBF_API pbf_result PBF_CALL pbf_world_create(const pbf_world_desc* d, pbf_world_
                     std::string(fn) + ": header major version " + std::to_string(PBF_VERSION_GET_MAJOR(d->header_version)) +
                         " does not match the library's " + std::to_string(PBF_VERSION_MAJOR) +
                         " (desc.header_version must be PBF_VERSION; use pbf_world_desc_default())");
-        PBF_REQUIRE_ARG(d->backend == PBF_BACKEND_AUTO || d->backend == PBF_BACKEND_CPU || d->backend == PBF_BACKEND_CUDA,
+        PBF_REQUIRE_ARG(raw(d->backend) == PBF_BACKEND_AUTO || raw(d->backend) == PBF_BACKEND_CPU || raw(d->backend) == PBF_BACKEND_CUDA,
                         "backend must be PBF_BACKEND_AUTO, _CPU or _CUDA");
         PBF_REQUIRE_ARG(d->cuda_device >= 0, "cuda_device must be >= 0");
         PBF_REQUIRE_ARG(d->max_particles >= 1 && d->max_particles <= (1u << 30), "max_particles must be 1..2^30");
@@ -396,7 +406,7 @@ PBF_API pbf_result PBF_CALL pbf_world_create_emitter(pbf_world_id id, const pbf_
         *out = pbf_emitter_id{0, 0};
         PBF_CHECK_STRUCT(pbf_emitter_desc, d);
         PBF_REQUIRE_ARG(d->enabled <= 1, "enabled must be 0 or 1");
-        if (d->type == PBF_EMITTER_NOZZLE) {
+        if (raw(d->type) == PBF_EMITTER_NOZZLE) {
             PBF_REQUIRE_ARG(finite3(d->position) && finite3(d->direction), "nozzle position and direction must be finite");
             const float len2 = d->direction[0] * d->direction[0] + d->direction[1] * d->direction[1] +
                                d->direction[2] * d->direction[2];
@@ -406,7 +416,7 @@ PBF_API pbf_result PBF_CALL pbf_world_create_emitter(pbf_world_id id, const pbf_
             PBF_REQUIRE_ARG(std::isfinite(d->particles_per_second) && d->particles_per_second > 0.0f &&
                                 d->particles_per_second <= 1e9f,
                             "nozzle particles_per_second must be in (0, 1e9]");
-        } else if (d->type == PBF_EMITTER_DRAIN) {
+        } else if (raw(d->type) == PBF_EMITTER_DRAIN) {
             PBF_REQUIRE_ARG(finite3(d->box_min) && finite3(d->box_max), "drain box must be finite");
             for (int a = 0; a < 3; ++a) PBF_REQUIRE_ARG(d->box_max[a] > d->box_min[a], "drain box_max must exceed box_min");
         } else {
@@ -477,9 +487,9 @@ PBF_API pbf_result PBF_CALL pbf_world_create_collider(pbf_world_id id, const pbf
         PBF_REQUIRE_ARG(out != nullptr, "out_collider is NULL");
         *out = pbf_collider_id{0, 0};
         PBF_CHECK_STRUCT(pbf_collider_desc, d);
-        PBF_REQUIRE_ARG(d->shape >= PBF_SHAPE_PLANE && d->shape <= PBF_SHAPE_BOX,
+        PBF_REQUIRE_ARG(raw(d->shape) >= PBF_SHAPE_PLANE && raw(d->shape) <= PBF_SHAPE_BOX,
                         "shape must be PBF_SHAPE_PLANE, _SPHERE, _CAPSULE or _BOX");
-        PBF_REQUIRE_ARG(d->motion == PBF_MOTION_STATIC || d->motion == PBF_MOTION_KINEMATIC,
+        PBF_REQUIRE_ARG(raw(d->motion) == PBF_MOTION_STATIC || raw(d->motion) == PBF_MOTION_KINEMATIC,
                         "motion must be PBF_MOTION_STATIC or PBF_MOTION_KINEMATIC");
         PBF_REQUIRE_ARG(finite3(d->position) && finite_unit_quat(d->rotation),
                         "position must be finite and rotation a finite, non-zero quaternion");

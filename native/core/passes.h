@@ -106,9 +106,10 @@ PBF_HD Vec3 ldc_force(const SimConstants& s, const uint32_t* cell_begin, const V
         const Vec3 d = xyz(pos[j]) - xi;  // from i to j
         const float r2 = length_sq(d);
         if (r2 >= s.h2 || r2 <= 1e-20f) return;
-        const float r = sqrtf(r2);
+        const float inv_r = inv_sqrt(r2);
         const float rho_ij = (fmaxf(density[j], s.rest_density) - rho_i) * s.inv_rest_density;
-        f += d * (rho_ij * s.h * (1.0f - r / s.h) / r);
+        // ρ_ij h (1 - r/h) n_ij with n_ij = d / r:  ρ_ij (h/r - 1) d
+        f += d * (rho_ij * (s.h * inv_r - 1.0f));
     });
     return f * -s.ldc_k;
 }
@@ -157,7 +158,7 @@ struct LambdaOp {
             if (r2 >= s.h2) return;
             rho += poly6(r2, s.h2, s.poly6_coef);
             if (j == i) return;
-            const Vec3 g = spiky_gradient(d, sqrtf(r2), s.h, s.spiky_coef) * scale;
+            const Vec3 g = spiky_gradient_r2(d, r2, s.h, s.spiky_coef) * scale;
             grad_i += g;
             sum_grad2 += length_sq(g);
         });
@@ -206,7 +207,7 @@ struct DeltaOp {
             if (r2 >= s.h2) return;
             const float ratio = poly6(r2, s.h2, s.poly6_coef) * s.scorr_inv_w_dq;
             const float scorr = -s.scorr_k * scorr_power(ratio, s.scorr_n);
-            dp += spiky_gradient(d, sqrtf(r2), s.h, s.spiky_coef) * (lambda_i + pj.w + scorr);
+            dp += spiky_gradient_r2(d, r2, s.h, s.spiky_coef) * (lambda_i + pj.w + scorr);
         });
         dp = dp * (s.mass * s.inv_rest_density);
         corrected[i] = make_vec4(collide(s, colliders, xi + dp, xyz(positions[i])), lambda_i);
@@ -246,9 +247,9 @@ struct VorticityOp {
             const Vec3 d = xi - xyz(pj);
             const float r2 = length_sq(d);
             if (r2 >= s.h2) return;
-            const float vol = s.mass / fmaxf(pj.w * s.rest_density, 1e-6f * s.rest_density);
+            const float vol = fast_div(s.mass, fmaxf(pj.w, 1e-6f) * s.rest_density);
             // ∇_j W(x_i - x_j) = -∇_i W(x_i - x_j)
-            const Vec3 grad_j = -spiky_gradient(d, sqrtf(r2), s.h, s.spiky_coef);
+            const Vec3 grad_j = -spiky_gradient_r2(d, r2, s.h, s.spiky_coef);
             w += cross(xyz(velocities[j]) - vi, grad_j) * vol;
         });
         omega[i] = make_vec4(w, length(w));
@@ -274,8 +275,8 @@ struct VorticityXsphOp {
             const Vec3 d = xi - xyz(pj);
             const float r2 = length_sq(d);
             if (r2 >= s.h2) return;
-            const float vol = s.mass / fmaxf(pj.w * s.rest_density, 1e-6f * s.rest_density);
-            eta += spiky_gradient(d, sqrtf(r2), s.h, s.spiky_coef) * ((omega[j].w - wi) * vol);
+            const float vol = fast_div(s.mass, fmaxf(pj.w, 1e-6f) * s.rest_density);
+            eta += spiky_gradient_r2(d, r2, s.h, s.spiky_coef) * ((omega[j].w - wi) * vol);
             xsph += (xyz(velocities[j]) - vi) * (poly6(r2, s.h2, s.poly6_coef) * vol);
         });
         Vec3 v = vi + xsph * s.xsph_c;

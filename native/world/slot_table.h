@@ -1,6 +1,7 @@
 // Objects addressed by {index, generation} handles: a destroyed slot bumps its generation, so
 // an old handle no longer matches and is refused instead of reaching a reused object.
 #pragma once
+#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -26,6 +27,7 @@ public:
         Slot& s = slots_[index];
         s.value = std::move(value);
         s.alive = true;
+        s.generation = next_generation();
         ++alive_;
         return Handle{index, s.generation};
     }
@@ -42,7 +44,6 @@ public:
         Slot& s = slots_[index];
         s.value.reset();
         s.alive = false;
-        if (++s.generation == 0) s.generation = 1;  // 0 is never a valid generation
         free_.push_back(index);
         --alive_;
         return true;
@@ -57,9 +58,17 @@ public:
     }
 
 private:
+    // Generations come from one process-wide counter (never 0), so a handle is refused by every
+    // table but the one that issued it, and by that one once the object is gone.
+    static uint32_t next_generation() {
+        static std::atomic<uint32_t> counter{1};
+        uint32_t g = counter.fetch_add(1, std::memory_order_relaxed);
+        if (g == 0) g = counter.fetch_add(1, std::memory_order_relaxed);
+        return g;
+    }
     struct Slot {
         std::optional<T> value;
-        uint32_t generation = 1;
+        uint32_t generation = 0;
         bool alive = false;
     };
     std::vector<Slot> slots_;

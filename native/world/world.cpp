@@ -218,7 +218,7 @@ Status World::emit_block(const pbf_block_desc& d, uint32_t* emitted) {
     const float s = rest_spacing();
     // Lattice points x = min + s/2 + k·s inside the box (at least one per axis).
     auto points = [&](int axis) {
-        const double n = std::floor((d.box_max[axis] - d.box_min[axis]) / s);
+        const double n = std::floor((d.box_max[axis] - d.box_min[axis]) / s + 1e-4);  // 0.15 / 0.05 is 3, not 2
         return static_cast<uint32_t>(std::clamp(n, 1.0, double(desc_.max_particles)));
     };
     BlockEmission b{};
@@ -232,8 +232,8 @@ Status World::emit_block(const pbf_block_desc& d, uint32_t* emitted) {
         // Emit what fits: the lattice is filled x-first, so whole layers in z are kept.
         b.nz = std::max<uint32_t>(1, desc_.max_particles / (b.nx * uint64_t(b.ny)) + 1);
     }
-    mapped_ = false;
     Status st = backend_->emit_block(b, constants(1.0f / 60.0f), emitted);
+    if (*emitted > 0) mapped_ = false;  // new particles reorder storage; a failed emit keeps the map
     if (st.ok() && *emitted == 0)
         return Status::error(PBF_ERROR_CAPACITY, "world is full (max_particles = " +
                                                      std::to_string(desc_.max_particles) + "); nothing was emitted");

@@ -131,7 +131,7 @@ namespace Pbf.Tests
             var d = SolverParams.Default;
             Assert.AreEqual(4, d.Iterations);
             Assert.AreEqual(1, d.Substeps);
-            Assert.AreEqual(0.01f, d.Relaxation);
+            Assert.AreEqual(1.0f, d.Relaxation);
             Assert.AreEqual(0.1f, d.ScorrK);
             Assert.AreEqual(4f, d.ScorrN);
             Assert.AreEqual(0.2f, d.ScorrDq);
