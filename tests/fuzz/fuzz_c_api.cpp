@@ -1,0 +1,1014 @@
+// libFuzzer target for the public C ABI (include/pbf_c_api.h), CPU backend.
+//
+// The input bytes are decoded into a sequence of C API calls with arbitrary arguments: worlds
+// created and destroyed (wrong struct sizes, wrong header versions, NaN/Inf/huge/negative
+// fields), steps with arbitrary dt, solver parameters with arbitrary floats, blocks, nozzles,
+// drains, colliders, poses, copy-outs with arbitrary max_count, map/unmap, stale, zeroed and
+// forged handles, NULL pointers. A model of what the library holds (live worlds, emitters,
+// colliders, mapping) lets each call's result be checked, and invariants are asserted after
+// the calls (see check_world). A violated invariant aborts with a message, which libFuzzer
+// reports as a crash together with the input.
+//
+// Resource clamps (so one input cannot take seconds or gigabytes): a world gets at most
+// kMaxCapacity particles and kMaxCells grid cells; sizes beyond the library's own limits
+// (which it must refuse without allocating) are passed through unchanged. Steps are charged
+// against a per-input work budget; when it runs out, further steps are skipped.
+#include <pbf_c_api.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace {
+
+constexpr uint32_t kMaxCapacity = 65536;    // largest world the fuzzer lets the library allocate
+constexpr double kMaxCells = 65536.0;       // largest grid
+constexpr size_t kMaxWorlds = 6;            // live worlds at once (more creates are skipped)
+constexpr double kWorkBudget = 4.0e6;       // particle-passes per input
+constexpr uint32_t kDeadId = 0xFFFFFFFFu;
+
+[[noreturn]] void fuzz_fail(const char* what, const char* file, int line) {
+    std::fprintf(stderr, "\n*** fuzz invariant violated: %s\n    at %s:%d\n    last error: \"%s\"\n", what, file,
+                 line, pbf_last_error_message());
+    std::abort();
+}
+#define FUZZ_ASSERT(cond)                                   \
+    do {                                                    \
+        if (!(cond)) fuzz_fail(#cond, __FILE__, __LINE__);  \
+    } while (0)
+
+// ---- input decoding --------------------------------------------------------------------------
+const float kNaN = std::numeric_limits<float>::quiet_NaN();
+const float kInf = std::numeric_limits<float>::infinity();
+const float kSpecialFloats[] = {
+    0.0f, -0.0f, 1.0f, -1.0f, 0.5f, 1.0f / 60.0f, 1e-3f, 1e-6f, 1e-30f,
+    std::numeric_limits<float>::min(), std::numeric_limits<float>::denorm_min(),
+    -std::numeric_limits<float>::denorm_min(), 1e30f, -1e30f, std::numeric_limits<float>::max(),
+    -std::numeric_limits<float>::max(), kInf, -kInf, kNaN, -kNaN,
+    std::numeric_limits<float>::signaling_NaN(), 100.0f, 1000.0f, 16777216.0f, 3e9f, -3e9f, 1e10f, 2.0f,
+    1.0000001f, 0.99999994f, 64.0f, 65.0f};
+const uint32_t kSpecialU32[] = {0u, 1u, 2u, 3u, 4u, 16u, 17u, 31u, 32u, 33u, 64u, 65u, 255u, 1000u, 4096u,
+                                65535u, 65536u, 65537u, 1u << 20, (1u << 30) - 1, 1u << 30, (1u << 30) + 1,
+                                0x7FFFFFFFu, 0x80000000u, 0xFFFFFFFEu, 0xFFFFFFFFu};
+
+struct Reader {
+    const uint8_t* p;
+    size_t n;
+    bool empty() const { return n == 0; }
+    uint8_t u8() {
+        if (n == 0) return 0;
+        --n;
+        return *p++;
+    }
+    uint16_t u16() { return uint16_t(u8() | (uint16_t(u8()) << 8)); }
+    uint32_t raw32() {
+        uint32_t v = 0;
+        for (int i = 0; i < 4; ++i) v |= uint32_t(u8()) << (8 * i);
+        return v;
+    }
+    float raw_float() {
+        const uint32_t b = raw32();
+        float f;
+        std::memcpy(&f, &b, sizeof f);
+        return f;
+    }
+    // Mostly a value in [lo, hi]; otherwise a special value (NaN, Inf, huge, tiny, ...) or raw bits.
+    float f(float lo, float hi) {
+        const uint8_t mode = u8();
+        if (mode < 176) return lo + (hi - lo) * (float(u16()) / 65535.0f);
+        if (mode < 236) return kSpecialFloats[u8() % (sizeof kSpecialFloats / sizeof kSpecialFloats[0])];
+        return raw_float();
+    }
+    // Mostly a value in [lo, hi]; otherwise a special or raw value.
+    uint32_t u32(uint32_t lo, uint32_t hi) {
+        const uint8_t mode = u8();
+        if (mode < 192) return lo + uint32_t(u16()) % (hi - lo + 1);
+        if (mode < 240) return kSpecialU32[u8() % (sizeof kSpecialU32 / sizeof kSpecialU32[0])];
+        return raw32();
+    }
+    void vec3(float* v, float lo, float hi) {
+        for (int k = 0; k < 3; ++k) v[k] = f(lo, hi);
+    }
+    // A struct_size: mostly right, sometimes off by a little or arbitrary.
+    uint32_t struct_size(uint32_t right) {
+        const uint8_t mode = u8();
+        if (mode < 224) return right;
+        if (mode < 240) return right + uint32_t(int32_t(u8() % 9) - 4);
+        if (mode < 248) return 0;
+        return raw32();
+    }
+};
+
+bool finite3(const float* v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
+
+// Exact-size heap copies, so AddressSanitizer sees any read or write past a struct.
+template <class T>
+std::unique_ptr<T> heap(const T& v) {
+    return std::unique_ptr<T>(new T(v));
+}
+
+// ---- results ---------------------------------------------------------------------------------
+// Every result is a known code; a failure has a message naming that code.
+pbf_result checked(pbf_result r) {
+    FUZZ_ASSERT(uint32_t(r) <= uint32_t(PBF_ERROR_INTERNAL));
+    FUZZ_ASSERT(r != PBF_ERROR_INTERNAL);  // "a bug in libpbf"
+    const char* msg = pbf_last_error_message();
+    FUZZ_ASSERT(msg != nullptr);
+    if (r != PBF_OK) {
+        const char* name = pbf_result_string(r);
+        FUZZ_ASSERT(std::strncmp(msg, name, std::strlen(name)) == 0);
+    }
+    return r;
+}
+
+// ---- model -----------------------------------------------------------------------------------
+struct EmitterModel {
+    pbf_emitter_id id;
+    pbf_emitter_type type;
+    bool enabled;
+};
+struct ColliderModel {
+    pbf_collider_id id;
+    pbf_collider_motion motion;
+};
+enum Mapped { kNotMapped, kMapped, kMaybeMapped };
+
+struct WorldModel {
+    pbf_world_id id{};
+    uint32_t capacity = 0;
+    uint32_t grid_cells = 0;
+    float radius = 0.0f;
+    float domain_min[3] = {}, domain_max[3] = {};
+    pbf_solver_params params{};
+    std::vector<EmitterModel> emitters;
+    std::vector<pbf_emitter_id> dead_emitters;
+    std::vector<ColliderModel> colliders;
+    std::vector<pbf_collider_id> dead_colliders;
+    Mapped mapped = kNotMapped;
+    pbf_mapped_buffer map{};
+    uint64_t steps = 0;
+    bool settled = false;  // no particle emitted since the last step: all are inside the walls
+    bool any_enabled_source() const {
+        for (const EmitterModel& e : emitters)
+            if (e.enabled) return true;
+        return false;
+    }
+};
+
+struct State {
+    std::vector<WorldModel> worlds;
+    std::vector<pbf_world_id> dead_worlds;
+    double budget = kWorkBudget;
+};
+
+bool same(pbf_world_id a, pbf_world_id b) { return a.index == b.index && a.generation == b.generation; }
+bool same(pbf_emitter_id a, pbf_emitter_id b) { return a.index == b.index && a.generation == b.generation; }
+bool same(pbf_collider_id a, pbf_collider_id b) { return a.index == b.index && a.generation == b.generation; }
+
+WorldModel* find_world(State& s, pbf_world_id id) {
+    for (WorldModel& w : s.worlds)
+        if (same(w.id, id)) return &w;
+    return nullptr;
+}
+
+// A world handle: live, stale, zeroed or forged. *model is the live world it names, or null.
+pbf_world_id pick_world(Reader& in, State& s, WorldModel** model) {
+    const uint8_t b = in.u8();
+    pbf_world_id id{0, 0};
+    const uint8_t kind = b % 16;
+    if (kind < 11 && !s.worlds.empty()) {
+        id = s.worlds[(b / 16) % s.worlds.size()].id;
+    } else if (kind < 13 && !s.dead_worlds.empty()) {
+        id = s.dead_worlds[(b / 16) % s.dead_worlds.size()];
+    } else if (kind == 13 && !s.worlds.empty()) {  // right slot, wrong generation
+        id = s.worlds[(b / 16) % s.worlds.size()].id;
+        id.generation += 1 + in.u8();
+    } else if (kind == 14) {
+        id = pbf_world_id{in.u8() % 8u, in.u8() % 4u};
+    } else if (kind == 15) {
+        id = pbf_world_id{in.raw32(), in.raw32()};
+    }
+    *model = find_world(s, id);
+    return id;
+}
+
+template <class Id, class Live>
+Id pick_handle(Reader& in, const std::vector<Live>& live, const std::vector<Id>& dead, const State& s) {
+    const uint8_t b = in.u8();
+    const uint8_t kind = b % 16;
+    if (kind < 10 && !live.empty()) return live[(b / 16) % live.size()].id;
+    if (kind < 12 && !dead.empty()) return dead[(b / 16) % dead.size()];
+    if (kind == 12) {  // a handle of another world (may or may not be live in this one)
+        for (const WorldModel& w : s.worlds) {
+            if constexpr (std::is_same<Id, pbf_emitter_id>::value) {
+                if (!w.emitters.empty()) return w.emitters[(b / 16) % w.emitters.size()].id;
+            } else {
+                if (!w.colliders.empty()) return w.colliders[(b / 16) % w.colliders.size()].id;
+            }
+        }
+    }
+    if (kind == 13) return Id{in.u8() % 40u, in.u8() % 4u};
+    if (kind == 14) return Id{0, 0};
+    return Id{in.raw32(), in.raw32()};
+}
+
+template <class Live, class Id>
+int find_live(const std::vector<Live>& live, Id id) {
+    for (size_t k = 0; k < live.size(); ++k)
+        if (same(live[k].id, id)) return int(k);
+    return -1;
+}
+
+// ---- snapshots and invariants ----------------------------------------------------------------
+struct Snapshot {
+    uint32_t count = 0;
+    std::vector<float> pos, vel;
+    std::vector<uint32_t> ids;
+    pbf_solver_params params{};
+};
+
+uint32_t count_of(const WorldModel& w) {
+    uint32_t n = 0xA5A5A5A5u;
+    FUZZ_ASSERT(checked(pbf_world_get_particle_count(w.id, &n)) == PBF_OK);
+    FUZZ_ASSERT(n <= w.capacity);
+    return n;
+}
+
+Snapshot snapshot(const WorldModel& w) {
+    Snapshot s;
+    s.count = count_of(w);
+    s.pos.assign(size_t(s.count) * 4, 0.0f);
+    s.vel.assign(size_t(s.count) * 4, 0.0f);
+    s.ids.assign(s.count, 0u);
+    uint32_t written = 0xFFFFFFFFu;
+    FUZZ_ASSERT(checked(pbf_world_copy_positions(w.id, s.pos.data(), s.count, &written)) == PBF_OK);
+    FUZZ_ASSERT(written == s.count);
+    FUZZ_ASSERT(checked(pbf_world_copy_velocities(w.id, s.vel.data(), s.count, &written)) == PBF_OK);
+    FUZZ_ASSERT(written == s.count);
+    FUZZ_ASSERT(checked(pbf_world_copy_ids(w.id, s.ids.data(), s.count, &written)) == PBF_OK);
+    FUZZ_ASSERT(written == s.count);
+    s.params = pbf_solver_params_default();
+    FUZZ_ASSERT(checked(pbf_world_get_solver_params(w.id, &s.params)) == PBF_OK);
+    return s;
+}
+
+bool same_snapshot(const Snapshot& a, const Snapshot& b) {
+    return a.count == b.count && a.ids == b.ids &&
+           std::memcmp(a.pos.data(), b.pos.data(), a.pos.size() * sizeof(float)) == 0 &&
+           std::memcmp(a.vel.data(), b.vel.data(), a.vel.size() * sizeof(float)) == 0 &&
+           std::memcmp(&a.params, &b.params, sizeof a.params) == 0;
+}
+
+pbf_step_stats stats_of(const WorldModel& w) {
+    pbf_step_stats st;
+    std::memset(&st, 0xCD, sizeof st);
+    st.struct_size = sizeof st;
+    FUZZ_ASSERT(checked(pbf_world_get_stats(w.id, &st)) == PBF_OK);
+    return st;
+}
+
+// Counts, accounting, ids, finiteness and walls of a live world.
+void check_world(const WorldModel& w, bool deep) {
+    const uint32_t n = count_of(w);
+    const pbf_step_stats st = stats_of(w);
+    FUZZ_ASSERT(st.struct_size == sizeof st);
+    FUZZ_ASSERT(st.particle_count == n);
+    FUZZ_ASSERT(st.step_index == w.steps);
+    FUZZ_ASSERT(st.emitted_total >= st.drained_total);
+    FUZZ_ASSERT(st.emitted_total - st.drained_total == n);  // exact accounting
+    FUZZ_ASSERT(!std::isnan(st.density_error_mean) && !std::isnan(st.density_error_max));
+    FUZZ_ASSERT(st.reserved0 == 0);
+    if (!deep) return;
+    const Snapshot s = snapshot(w);
+    FUZZ_ASSERT(s.count == n);
+    std::vector<uint32_t> ids = s.ids;
+    std::sort(ids.begin(), ids.end());
+    FUZZ_ASSERT(std::adjacent_find(ids.begin(), ids.end()) == ids.end());  // unique
+    for (uint32_t id : ids) {
+        FUZZ_ASSERT(id != kDeadId);
+        FUZZ_ASSERT(id < st.emitted_total);  // ids are 0, 1, 2, ... per world
+    }
+    for (uint32_t i = 0; i < n; ++i) {
+        const float* p = &s.pos[size_t(i) * 4];
+        const float* v = &s.vel[size_t(i) * 4];
+        FUZZ_ASSERT(finite3(p));
+        FUZZ_ASSERT(finite3(v));
+        FUZZ_ASSERT(v[3] == 0.0f);
+        if (w.settled) {  // after a step every particle is inside the walls
+            for (int a = 0; a < 3; ++a) {
+                const float lo = w.domain_min[a], hi = w.domain_max[a];
+                const float slack = 1e-5f * (std::fabs(lo) + std::fabs(hi) + 1.0f);
+                FUZZ_ASSERT(p[a] >= lo - slack && p[a] <= hi + slack);
+            }
+        }
+    }
+}
+
+// ---- descs -----------------------------------------------------------------------------------
+void fuzz_params(Reader& in, pbf_solver_params* p) {
+    const uint16_t mask = in.u16();
+    if (mask & 0x001) p->iterations = in.u32(1, 8);
+    if (mask & 0x002) p->substeps = in.u32(1, 3);
+    if (mask & 0x004) p->relaxation = in.f(0.01f, 10.0f);
+    if (mask & 0x008) p->scorr_k = in.f(0.0f, 1.0f);
+    if (mask & 0x010) p->scorr_n = in.f(1.0f, 8.0f);
+    if (mask & 0x020) p->scorr_dq = in.f(0.0f, 1.0f);
+    if (mask & 0x040) p->xsph_c = in.f(0.0f, 1.0f);
+    if (mask & 0x080) p->vorticity_epsilon = in.f(0.0f, 0.01f);
+    if (mask & 0x100) p->ldc_enabled = in.u32(0, 1);
+    if (mask & 0x200) p->ldc_gain = in.f(0.0f, 1.0f);
+    if (mask & 0x400) p->max_speed = in.f(0.1f, 200.0f);
+    if (mask & 0x800) p->struct_size = in.struct_size(sizeof *p);
+}
+
+// What check_solver_params accepts (a refused struct is checked to change nothing).
+bool params_valid(const pbf_solver_params& p) {
+    return p.struct_size == sizeof p && p.iterations >= 1 && p.iterations <= 64 && p.substeps >= 1 &&
+           p.substeps <= 16 && std::isfinite(p.relaxation) && p.relaxation > 0 && std::isfinite(p.scorr_k) &&
+           p.scorr_k >= 0 && p.scorr_k <= 1 && std::isfinite(p.scorr_n) && p.scorr_n >= 1 && p.scorr_n <= 8 &&
+           std::isfinite(p.scorr_dq) && p.scorr_dq > 0 && p.scorr_dq < 1 && std::isfinite(p.xsph_c) &&
+           p.xsph_c >= 0 && p.xsph_c <= 1 && std::isfinite(p.vorticity_epsilon) && p.vorticity_epsilon >= 0 &&
+           p.vorticity_epsilon <= 100 && p.ldc_enabled <= 1 && std::isfinite(p.ldc_gain) && p.ldc_gain >= 0 &&
+           p.ldc_gain <= 1 && std::isfinite(p.max_speed) && p.max_speed > 0;
+}
+
+// The grid the library would build for desc (or a negative number if it would refuse the desc
+// before computing one).
+double grid_cells_of(const pbf_world_desc& d) {
+    if (!(std::isfinite(d.particle_radius) && d.particle_radius > 0.0f)) return -1.0;
+    if (!finite3(d.domain_min) || !finite3(d.domain_max)) return -1.0;
+    const float h = 4.0f * d.particle_radius;
+    double total = 1.0;
+    for (int a = 0; a < 3; ++a) {
+        const float c = std::ceil((d.domain_max[a] - d.domain_min[a]) / h);
+        total *= std::max(1.0, double(c));
+    }
+    return total;
+}
+
+// ---- the operations --------------------------------------------------------------------------
+int g_log_calls = 0;
+void PBF_CALL log_sink(pbf_log_level level, const char* message, void* user) {
+    FUZZ_ASSERT(message != nullptr);
+    FUZZ_ASSERT(uint32_t(level) <= uint32_t(PBF_LOG_ERROR));
+    FUZZ_ASSERT(user == &g_log_calls);
+    ++*static_cast<int*>(user);
+}
+
+void op_create_world(Reader& in, State& s) {
+    pbf_world_desc d = pbf_world_desc_default();
+    d.backend = PBF_BACKEND_CPU;
+    d.max_particles = 256;
+    const float lo[3] = {-0.3f, 0.0f, -0.3f}, hi[3] = {0.3f, 0.6f, 0.3f};
+    std::memcpy(d.domain_min, lo, sizeof lo);
+    std::memcpy(d.domain_max, hi, sizeof hi);
+    const uint16_t mask = in.u16();
+    if (mask & 0x0001) {
+        const uint8_t b = in.u8() % 16;
+        d.backend = b < 10 ? PBF_BACKEND_CPU : b < 13 ? PBF_BACKEND_AUTO : b < 15 ? PBF_BACKEND_CUDA
+                                                                                  : pbf_backend(in.raw32());
+    }
+    if (mask & 0x0002) d.max_particles = in.u32(1, 2048);
+    if (mask & 0x0004) d.particle_radius = in.f(0.01f, 0.1f);
+    if (mask & 0x0008) d.rest_density = in.f(100.0f, 3000.0f);
+    if (mask & 0x0010) in.vec3(d.gravity, -30.0f, 30.0f);
+    if (mask & 0x0020) in.vec3(d.domain_min, -1.0f, 0.0f);
+    if (mask & 0x0040) {
+        for (int a = 0; a < 3; ++a) d.domain_max[a] = d.domain_min[a] + in.f(0.0f, 1.5f);
+    }
+    if (mask & 0x0080) fuzz_params(in, &d.solver);
+    if (mask & 0x0100) d.struct_size = in.struct_size(sizeof d);
+    if (mask & 0x0200) d.header_version = in.u8() < 200 ? PBF_MAKE_VERSION(1, in.u8(), in.u8()) : in.raw32();
+    if (mask & 0x0400) d.cuda_device = int32_t(in.u32(0, 2));
+    if (mask & 0x0800) in.vec3(d.domain_max, -2.0f, 2.0f);
+    const bool null_out = (mask & 0x1000) && in.u8() < 32;
+    const bool null_desc = (mask & 0x2000) && in.u8() < 32;
+
+    // Resource clamps: refusals above the library's limits stay; big but legal sizes shrink.
+    if (d.max_particles > kMaxCapacity && d.max_particles <= (1u << 30)) d.max_particles = 1 + d.max_particles % 2048;
+    const double cells = grid_cells_of(d);
+    if (cells > kMaxCells && cells <= double(1u << 30)) {
+        for (int a = 0; a < 3; ++a) d.domain_max[a] = d.domain_min[a] + 16.0f * 4.0f * d.particle_radius;
+        if (grid_cells_of(d) > kMaxCells) return;  // rounding at extreme magnitudes: skip
+    }
+    if (s.worlds.size() >= kMaxWorlds) return;
+
+    const auto desc = heap(d);
+    pbf_world_id id{0xAAAAAAAAu, 0xBBBBBBBBu};
+    const pbf_result r = checked(pbf_world_create(null_desc ? nullptr : desc.get(), null_out ? nullptr : &id));
+    if (r != PBF_OK) {
+        if (!null_out) FUZZ_ASSERT(id.index == 0 && id.generation == 0);
+        return;
+    }
+    // Success only for a desc the header calls valid.
+    FUZZ_ASSERT(!null_out && !null_desc);
+    FUZZ_ASSERT(d.struct_size == sizeof d && PBF_VERSION_GET_MAJOR(d.header_version) == PBF_VERSION_MAJOR);
+    FUZZ_ASSERT(d.backend == PBF_BACKEND_CPU || d.backend == PBF_BACKEND_AUTO);
+    FUZZ_ASSERT(d.max_particles >= 1 && d.max_particles <= kMaxCapacity);
+    FUZZ_ASSERT(std::isfinite(d.particle_radius) && d.particle_radius > 0 && std::isfinite(d.rest_density) &&
+                d.rest_density > 0 && finite3(d.gravity) && finite3(d.domain_min) && finite3(d.domain_max));
+    FUZZ_ASSERT(params_valid(d.solver));
+    FUZZ_ASSERT(id.generation != 0);
+    FUZZ_ASSERT(find_world(s, id) == nullptr);
+
+    WorldModel w;
+    w.id = id;
+    w.capacity = d.max_particles;
+    w.radius = d.particle_radius;
+    std::memcpy(w.domain_min, d.domain_min, sizeof w.domain_min);
+    std::memcpy(w.domain_max, d.domain_max, sizeof w.domain_max);
+    w.params = d.solver;
+
+    pbf_world_info info;
+    std::memset(&info, 0x5A, sizeof info);
+    info.struct_size = sizeof info;
+    FUZZ_ASSERT(checked(pbf_world_get_info(id, &info)) == PBF_OK);
+    FUZZ_ASSERT(info.backend == PBF_BACKEND_CPU);
+    FUZZ_ASSERT(info.max_particles == d.max_particles);
+    FUZZ_ASSERT(std::memchr(info.device_name, 0, sizeof info.device_name) != nullptr);
+    // A world that was created has usable constants.
+    FUZZ_ASSERT(std::isfinite(info.particle_mass) && info.particle_mass > 0.0f);
+    FUZZ_ASSERT(std::isfinite(info.kernel_radius) && info.kernel_radius > 0.0f);
+    FUZZ_ASSERT(info.grid_cells >= 1 && double(info.grid_cells) <= kMaxCells);
+    w.grid_cells = info.grid_cells;
+    s.worlds.push_back(w);
+    check_world(s.worlds.back(), true);
+}
+
+void op_destroy_world(Reader& in, State& s) {
+    WorldModel* w = nullptr;
+    const pbf_world_id id = pick_world(in, s, &w);
+    const pbf_result r = checked(pbf_world_destroy(id));
+    if (!w) {
+        FUZZ_ASSERT(r == PBF_ERROR_INVALID_HANDLE);
+        return;
+    }
+    FUZZ_ASSERT(r == PBF_OK);
+    s.dead_worlds.push_back(id);
+    s.worlds.erase(s.worlds.begin() + (w - s.worlds.data()));
+    // The handle is dead now, for every call.
+    uint32_t n = 77;
+    FUZZ_ASSERT(checked(pbf_world_get_particle_count(id, &n)) == PBF_ERROR_INVALID_HANDLE);
+    FUZZ_ASSERT(checked(pbf_world_step(id, 1.0f / 60.0f)) == PBF_ERROR_INVALID_HANDLE);
+    FUZZ_ASSERT(checked(pbf_world_destroy(id)) == PBF_ERROR_INVALID_HANDLE);
+}
+
+void op_step(Reader& in, State& s) {
+    WorldModel* w = nullptr;
+    const pbf_world_id id = pick_world(in, s, &w);
+    const float dt = in.f(0.0f, 0.05f);
+    const bool dt_ok = std::isfinite(dt) && dt > 0.0f && dt <= 1.0f;
+    uint32_t before = 0;
+    if (w) {
+        before = count_of(*w);
+        if (dt_ok) {
+            // Charge the step's work (sources can fill the world) against the budget.
+            const double particles = w->any_enabled_source() ? double(w->capacity) : double(before);
+            const double cost = double(w->params.substeps) *
+                                (particles * (double(w->params.iterations) * 2.0 + 8.0) + 4.0 * w->grid_cells + 64.0);
+            if (cost > s.budget) return;
+            s.budget -= cost;
+        }
+    }
+    const pbf_result r = checked(pbf_world_step(id, dt));
+    if (!dt_ok) {
+        FUZZ_ASSERT(r == PBF_ERROR_INVALID_ARGUMENT);
+        if (w) FUZZ_ASSERT(count_of(*w) == before);
+        return;
+    }
+    if (!w) {
+        FUZZ_ASSERT(r == PBF_ERROR_INVALID_HANDLE);
+        return;
+    }
+    FUZZ_ASSERT(r == PBF_OK);
+    ++w->steps;
+    w->mapped = kNotMapped;
+    w->settled = true;
+    if (!w->any_enabled_source()) FUZZ_ASSERT(count_of(*w) == before);
+    check_world(*w, true);
+}
+
+void op_set_params(Reader& in, State& s) {
+    WorldModel* w = nullptr;
+    const pbf_world_id id = pick_world(in, s, &w);
+    pbf_solver_params p = w ? w->params : pbf_solver_params_default();
+    fuzz_params(in, &p);
+    const bool null_p = in.u8() < 8;
+    const bool valid = params_valid(p) && !null_p;
+    const auto hp = heap(p);
+    const pbf_result r = checked(pbf_world_set_solver_params(id, null_p ? nullptr : hp.get()));
+    FUZZ_ASSERT((r == PBF_OK) == (valid && w != nullptr));
+    if (!valid) FUZZ_ASSERT(r == PBF_ERROR_INVALID_ARGUMENT || r == PBF_ERROR_STRUCT_SIZE);
+    if (!w) return;
+    if (r == PBF_OK) w->params = p;
+    pbf_solver_params now = pbf_solver_params_default();
+    FUZZ_ASSERT(checked(pbf_world_get_solver_params(id, &now)) == PBF_OK);
+    FUZZ_ASSERT(std::memcmp(&now, &w->params, sizeof now) == 0);  // refused: unchanged
+}
+
+void op_get(Reader& in, State& s) {
+    WorldModel* w = nullptr;
+    const pbf_world_id id = pick_world(in, s, &w);
+    const uint8_t which = in.u8() % 4;
+    const bool null_out = in.u8() < 16;
+    pbf_result r;
+    if (which == 0) {
+        pbf_solver_params p;
+        std::memset(&p, 0x3C, sizeof p);
+        p.struct_size = in.struct_size(sizeof p);
+        const auto hp = heap(p);
+        r = checked(pbf_world_get_solver_params(id, null_out ? nullptr : hp.get()));
+        if (r != PBF_OK && !null_out) FUZZ_ASSERT(std::memcmp(hp.get(), &p, sizeof p) == 0);
+        if (r == PBF_OK) FUZZ_ASSERT(std::memcmp(hp.get(), &w->params, sizeof p) == 0);
+        if (!null_out && p.struct_size != sizeof p) FUZZ_ASSERT(r == PBF_ERROR_STRUCT_SIZE);
+    } else if (which == 1) {
+        pbf_world_info info;
+        std::memset(&info, 0x3C, sizeof info);
+        info.struct_size = in.struct_size(sizeof info);
+        const auto hi = heap(info);
+        r = checked(pbf_world_get_info(id, null_out ? nullptr : hi.get()));
+        if (r != PBF_OK && !null_out) FUZZ_ASSERT(std::memcmp(hi.get(), &info, sizeof info) == 0);
+        if (r == PBF_OK) FUZZ_ASSERT(hi->max_particles == w->capacity && hi->grid_cells == w->grid_cells);
+        if (!null_out && info.struct_size != sizeof info) FUZZ_ASSERT(r == PBF_ERROR_STRUCT_SIZE);
+    } else if (which == 2) {
+        pbf_step_stats st;
+        std::memset(&st, 0x3C, sizeof st);
+        st.struct_size = in.struct_size(sizeof st);
+        const auto hs = heap(st);
+        r = checked(pbf_world_get_stats(id, null_out ? nullptr : hs.get()));
+        if (r != PBF_OK && !null_out) FUZZ_ASSERT(std::memcmp(hs.get(), &st, sizeof st) == 0);
+        if (!null_out && st.struct_size != sizeof st) FUZZ_ASSERT(r == PBF_ERROR_STRUCT_SIZE);
+    } else {
+        uint32_t n = 0x12345678u;
+        r = checked(pbf_world_get_particle_count(id, null_out ? nullptr : &n));
+        if (r == PBF_OK) FUZZ_ASSERT(n <= w->capacity);
+        else FUZZ_ASSERT(n == 0x12345678u);
+    }
+    if (null_out) FUZZ_ASSERT(r == PBF_ERROR_INVALID_ARGUMENT || (r == PBF_ERROR_INVALID_HANDLE && !w));
+    if (!w) FUZZ_ASSERT(r != PBF_OK);
+}
+
+void op_gravity(Reader& in, State& s) {
+    WorldModel* w = nullptr;
+    const pbf_world_id id = pick_world(in, s, &w);
+    float g[3];
+    in.vec3(g, -30.0f, 30.0f);
+    const bool null_g = in.u8() < 8;
+    const auto hg = std::unique_ptr<float[]>(new float[3]{g[0], g[1], g[2]});
+    const pbf_result r = checked(pbf_world_set_gravity(id, null_g ? nullptr : hg.get()));
+    FUZZ_ASSERT((r == PBF_OK) == (w && !null_g && finite3(g)));
+}
+
+void op_emit_block(Reader& in, State& s) {
+    WorldModel* w = nullptr;
+    const pbf_world_id id = pick_world(in, s, &w);
+    pbf_block_desc b = pbf_block_desc_default();
+    const uint8_t mode = in.u8();
+    if (w && mode < 160) {  // inside the domain, a handful of particles
+        for (int a = 0; a < 3; ++a) {
+            const float span = w->domain_max[a] - w->domain_min[a];
+            b.box_min[a] = w->domain_min[a] + span * in.f(0.0f, 0.9f);
+            b.box_max[a] = b.box_min[a] + span * in.f(0.0f, 0.4f);
+        }
+    } else {
+        in.vec3(b.box_min, -2.0f, 2.0f);
+        for (int a = 0; a < 3; ++a) b.box_max[a] = (mode & (1 << (a + 1))) ? in.f(-2.0f, 2.0f) : b.box_min[a] + in.f(0.0f, 1.0f);
+    }
+    if (in.u8() < 64) in.vec3(b.velocity, -10.0f, 10.0f);
+    b.struct_size = in.struct_size(sizeof b);
+    const uint8_t ptrs = in.u8();
+    const bool null_desc = ptrs < 8, null_out = (ptrs & 0x10) != 0;
+    const uint32_t before = w ? count_of(*w) : 0;
+    Snapshot snap;
+    const bool take = w && (ptrs & 0x20) && before <= 4096;
+    if (take) snap = snapshot(*w);
+    const auto hb = heap(b);
+    uint32_t emitted = 0xEEEEEEEEu;
+    const pbf_result r = checked(pbf_world_emit_block(id, null_desc ? nullptr : hb.get(), null_out ? nullptr : &emitted));
+    bool valid_desc = !null_desc && b.struct_size == sizeof b && finite3(b.box_min) && finite3(b.box_max) &&
+                      finite3(b.velocity);
+    for (int a = 0; a < 3 && valid_desc; ++a) valid_desc = b.box_max[a] > b.box_min[a];
+    if (!null_out && (null_desc || b.struct_size == sizeof b)) FUZZ_ASSERT(r == PBF_OK || emitted == 0);
+    if (!w) {
+        FUZZ_ASSERT(r != PBF_OK);
+        return;
+    }
+    if (valid_desc) w->mapped = kMaybeMapped;  // emit ends a mapping (header); see report: also on failure
+    const uint32_t after = count_of(*w);
+    if (r == PBF_OK) {
+        FUZZ_ASSERT(valid_desc);
+        if (!null_out) {
+            FUZZ_ASSERT(emitted > 0);
+            FUZZ_ASSERT(after == before + emitted);
+        }
+        FUZZ_ASSERT(after > before);
+        w->settled = false;
+        check_world(*w, true);
+    } else {
+        FUZZ_ASSERT(after == before);  // a failed call leaves the count unchanged
+        if (r == PBF_ERROR_CAPACITY) FUZZ_ASSERT(before == w->capacity);
+        if (take) FUZZ_ASSERT(same_snapshot(snap, snapshot(*w)));
+        check_world(*w, false);
+    }
+}
+
+void fill_emitter(Reader& in, const WorldModel* w, pbf_emitter_desc* e) {
+    const uint8_t t = in.u8() % 16;
+    e->type = t < 7 ? PBF_EMITTER_NOZZLE : t < 14 ? PBF_EMITTER_DRAIN : pbf_emitter_type(in.u32(0, 4));
+    float lo[3] = {-0.5f, 0.0f, -0.5f}, hi[3] = {0.5f, 1.0f, 0.5f};
+    if (w) {
+        std::memcpy(lo, w->domain_min, sizeof lo);
+        std::memcpy(hi, w->domain_max, sizeof hi);
+    }
+    const uint16_t mask = in.u16();
+    for (int a = 0; a < 3; ++a) {
+        e->position[a] = (mask & 0x01) ? in.f(-2.0f, 2.0f) : in.f(lo[a], hi[a]);
+        e->box_min[a] = (mask & 0x02) ? in.f(-2.0f, 2.0f) : in.f(lo[a], hi[a]);
+        e->box_max[a] = e->box_min[a] + in.f(0.0f, 0.5f);
+    }
+    if (mask & 0x04) in.vec3(e->direction, -1.0f, 1.0f);
+    e->speed = (mask & 0x08) ? in.f(-1.0f, 100.0f) : in.f(0.1f, 3.0f);
+    e->radius = (mask & 0x10) ? in.f(-1.0f, 100.0f) : in.f(0.01f, 0.2f);
+    e->particles_per_second = (mask & 0x20) ? in.f(-10.0f, 2e9f) : in.f(1.0f, 3000.0f);
+    if (mask & 0x40) e->enabled = in.u32(0, 1);
+    if (mask & 0x80) e->struct_size = in.struct_size(sizeof *e);
+}
+
+bool emitter_valid(const pbf_emitter_desc& e) {
+    if (e.struct_size != sizeof e || e.enabled > 1) return false;
+    if (!(finite3(e.position) && finite3(e.direction) && std::isfinite(e.speed) && std::isfinite(e.radius) &&
+          std::isfinite(e.particles_per_second) && finite3(e.box_min) && finite3(e.box_max)))
+        return false;
+    if (e.type == PBF_EMITTER_NOZZLE)
+        return e.speed > 0 && e.radius > 0 && e.particles_per_second > 0 && e.particles_per_second <= 1e9f &&
+               (e.direction[0] != 0 || e.direction[1] != 0 || e.direction[2] != 0);
+    if (e.type == PBF_EMITTER_DRAIN)
+        return e.box_max[0] > e.box_min[0] && e.box_max[1] > e.box_min[1] && e.box_max[2] > e.box_min[2];
+    return false;
+}
+
+void op_create_emitter(Reader& in, State& s) {
+    WorldModel* w = nullptr;
+    const pbf_world_id id = pick_world(in, s, &w);
+    pbf_emitter_desc e = pbf_emitter_desc_default();
+    fill_emitter(in, w, &e);
+    const uint8_t ptrs = in.u8();
+    const bool null_desc = ptrs < 8, null_out = (ptrs & 0xF0) == 0xF0;
+    const auto he = heap(e);
+    pbf_emitter_id out{0x11111111u, 0x22222222u};
+    const pbf_result r =
+        checked(pbf_world_create_emitter(id, null_desc ? nullptr : he.get(), null_out ? nullptr : &out));
+    if (r != PBF_OK) {
+        if (!null_out) FUZZ_ASSERT(out.index == 0 && out.generation == 0);
+        return;
+    }
+    FUZZ_ASSERT(w && !null_desc && !null_out);
+    FUZZ_ASSERT(emitter_valid(e));
+    FUZZ_ASSERT(out.generation != 0 && find_live(w->emitters, out) < 0);
+    w->emitters.push_back(EmitterModel{out, e.type, e.enabled != 0});
+}
+
+void op_destroy_emitter(Reader& in, State& s) {
+    WorldModel* w = nullptr;
+    const pbf_world_id id = pick_world(in, s, &w);
+    static const std::vector<EmitterModel> kNone;
+    static const std::vector<pbf_emitter_id> kNoIds;
+    const pbf_emitter_id e = pick_handle(in, w ? w->emitters : kNone, w ? w->dead_emitters : kNoIds, s);
+    const pbf_result r = checked(pbf_world_destroy_emitter(id, e));
+    const int k = w ? find_live(w->emitters, e) : -1;
+    FUZZ_ASSERT((r == PBF_OK) == (k >= 0));
+    if (r != PBF_OK) {
+        FUZZ_ASSERT(r == PBF_ERROR_INVALID_HANDLE);
+        return;
+    }
+    w->dead_emitters.push_back(e);
+    w->emitters.erase(w->emitters.begin() + k);
+}
+
+void op_emitter_update(Reader& in, State& s) {
+    WorldModel* w = nullptr;
+    const pbf_world_id id = pick_world(in, s, &w);
+    static const std::vector<EmitterModel> kNone;
+    static const std::vector<pbf_emitter_id> kNoIds;
+    const pbf_emitter_id e = pick_handle(in, w ? w->emitters : kNone, w ? w->dead_emitters : kNoIds, s);
+    const int k = w ? find_live(w->emitters, e) : -1;
+    if (in.u8() & 1) {
+        const uint32_t enabled = in.u32(0, 1);
+        const pbf_result r = checked(pbf_emitter_set_enabled(id, e, enabled));
+        FUZZ_ASSERT((r == PBF_OK) == (k >= 0 && enabled <= 1));
+        if (r == PBF_OK) w->emitters[k].enabled = enabled != 0;
+        return;
+    }
+    float a[3], b[3];
+    in.vec3(a, -1.0f, 1.0f);
+    in.vec3(b, -1.0f, 1.0f);
+    const uint8_t nulls = in.u8();
+    const auto ha = std::unique_ptr<float[]>(new float[3]{a[0], a[1], a[2]});
+    const auto hb = std::unique_ptr<float[]>(new float[3]{b[0], b[1], b[2]});
+    const pbf_result r = checked(pbf_emitter_set_transform(id, e, (nulls & 0xF0) == 0xF0 ? nullptr : ha.get(),
+                                                           (nulls & 0x0F) == 0x0F ? nullptr : hb.get()));
+    if (r == PBF_OK) {
+        FUZZ_ASSERT(k >= 0 && finite3(a) && finite3(b) && (nulls & 0xF0) != 0xF0 && (nulls & 0x0F) != 0x0F);
+        if (w->emitters[k].type == PBF_EMITTER_DRAIN) FUZZ_ASSERT(b[0] > a[0] && b[1] > a[1] && b[2] > a[2]);
+    }
+}
+
+void op_create_collider(Reader& in, State& s) {
+    WorldModel* w = nullptr;
+    const pbf_world_id id = pick_world(in, s, &w);
+    pbf_collider_desc c = pbf_collider_desc_default();
+    const uint8_t sh = in.u8() % 16;
+    c.shape = sh < 14 ? pbf_collider_shape(1 + sh % 4) : pbf_collider_shape(in.u32(0, 6));
+    const uint8_t mo = in.u8() % 8;
+    c.motion = mo < 4 ? PBF_MOTION_STATIC : mo < 7 ? PBF_MOTION_KINEMATIC : pbf_collider_motion(in.u32(0, 3));
+    const uint16_t mask = in.u16();
+    in.vec3(c.position, -1.0f, 1.0f);
+    if (mask & 0x01)
+        for (int k = 0; k < 4; ++k) c.rotation[k] = in.f(-1.0f, 1.0f);
+    c.radius = (mask & 0x02) ? in.f(-1.0f, 10.0f) : in.f(0.01f, 0.3f);
+    c.half_height = (mask & 0x04) ? in.f(-1.0f, 10.0f) : in.f(0.0f, 0.3f);
+    for (int k = 0; k < 3; ++k) c.half_extents[k] = (mask & 0x08) ? in.f(-1.0f, 10.0f) : in.f(0.01f, 0.3f);
+    if (mask & 0x10) c.friction = in.f(0.0f, 1.0f);
+    if (mask & 0x20) c.struct_size = in.struct_size(sizeof c);
+    const uint8_t ptrs = in.u8();
+    const bool null_desc = ptrs < 8, null_out = (ptrs & 0xF0) == 0xF0;
+    const auto hc = heap(c);
+    pbf_collider_id out{0x11111111u, 0x22222222u};
+    const pbf_result r =
+        checked(pbf_world_create_collider(id, null_desc ? nullptr : hc.get(), null_out ? nullptr : &out));
+    if (r != PBF_OK) {
+        if (!null_out) FUZZ_ASSERT(out.index == 0 && out.generation == 0);
+        if (r == PBF_ERROR_CAPACITY) FUZZ_ASSERT(w && w->colliders.size() == 32);
+        return;
+    }
+    FUZZ_ASSERT(w && !null_desc && !null_out && c.struct_size == sizeof c);
+    FUZZ_ASSERT(w->colliders.size() < 32);
+    FUZZ_ASSERT(finite3(c.position) && std::isfinite(c.radius) && std::isfinite(c.half_height) &&
+                finite3(c.half_extents) && std::isfinite(c.friction) && c.friction >= 0 && c.friction <= 1);
+    FUZZ_ASSERT(c.shape >= PBF_SHAPE_PLANE && c.shape <= PBF_SHAPE_BOX);
+    FUZZ_ASSERT(c.motion == PBF_MOTION_STATIC || c.motion == PBF_MOTION_KINEMATIC);
+    FUZZ_ASSERT(out.generation != 0 && find_live(w->colliders, out) < 0);
+    w->colliders.push_back(ColliderModel{out, c.motion});
+}
+
+void op_destroy_collider(Reader& in, State& s) {
+    WorldModel* w = nullptr;
+    const pbf_world_id id = pick_world(in, s, &w);
+    static const std::vector<ColliderModel> kNone;
+    static const std::vector<pbf_collider_id> kNoIds;
+    const pbf_collider_id c = pick_handle(in, w ? w->colliders : kNone, w ? w->dead_colliders : kNoIds, s);
+    const pbf_result r = checked(pbf_world_destroy_collider(id, c));
+    const int k = w ? find_live(w->colliders, c) : -1;
+    FUZZ_ASSERT((r == PBF_OK) == (k >= 0));
+    if (r != PBF_OK) {
+        FUZZ_ASSERT(r == PBF_ERROR_INVALID_HANDLE);
+        return;
+    }
+    w->dead_colliders.push_back(c);
+    w->colliders.erase(w->colliders.begin() + k);
+}
+
+void op_set_pose(Reader& in, State& s) {
+    WorldModel* w = nullptr;
+    const pbf_world_id id = pick_world(in, s, &w);
+    static const std::vector<ColliderModel> kNone;
+    static const std::vector<pbf_collider_id> kNoIds;
+    const pbf_collider_id c = pick_handle(in, w ? w->colliders : kNone, w ? w->dead_colliders : kNoIds, s);
+    float p[3], q[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+    in.vec3(p, -1.0f, 1.0f);
+    const uint8_t mode = in.u8();
+    if (mode & 1)
+        for (int k = 0; k < 4; ++k) q[k] = in.f(-1.0f, 1.0f);
+    const auto hp = std::unique_ptr<float[]>(new float[3]{p[0], p[1], p[2]});
+    const auto hq = std::unique_ptr<float[]>(new float[4]{q[0], q[1], q[2], q[3]});
+    const bool null_p = (mode & 0xF0) == 0xF0, null_q = (mode & 0x0E) == 0x0E;
+    const pbf_result r = checked(pbf_collider_set_pose(id, c, null_p ? nullptr : hp.get(), null_q ? nullptr : hq.get()));
+    const int k = w ? find_live(w->colliders, c) : -1;
+    if (r == PBF_OK) {
+        FUZZ_ASSERT(k >= 0 && w->colliders[k].motion == PBF_MOTION_KINEMATIC);
+        FUZZ_ASSERT(!null_p && !null_q && finite3(p) && std::isfinite(q[0]) && std::isfinite(q[1]) &&
+                    std::isfinite(q[2]) && std::isfinite(q[3]));
+    }
+    if (r == PBF_ERROR_INVALID_STATE) FUZZ_ASSERT(k >= 0 && w->colliders[k].motion == PBF_MOTION_STATIC);
+}
+
+uint32_t pick_max_count(Reader& in, uint32_t count, uint32_t capacity) {
+    switch (in.u8() % 10) {
+        case 0: return 0;
+        case 1: return count;
+        case 2: return count ? count - 1 : 0;
+        case 3: return count + 1;
+        case 4: return in.u16() % 64;
+        case 5: return 0xFFFFFFFFu;
+        case 6: return in.raw32();
+        case 7: return capacity;
+        case 8: return count / 2;
+        default: return count;
+    }
+}
+
+void op_copy(Reader& in, State& s) {
+    WorldModel* w = nullptr;
+    const pbf_world_id id = pick_world(in, s, &w);
+    const uint8_t which = in.u8() % 3;
+    const uint32_t count = w ? count_of(*w) : 0;
+    const uint32_t max_count = pick_max_count(in, count, w ? w->capacity : 0);
+    const uint8_t ptrs = in.u8();
+    const bool null_out = ptrs < 16, null_written = (ptrs & 0xC0) == 0xC0;
+    // Exactly as many elements as the call may write: min(max_count, count), plus a canary
+    // tail where max_count leaves room. The library may write min(count, max_count).
+    const size_t comps = which == 2 ? 1 : 4;
+    const size_t elems = std::min<uint64_t>(max_count, uint64_t(count) + 8);
+    std::unique_ptr<uint32_t[]> buf(new uint32_t[std::max<size_t>(1, elems * comps)]);
+    for (size_t k = 0; k < elems * comps; ++k) buf[k] = 0xA5A5A5A5u;
+    uint32_t written = 0xEEEEEEEEu;
+    void* out = null_out ? nullptr : buf.get();
+    uint32_t* wp = null_written ? nullptr : &written;
+    pbf_result r;
+    if (which == 0) r = checked(pbf_world_copy_positions(id, static_cast<float*>(out), max_count, wp));
+    else if (which == 1) r = checked(pbf_world_copy_velocities(id, static_cast<float*>(out), max_count, wp));
+    else r = checked(pbf_world_copy_ids(id, static_cast<uint32_t*>(out), max_count, wp));
+    if (null_out && max_count > 0) {
+        FUZZ_ASSERT(r == PBF_ERROR_INVALID_ARGUMENT);
+        if (wp) FUZZ_ASSERT(written == 0);
+        return;
+    }
+    if (!w) {
+        FUZZ_ASSERT(r == PBF_ERROR_INVALID_HANDLE);
+        if (wp) FUZZ_ASSERT(written == 0);
+        return;
+    }
+    FUZZ_ASSERT(r == PBF_OK);
+    const uint32_t expect = std::min(count, max_count);
+    if (wp) FUZZ_ASSERT(written == expect);  // writes <= max_count, and all there are
+    if (!null_out) {
+        for (size_t k = size_t(expect) * comps; k < elems * comps; ++k) FUZZ_ASSERT(buf[k] == 0xA5A5A5A5u);
+        if (which != 2) {
+            const float* f = reinterpret_cast<const float*>(buf.get());
+            for (size_t k = 0; k < expect; ++k) FUZZ_ASSERT(finite3(f + 4 * k));
+        } else {
+            for (size_t k = 0; k < expect; ++k) FUZZ_ASSERT(buf[k] != kDeadId);
+        }
+    }
+    FUZZ_ASSERT(count_of(*w) == count);
+}
+
+void op_map(Reader& in, State& s) {
+    WorldModel* w = nullptr;
+    const pbf_world_id id = pick_world(in, s, &w);
+    const uint8_t what = in.u8();
+    if (what & 1) {  // unmap
+        const pbf_result r = checked(pbf_world_unmap(id));
+        if (!w) {
+            FUZZ_ASSERT(r == PBF_ERROR_INVALID_HANDLE);
+            return;
+        }
+        if (w->mapped == kMapped) FUZZ_ASSERT(r == PBF_OK);
+        if (w->mapped == kNotMapped) FUZZ_ASSERT(r == PBF_ERROR_INVALID_STATE);
+        if (w->mapped == kMaybeMapped) FUZZ_ASSERT(r == PBF_OK || r == PBF_ERROR_INVALID_STATE);
+        w->mapped = kNotMapped;
+        return;
+    }
+    if (what & 2) {  // read the live mapping (valid until unmap, step, emit, destroy)
+        if (w && w->mapped == kMapped && w->map.count > 0) {
+            std::vector<float> copy(size_t(w->map.count) * 4);
+            uint32_t written = 0;
+            FUZZ_ASSERT(checked(pbf_world_copy_positions(id, copy.data(), w->map.count, &written)) == PBF_OK);
+            FUZZ_ASSERT(written == w->map.count);
+            FUZZ_ASSERT(std::memcmp(copy.data(), w->map.data, copy.size() * sizeof(float)) == 0);
+        }
+        return;
+    }
+    pbf_mapped_buffer m;
+    std::memset(&m, 0x77, sizeof m);
+    m.struct_size = in.struct_size(sizeof m);
+    const bool null_out = in.u8() < 16;
+    const auto hm = heap(m);
+    const pbf_result r = checked(pbf_world_map_positions(id, null_out ? nullptr : hm.get()));
+    if (r != PBF_OK) {
+        FUZZ_ASSERT(!w || null_out || m.struct_size != sizeof m);
+        if (!null_out) FUZZ_ASSERT(std::memcmp(hm.get(), &m, sizeof m) == 0);
+        return;
+    }
+    FUZZ_ASSERT(w != nullptr);
+    const uint32_t count = count_of(*w);
+    FUZZ_ASSERT(hm->memory == PBF_MEMORY_HOST && hm->stride_bytes == 16 && hm->count == count);
+    FUZZ_ASSERT(hm->data != nullptr || count == 0);
+    // Touch every mapped byte (AddressSanitizer checks the range) and compare with a copy.
+    float sum = 0.0f;
+    const float* data = static_cast<const float*>(hm->data);
+    for (size_t k = 0; k < size_t(count) * 4; ++k) sum += data[k] * 0.0f;
+    (void)sum;
+    w->mapped = kMapped;
+    w->map = *hm;
+}
+
+void op_desc_init(Reader& in) {
+    const uint8_t which = in.u8() % 5;
+    const uint32_t size = in.struct_size(0);  // mostly 0: refused; sometimes the right size by chance
+    const bool null_p = in.u8() < 64;
+    pbf_result r;
+    size_t right = 0;
+    auto run = [&](auto& obj, auto call) {
+        using T = std::remove_reference_t<decltype(obj)>;
+        std::memset(&obj, 0x42, sizeof obj);
+        const T before = obj;
+        const auto h = heap(obj);
+        r = checked(call(null_p ? nullptr : h.get(), size));
+        right = sizeof obj;
+        if (r != PBF_OK && !null_p) FUZZ_ASSERT(std::memcmp(h.get(), &before, sizeof before) == 0);
+        if (r == PBF_OK) FUZZ_ASSERT(h->struct_size == sizeof obj);
+    };
+    if (which == 0) {
+        pbf_solver_params p;
+        run(p, [](pbf_solver_params* x, uint32_t n) { return pbf_solver_params_init(x, n); });
+    } else if (which == 1) {
+        pbf_world_desc d;
+        const uint32_t version = in.raw32();
+        run(d, [version](pbf_world_desc* x, uint32_t n) { return pbf_world_desc_init(x, n, version); });
+    } else if (which == 2) {
+        pbf_block_desc b;
+        run(b, [](pbf_block_desc* x, uint32_t n) { return pbf_block_desc_init(x, n); });
+    } else if (which == 3) {
+        pbf_emitter_desc e;
+        run(e, [](pbf_emitter_desc* x, uint32_t n) { return pbf_emitter_desc_init(x, n); });
+    } else {
+        pbf_collider_desc c;
+        run(c, [](pbf_collider_desc* x, uint32_t n) { return pbf_collider_desc_init(x, n); });
+    }
+    FUZZ_ASSERT((r == PBF_OK) == (!null_p && size == right));
+}
+
+void op_misc(Reader& in) {
+    const uint8_t what = in.u8() % 4;
+    if (what == 0) {
+        FUZZ_ASSERT(pbf_result_string(pbf_result(in.raw32())) != nullptr);
+    } else if (what == 1) {
+        FUZZ_ASSERT(pbf_get_version() == PBF_VERSION);
+        FUZZ_ASSERT(pbf_last_error_message() != nullptr);
+    } else if (what == 2) {
+        pbf_set_log_callback(log_sink, &g_log_calls);
+    } else {
+        pbf_set_log_callback(nullptr, nullptr);
+    }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+    // One OpenMP thread: deterministic and cheaper under the sanitizers (the loops only go
+    // parallel above 2048 particles anyway).
+    setenv("OMP_NUM_THREADS", "1", 0);
+    return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+    Reader in{data, size};
+    State s;
+    int ops = 0;
+    while (!in.empty() && ops++ < 256) {
+        const uint8_t op = in.u8();
+        WorldModel* touched = nullptr;
+        switch (op % 20) {
+            case 0:
+            case 1: op_create_world(in, s); break;
+            case 2: op_destroy_world(in, s); break;
+            case 3:
+            case 4:
+            case 5: op_step(in, s); break;
+            case 6: op_set_params(in, s); break;
+            case 7: op_get(in, s); break;
+            case 8: op_gravity(in, s); break;
+            case 9:
+            case 10: op_emit_block(in, s); break;
+            case 11: op_create_emitter(in, s); break;
+            case 12: op_destroy_emitter(in, s); break;
+            case 13: op_emitter_update(in, s); break;
+            case 14: op_create_collider(in, s); break;
+            case 15: op_destroy_collider(in, s); break;
+            case 16: op_set_pose(in, s); break;
+            case 17: op_copy(in, s); break;
+            case 18: op_map(in, s); break;
+            default:
+                if (op & 0x80) op_desc_init(in);
+                else op_misc(in);
+                break;
+        }
+        (void)touched;
+        // Every live world still satisfies the cheap invariants after any call.
+        for (const WorldModel& w : s.worlds) check_world(w, false);
+    }
+    for (const WorldModel& w : s.worlds) {
+        check_world(w, true);
+        FUZZ_ASSERT(checked(pbf_world_destroy(w.id)) == PBF_OK);
+    }
+    pbf_set_log_callback(nullptr, nullptr);
+    return 0;
+}

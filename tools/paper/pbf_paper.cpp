@@ -1,0 +1,284 @@
+// pbf_paper: the runs behind docs/paper/README.md (the LDC reproduction), public C API only.
+//
+//   pbf_paper run    [scene options] [solver options] --frames N --csv FILE
+//                    [--snap-times 0.25,0.5,1.0 --snap-prefix PATH] [--per-substep 1]
+//       One simulation. Writes one CSV row per 1/60 s frame (or per substep with --per-substep 1,
+//       which drives the world with dt = frame/S and one substep per call: the same physics):
+//       time, compressive density error (mean, max), kinetic and potential energy, the
+//       dam-break front, the step time. --snap-times writes x,y,z,w (w = ρ/ρ0) of every
+//       particle at those times (seconds) to PATH_t<time>.csv for the splat renders.
+//   pbf_paper timing [scene options] --iterations 1,2,...,6 --ldc 0,1 [--gain 0.1]
+//                    [--steps 100 --warmup 20] --csv FILE
+//       Time per step against iterations, on a 3D column a × 2a × a/2 (as pbf_bench's dam):
+//       --particles N picks na = cbrt(N). One substep per step, dt keeps the front under 0.4 h.
+//
+// Scene options: --scene dam|tank  --a METRES (0.4)  --na N (32, particles across a)
+//                --nz N (6, layers in z)  --length L (5, dam tank length in a)
+//                --backend cpu|cuda (cpu)  --particles N (timing only)
+// Solver options: --iterations N (4)  --ldc 0|1 (1)  --gain G (0.1, K·Δt²)  --substeps S
+//                (0: the CFL-like rule of samples/dam_break.c)  --frame-dt DT (1/60)
+//
+// Exit status: 0 ok, 1 a libpbf error, 2 bad arguments. A run that diverges (non-finite
+// energy) still writes its rows and exits 0 with "diverged" on stdout: divergence is a result.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "paper_scene.h"
+
+namespace {
+
+using paper::SceneSpec;
+
+struct Args {
+    std::map<std::string, std::string> kv;
+    std::string get(const std::string& k, const std::string& def) const {
+        auto it = kv.find(k);
+        return it == kv.end() ? def : it->second;
+    }
+    double num(const std::string& k, double def) const {
+        auto it = kv.find(k);
+        return it == kv.end() ? def : std::atof(it->second.c_str());
+    }
+};
+
+std::vector<std::string> split(const std::string& s) {
+    std::vector<std::string> out;
+    size_t start = 0;
+    while (start <= s.size()) {
+        const size_t comma = s.find(',', start);
+        out.push_back(s.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    return out;
+}
+
+bool check(pbf_result r, const char* what) {
+    if (r == PBF_OK) return true;
+    std::fprintf(stderr, "pbf_paper: %s failed: %s (%s)\n", what, pbf_result_string(r), pbf_last_error_message());
+    return false;
+}
+
+SceneSpec scene_from(const Args& a) {
+    SceneSpec s;
+    s.dam = a.get("--scene", "dam") != "tank";
+    s.a = float(a.num("--a", 0.4));
+    s.na = uint32_t(a.num("--na", 32));
+    s.nz = uint32_t(a.num("--nz", 6));
+    s.tank_length = float(a.num("--length", 5.0));
+    s.backend = a.get("--backend", "cpu") == "cuda" ? PBF_BACKEND_CUDA : PBF_BACKEND_CPU;
+    return s;
+}
+
+pbf_step_stats read_stats(pbf_world_id w, bool* ok) {
+    pbf_step_stats st;
+    std::memset(&st, 0, sizeof st);
+    st.struct_size = sizeof st;
+    *ok = check(pbf_world_get_stats(w, &st), "pbf_world_get_stats");
+    return st;
+}
+
+int cmd_run(const Args& args) {
+    const SceneSpec sc = scene_from(args);
+    const float frame_dt = float(args.num("--frame-dt", 1.0 / 60.0));
+    const int frames = int(args.num("--frames", 90));
+    const bool per_substep = args.num("--per-substep", 0) != 0;
+    pbf_world_desc d = paper::make_desc(sc);
+    d.solver.iterations = uint32_t(args.num("--iterations", 4));
+    d.solver.ldc_enabled = uint32_t(args.num("--ldc", 1));
+    d.solver.ldc_gain = float(args.num("--gain", 0.1));
+    uint32_t substeps = uint32_t(args.num("--substeps", 0));
+    if (substeps == 0) substeps = paper::cfl_substeps(sc, frame_dt);
+    d.solver.substeps = per_substep ? 1u : substeps;
+    const float call_dt = per_substep ? frame_dt / float(substeps) : frame_dt;
+    const int calls_per_frame = per_substep ? int(substeps) : 1;
+
+    pbf_world_id w;
+    if (!check(pbf_world_create(&d, &w), "pbf_world_create")) return 1;
+    pbf_world_info info;
+    std::memset(&info, 0, sizeof info);
+    info.struct_size = sizeof info;
+    if (!check(pbf_world_get_info(w, &info), "pbf_world_get_info")) return 1;
+    uint32_t n = 0;
+    if (!check(paper::emit_fluid(w, sc, &n), "emit")) return 1;
+
+    const std::string csv_path = args.get("--csv", "");
+    FILE* csv = csv_path.empty() ? stdout : std::fopen(csv_path.c_str(), "w");
+    if (!csv) {
+        std::fprintf(stderr, "pbf_paper: cannot write %s\n", csv_path.c_str());
+        return 1;
+    }
+    std::vector<double> snap_times;
+    for (const std::string& t : split(args.get("--snap-times", "")))
+        if (!t.empty()) snap_times.push_back(std::atof(t.c_str()));
+    const std::string snap_prefix = args.get("--snap-prefix", "");
+
+    const double mass_total = double(info.particle_mass) * n;
+    const double energy_scale = mass_total * paper::kGravity * sc.a;  // M g a
+    const double time_scale = std::sqrt(2.0 * paper::kGravity / sc.a);  // T = t·sqrt(2g/a)
+    std::fprintf(csv,
+                 "scene,na,nz,a,particles,substeps,iterations,ldc,gain,step,t,T,density_error_mean,"
+                 "density_error_max,kinetic_energy,ke_norm,pe_norm,front,Z,max_speed,step_ms\n");
+    std::printf("run: %s na=%u nz=%u a=%.3f m, %u particles, spacing %.5f m, h %.5f m, %u substeps of %.5f s, "
+                "%u iterations, LDC %s gain %.3f, %s\n",
+                sc.dam ? "dam" : "tank", sc.na, sc.nz, sc.a, n, info.rest_spacing, info.kernel_radius, substeps,
+                frame_dt / substeps, d.solver.iterations, d.solver.ldc_enabled ? "on" : "off", d.solver.ldc_gain,
+                info.device_name);
+
+    std::vector<float> xyzw(size_t(d.max_particles) * 4), vel(size_t(d.max_particles) * 4);
+    double pe0 = 0.0;
+    bool diverged = false;
+    double total_ms = 0.0, max_ke_norm = 0.0;
+    size_t next_snap = 0;
+    const int total_calls = frames * calls_per_frame;
+    for (int k = 0; k <= total_calls; ++k) {
+        double step_ms = 0.0;
+        if (k > 0) {
+            if (!check(pbf_world_step(w, call_dt), "pbf_world_step")) return 1;
+        }
+        bool ok = true;
+        const pbf_step_stats st = read_stats(w, &ok);  // first: the density pass also sets w
+        if (!ok) return 1;
+        if (k > 0) step_ms = st.step_time_ms;
+        total_ms += step_ms;
+        uint32_t count = 0, written = 0;
+        if (!check(pbf_world_get_particle_count(w, &count), "count")) return 1;
+        if (!check(pbf_world_copy_positions(w, xyzw.data(), count, &written), "copy positions")) return 1;
+        if (!check(pbf_world_copy_velocities(w, vel.data(), count, &written), "copy velocities")) return 1;
+        double pe = 0.0, vmax = 0.0;
+        for (uint32_t i = 0; i < count; ++i) {
+            pe += double(info.particle_mass) * paper::kGravity * xyzw[4 * i + 1];
+            const double v2 = double(vel[4 * i]) * vel[4 * i] + double(vel[4 * i + 1]) * vel[4 * i + 1] +
+                              double(vel[4 * i + 2]) * vel[4 * i + 2];
+            vmax = std::max(vmax, std::sqrt(v2));
+        }
+        if (k == 0) pe0 = pe;
+        const double t = double(k) * call_dt;
+        const double front = paper::front_position(xyzw.data(), count, info.particle_radius);
+        const double ke_norm = st.kinetic_energy / energy_scale;
+        max_ke_norm = std::max(max_ke_norm, ke_norm);
+        const bool finite = std::isfinite(st.kinetic_energy) && std::isfinite(pe);
+        std::fprintf(csv, "%s,%u,%u,%.4f,%u,%u,%u,%u,%.4f,%d,%.6f,%.5f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.5f,%.5g,%.4f\n",
+                     sc.dam ? "dam" : "tank", sc.na, sc.nz, sc.a, count, substeps, d.solver.iterations,
+                     d.solver.ldc_enabled, d.solver.ldc_gain, k, t, t * time_scale, st.density_error_mean,
+                     st.density_error_max, st.kinetic_energy, ke_norm, (pe - pe0) / energy_scale, front,
+                     front / sc.a, vmax, step_ms);
+        // Snapshots at whole frames, the first frame at or after each requested time.
+        while (next_snap < snap_times.size() && k % calls_per_frame == 0 &&
+               t + 0.25 * frame_dt >= snap_times[next_snap]) {
+            if (!snap_prefix.empty()) {
+                char name[64];
+                std::snprintf(name, sizeof name, "_t%.3f.csv", snap_times[next_snap]);
+                FILE* f = std::fopen((snap_prefix + name).c_str(), "w");
+                if (f) {
+                    std::fprintf(f, "x,y,z,w\n");
+                    for (uint32_t i = 0; i < count; ++i)
+                        std::fprintf(f, "%.5f,%.5f,%.5f,%.4f\n", xyzw[4 * i], xyzw[4 * i + 1], xyzw[4 * i + 2],
+                                     xyzw[4 * i + 3]);
+                    std::fclose(f);
+                }
+            }
+            ++next_snap;
+        }
+        if (!finite) {
+            diverged = true;
+            break;
+        }
+    }
+    if (csv != stdout) std::fclose(csv);
+    std::printf("  %s; max KE/(M g a) %.3f; mean step %.2f ms\n", diverged ? "diverged" : "finished", max_ke_norm,
+                total_ms / std::max(1, total_calls));
+    return check(pbf_world_destroy(w), "pbf_world_destroy") ? 0 : 1;
+}
+
+int cmd_timing(const Args& args) {
+    SceneSpec sc = scene_from(args);
+    // pbf_bench's dam: a column a × 2a × a/2 in a 4a × 2.5a × a/2 tank; na³ particles.
+    if (args.kv.count("--particles")) {
+        const double particles = args.num("--particles", 65536);
+        sc.na = uint32_t(std::lround(std::cbrt(particles)));
+        sc.nz = std::max(1u, sc.na / 2);
+        sc.tank_length = 4.0f;
+    }
+    const int steps = int(args.num("--steps", 100)), warmup = int(args.num("--warmup", 20));
+    const float h = 2.0f * sc.spacing();
+    const float dt = std::min(1.0f / 60.0f, 0.4f * h / std::sqrt(2.0f * paper::kGravity * 2.0f * sc.a));
+    const std::string csv_path = args.get("--csv", "");
+    FILE* csv = csv_path.empty() ? stdout : std::fopen(csv_path.c_str(), "w");
+    if (!csv) return 1;
+    std::fprintf(csv, "backend,device,particles,iterations,ldc,gain,dt,steps,ms_median,ms_p10,ms_p90,ms_mean,"
+                      "density_error_mean\n");
+    for (const std::string& it : split(args.get("--iterations", "1,2,3,4,5,6")))
+        for (const std::string& l : split(args.get("--ldc", "0,1"))) {
+            pbf_world_desc d = paper::make_desc(sc);
+            d.solver.iterations = uint32_t(std::atoi(it.c_str()));
+            d.solver.ldc_enabled = uint32_t(std::atoi(l.c_str()));
+            d.solver.ldc_gain = float(args.num("--gain", 0.1));
+            d.solver.substeps = 1;
+            pbf_world_id w;
+            if (!check(pbf_world_create(&d, &w), "pbf_world_create")) return 1;
+            pbf_world_info info;
+            std::memset(&info, 0, sizeof info);
+            info.struct_size = sizeof info;
+            if (!check(pbf_world_get_info(w, &info), "info")) return 1;
+            uint32_t n = 0;
+            if (!check(paper::emit_fluid(w, sc, &n), "emit")) return 1;
+            std::vector<double> ms;
+            double err = 0.0;
+            for (int k = 0; k < warmup + steps; ++k) {
+                if (!check(pbf_world_step(w, dt), "pbf_world_step")) return 1;
+                bool ok = true;
+                const pbf_step_stats st = read_stats(w, &ok);
+                if (!ok) return 1;
+                if (k < warmup) continue;
+                ms.push_back(st.step_time_ms);
+                err += st.density_error_mean;
+            }
+            std::vector<double> sorted = ms;
+            std::sort(sorted.begin(), sorted.end());
+            double mean = 0.0;
+            for (double v : ms) mean += v;
+            mean /= double(ms.size());
+            auto q = [&](double f) { return sorted[size_t(f * double(sorted.size() - 1))]; };
+            std::fprintf(csv, "%s,%s,%u,%u,%u,%.3f,%.6f,%d,%.4f,%.4f,%.4f,%.4f,%.6f\n",
+                         info.backend == PBF_BACKEND_CUDA ? "cuda" : "cpu", info.device_name, n, d.solver.iterations,
+                         d.solver.ldc_enabled, d.solver.ldc_gain, dt, steps, q(0.5), q(0.1), q(0.9), mean,
+                         err / double(steps));
+            std::fflush(csv);
+            std::printf("timing: %u particles, %u iterations, LDC %u: median %.3f ms/step\n", n, d.solver.iterations,
+                        d.solver.ldc_enabled, q(0.5));
+            std::fflush(stdout);
+            if (!check(pbf_world_destroy(w), "pbf_world_destroy")) return 1;
+        }
+    if (csv != stdout) std::fclose(csv);
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 2) {
+        std::fprintf(stderr, "usage: pbf_paper run|timing [--option value]... (see the top of pbf_paper.cpp)\n");
+        return 2;
+    }
+    Args args;
+    for (int i = 2; i < argc; ++i) {
+        const std::string k = argv[i];
+        if (k.rfind("--", 0) != 0 || i + 1 >= argc) {
+            std::fprintf(stderr, "pbf_paper: expected --option value, got %s\n", k.c_str());
+            return 2;
+        }
+        args.kv[k] = argv[++i];
+    }
+    const std::string cmd = argv[1];
+    if (cmd == "run") return cmd_run(args);
+    if (cmd == "timing") return cmd_timing(args);
+    std::fprintf(stderr, "pbf_paper: unknown command %s\n", cmd.c_str());
+    return 2;
+}
