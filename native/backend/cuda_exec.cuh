@@ -10,8 +10,12 @@
 
 namespace pbf {
 
+#ifndef PBF_CUDA_BLOCK
+#define PBF_CUDA_BLOCK 256
+#endif
+
 template <class Op>
-__global__ void for_each_kernel(uint32_t n, Op op) {
+__global__ void __launch_bounds__(PBF_CUDA_BLOCK) for_each_kernel(uint32_t n, Op op) {
     const uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i < n) op(i);
 }
@@ -19,7 +23,7 @@ __global__ void for_each_kernel(uint32_t n, Op op) {
 class CudaExec {
 public:
     static constexpr pbf_backend kKind = PBF_BACKEND_CUDA;
-    static constexpr int kBlock = 256;
+    static constexpr int kBlock = PBF_CUDA_BLOCK;
 
     explicit CudaExec(int device = 0) : device_(device) {}
     ~CudaExec();
@@ -43,6 +47,8 @@ public:
         if (bytes) record(cudaMemcpyAsync(dst, src, bytes, cudaMemcpyDeviceToDevice, stream_));
     }
     void* native_stream() const { return stream_; }
+    // Runs on stream from now on (null: the world's own); work queued before is ordered first.
+    Status use_stream(void* stream);
 
     template <class Op>
     void for_each(uint32_t n, const Op& op) {
@@ -85,7 +91,9 @@ private:
         if (e != cudaSuccess && first_error_ == cudaSuccess) first_error_ = e;
     }
     int device_ = 0;
-    cudaStream_t stream_ = nullptr;
+    cudaStream_t stream_ = nullptr;      // where work is queued: own_stream_ or the caller's
+    cudaStream_t own_stream_ = nullptr;  // created and destroyed by the world
+    cudaEvent_t switch_event_ = nullptr;
     cudaEvent_t start_ = nullptr, stop_ = nullptr;
     bool timed_ = false;
     void* sort_temp_ = nullptr;
