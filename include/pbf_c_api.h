@@ -124,6 +124,11 @@ typedef struct pbf_solver_params {
                                    paper's K = ldc_gain / Δt². 0..1 (default 0.1). LDC acts on
                                    compression only: densities below rest count as rest. */
     float max_speed;            /* particle speed clamp in m/s, > 0 (default 100) */
+    float adaptive_error_target;/* 0 (default): run exactly `iterations` per substep. > 0: stop a
+                                   substep's iterations once the mean compressive density error
+                                   max(ρ/ρ0 - 1, 0), measured by the λ pass, is below this (e.g.
+                                   0.01 = 1 %), with `iterations` as the cap; 0..1. Decided on the
+                                   device: the step still never waits. Stats report iterations run. */
 } pbf_solver_params;
 
 /* Fills the library's defaults. Prefer pbf_solver_params_default(). */
@@ -348,6 +353,312 @@ typedef struct pbf_mapped_buffer {
  * is complete when this returns (the call waits for the world's stream). */
 PBF_API pbf_result PBF_CALL pbf_world_map_positions(pbf_world_id world, pbf_mapped_buffer* out_buffer);
 PBF_API pbf_result PBF_CALL pbf_world_unmap(pbf_world_id world);
+
+/* ==== Interop: zero-copy rendering ======================================================== *
+ * The particles go from the solver to the engine's renderer without passing through host
+ * memory: as device pointers (CUDA), into OpenGL buffer objects (CUDA-GL interop), or into
+ * Vulkan / Direct3D allocations (CUDA external memory, ordered by external semaphores).
+ *
+ * Every function here exists in every build. What the build or the platform lacks is refused
+ * with PBF_ERROR_BACKEND_UNAVAILABLE (no CUDA in this build; no OpenGL headers when it was
+ * built; a Windows-only handle type on Linux); pbf_get_interop_support() says what is there.
+ * A CUDA-only call on a world that runs on the CPU backend is refused with
+ * PBF_ERROR_INVALID_STATE.
+ *
+ * Ordering. On CUDA all of a world's work (steps, copies into graphics buffers, semaphore
+ * waits and signals) is queued in order on one stream, the world's stream, and the calls
+ * return without waiting for the GPU. The caller orders its own GPU work against the world's
+ * either on that stream (pbf_world_get_cuda_stream), with a CUDA event
+ * (pbf_world_record_cuda_event / pbf_world_wait_cuda_event), with external semaphores, or by
+ * handing the world its own stream (pbf_world_set_cuda_stream). Graphics API buffers are
+ * ordered by CUDA's map/unmap (OpenGL) or by the semaphores in pbf_external_sync (Vulkan,
+ * Direct3D 12).
+ *
+ * Copies. A copy into a graphics buffer writes the live particles of one source buffer in
+ * storage order (the order of pbf_world_copy_*): min(count, capacity) elements; elements past
+ * them keep what they held. Every copy of one world between two steps has the same order, so
+ * element k of a positions buffer and of a velocities buffer is one particle. The count is
+ * never read back to the host: a copy can also write draw arguments (see
+ * pbf_gl_buffer_desc.draw_args_buffer) for indirect drawing.
+ * A copy made automatically after pbf_world_step (PBF_COPY_ON_STEP) that fails makes
+ * pbf_world_step return the error although the step itself was taken (an exception to "a
+ * failed call changes nothing").
+ * ------------------------------------------------------------------------------------------- */
+
+typedef struct pbf_gl_buffer_id { uint32_t index; uint32_t generation; } pbf_gl_buffer_id;
+typedef struct pbf_external_buffer_id { uint32_t index; uint32_t generation; } pbf_external_buffer_id;
+typedef struct pbf_semaphore_id { uint32_t index; uint32_t generation; } pbf_semaphore_id;
+
+/* What this build of libpbf can do (a bit set). */
+#define PBF_INTEROP_SUPPORT_CUDA 0x1u           /* streams, events, device pointers */
+#define PBF_INTEROP_SUPPORT_OPENGL 0x2u         /* pbf_world_register_gl_buffer */
+#define PBF_INTEROP_SUPPORT_EXTERNAL_FD 0x4u    /* opaque fd memory and semaphores (Linux) */
+#define PBF_INTEROP_SUPPORT_EXTERNAL_WIN32 0x8u /* win32 handles, D3D11 / D3D12 (Windows) */
+PBF_API pbf_result PBF_CALL pbf_get_interop_support(uint32_t* out_flags);
+
+/* ---- Streams and events ------------------------------------------------------------------ */
+/* The cudaStream_t the world queues its work on (its own, or the one handed to it). */
+PBF_API pbf_result PBF_CALL pbf_world_get_cuda_stream(pbf_world_id world, void** out_stream);
+/* Makes the world queue its work on stream (a cudaStream_t of the world's device) from now on;
+ * NULL returns it to its own stream. Work queued before the call is ordered before work queued
+ * after it. The caller keeps the stream alive until it hands the world another one (or NULL)
+ * or destroys the world; the world never destroys it. */
+PBF_API pbf_result PBF_CALL pbf_world_set_cuda_stream(pbf_world_id world, void* stream);
+/* Records an event (a cudaEvent_t owned by the world, created without timing) at the current
+ * end of the world's stream: after the last step and copies queued. Wait on it with
+ * cudaStreamWaitEvent or cudaEventSynchronize. Each call re-records the same event; it lives
+ * until the world is destroyed. */
+PBF_API pbf_result PBF_CALL pbf_world_record_cuda_event(pbf_world_id world, void** out_event);
+/* Makes the world's stream wait for event (a cudaEvent_t recorded by the caller) before the
+ * world's next work: e.g. before the next step overwrites buffers the caller still reads. */
+PBF_API pbf_result PBF_CALL pbf_world_wait_cuda_event(pbf_world_id world, void* event);
+
+/* ---- Live buffers as device pointers ----------------------------------------------------- */
+#define PBF_MAP_NO_WAIT 0x1u          /* do not wait for the world's stream (see below) */
+#define PBF_COUNT_ON_DEVICE 0xFFFFFFFFu /* pbf_device_buffers.count when not waited for */
+
+typedef struct pbf_device_buffers {
+    uint32_t struct_size;
+    pbf_memory_kind memory;     /* CUDA_DEVICE on CUDA; HOST on the CPU backend */
+    void* positions;            /* float x, y, z, w = density ratio ρ/ρ0 (as pbf_world_copy_positions) */
+    void* velocities;           /* float vx, vy, vz, 0 */
+    void* ids;                  /* uint32_t stable ids */
+    void* density_ratio;        /* = positions + 12 bytes: the w of each position, stride 16 */
+    const uint32_t* count_device; /* the live count, in memory of kind `memory` */
+    void* cuda_stream;          /* the world's stream (NULL on the CPU backend) */
+    uint32_t count;             /* live particles; PBF_COUNT_ON_DEVICE when mapped with
+                                   PBF_MAP_NO_WAIT on CUDA (read *count_device on the GPU) */
+    uint32_t capacity;          /* max_particles: elements allocated behind each pointer */
+    uint32_t vec4_stride_bytes; /* 16: positions, velocities and density_ratio */
+    uint32_t id_stride_bytes;   /* 4 */
+    int32_t cuda_device;        /* the device the pointers belong to; -1 on the CPU backend */
+    uint32_t reserved0;
+} pbf_device_buffers;
+
+/* Maps the live particle buffers without copying them. Read-only for the caller. Valid until
+ * pbf_world_unmap, the next pbf_world_step, any call that adds or removes particles, or
+ * pbf_world_destroy, whichever comes first: a step reorders the particles and swaps buffers, so
+ * the pointers change from step to step.
+ * flags 0: waits for the world's stream; the data is complete when the call returns and count
+ *   is the live count.
+ * PBF_MAP_NO_WAIT (CUDA): returns at once with count = PBF_COUNT_ON_DEVICE; the data is
+ *   complete once the world's stream reaches this point. Read it on the world's stream, or on
+ *   another stream after cudaStreamWaitEvent on pbf_world_record_cuda_event's event; and before
+ *   the next step, let the world wait for those reads (pbf_world_wait_cuda_event).
+ * End the mapping with pbf_world_unmap. */
+PBF_API pbf_result PBF_CALL pbf_world_map_device_buffers(pbf_world_id world, uint32_t flags,
+                                                         pbf_device_buffers* out_buffers);
+
+/* ---- Copies into graphics buffers: common settings --------------------------------------- */
+typedef enum pbf_buffer {
+    PBF_BUFFER_POSITIONS = 1,   /* 16 bytes per particle: float x, y, z, density ratio */
+    PBF_BUFFER_VELOCITIES = 2,  /* 16 bytes per particle: float vx, vy, vz, 0 */
+    PBF_BUFFER_IDS = 3,         /* 4 bytes per particle: uint32_t */
+    PBF_BUFFER_FORCE32 = 0x7FFFFFFF
+} pbf_buffer;
+
+typedef enum pbf_copy_mode {
+    PBF_COPY_ON_STEP = 1,         /* pbf_world_step queues the copy after each step */
+    PBF_COPY_ON_RENDER_EVENT = 2, /* the render event (pbf_get_render_event_func) copies the
+                                     current particles, on the engine's render thread */
+    PBF_COPY_MANUAL = 3,          /* only pbf_world_copy_to_*_buffer copies */
+    PBF_COPY_MODE_FORCE32 = 0x7FFFFFFF
+} pbf_copy_mode;
+
+/* ---- OpenGL ------------------------------------------------------------------------------ */
+typedef struct pbf_gl_buffer_desc {
+    uint32_t struct_size;
+    uint32_t buffer;            /* GL buffer object name (a GLuint), non-zero; no default */
+    pbf_buffer source;          /* default PBF_BUFFER_POSITIONS */
+    pbf_copy_mode mode;         /* default PBF_COPY_ON_STEP */
+    uint64_t offset_bytes;      /* where element 0 goes; a multiple of 16 (4 for ids) (default 0) */
+    uint32_t capacity;          /* elements the buffer holds after offset_bytes (> 0; no default) */
+    uint32_t draw_args_buffer;  /* GL buffer (0: none, the default) into which each copy writes
+                                   4 uint32_t draw arguments: see draw_args_vertices */
+    uint64_t draw_args_offset_bytes; /* a multiple of 4 (default 0) */
+    uint32_t draw_args_vertices;/* 0: {n, 1, 0, 0} (glDrawArraysIndirect of n points);
+                                   v > 0: {v, n, 0, 0} (v vertices per particle, n instances);
+                                   n = min(count, capacity). Default 0. */
+    uint32_t reserved0;
+} pbf_gl_buffer_desc;
+PBF_API pbf_result PBF_CALL pbf_gl_buffer_desc_init(pbf_gl_buffer_desc* desc, uint32_t struct_size);
+static inline pbf_gl_buffer_desc pbf_gl_buffer_desc_default(void) {
+    pbf_gl_buffer_desc d;
+    memset(&d, 0, sizeof d);
+    d.struct_size = (uint32_t)sizeof(pbf_gl_buffer_desc);
+    (void)pbf_gl_buffer_desc_init(&d, d.struct_size);
+    return d;
+}
+
+/* Registers a GL buffer object (and its draw_args_buffer) with CUDA as a copy destination.
+ * PBF_COPY_ON_STEP and PBF_COPY_MANUAL: registers now; call it with a GL context current whose
+ * share group owns the buffers, on the GPU of the world's CUDA device. The buffer must already
+ * have its storage (glBufferData / glBufferStorage) and keep it until unregistered.
+ * PBF_COPY_ON_RENDER_EVENT: returns at once; the next render event registers the buffers on
+ * the render thread (failures are reported by pbf_world_get_interop_info and the log).
+ * Copies are ordered against GL by CUDA's map and unmap: GL commands issued before a copy see
+ * the buffer before it, GL commands issued after it (e.g. after pbf_world_step) see the copy. */
+PBF_API pbf_result PBF_CALL pbf_world_register_gl_buffer(pbf_world_id world, const pbf_gl_buffer_desc* desc,
+                                                         pbf_gl_buffer_id* out_buffer);
+/* Unregisters: now (GL context current, as for registration), or for a PBF_COPY_ON_RENDER_EVENT
+ * buffer at the next render event, until which the GL buffers must stay alive. The handle is
+ * refused from the moment of this call. */
+PBF_API pbf_result PBF_CALL pbf_world_unregister_gl_buffer(pbf_world_id world, pbf_gl_buffer_id buffer);
+/* Queues a copy of the current particles into the buffer now (any mode but
+ * PBF_COPY_ON_RENDER_EVENT, whose buffers the render thread owns). */
+PBF_API pbf_result PBF_CALL pbf_world_copy_to_gl_buffer(pbf_world_id world, pbf_gl_buffer_id buffer);
+
+/* ---- External memory and semaphores (Vulkan, Direct3D) ----------------------------------- */
+/* Linux builds import opaque fds (Vulkan). The win32, D3D11 and D3D12 types are compiled only
+ * in Windows builds and have not been tested; on Linux they return
+ * PBF_ERROR_BACKEND_UNAVAILABLE. */
+typedef enum pbf_external_memory_type {
+    PBF_EXTERNAL_MEMORY_OPAQUE_FD = 1,          /* Linux: VK_EXTERNAL_MEMORY_HANDLE_TYPE_OPAQUE_FD_BIT
+                                                   (vkGetMemoryFdKHR) */
+    PBF_EXTERNAL_MEMORY_OPAQUE_WIN32 = 2,       /* Windows: ..._OPAQUE_WIN32_BIT, an NT handle */
+    PBF_EXTERNAL_MEMORY_OPAQUE_WIN32_KMT = 3,   /* Windows: ..._OPAQUE_WIN32_KMT_BIT */
+    PBF_EXTERNAL_MEMORY_D3D12_RESOURCE = 4,     /* Windows: NT handle of a committed ID3D12Resource
+                                                   (ID3D12Device::CreateSharedHandle) */
+    PBF_EXTERNAL_MEMORY_D3D11_RESOURCE = 5,     /* Windows: NT handle (IDXGIResource1::CreateSharedHandle) */
+    PBF_EXTERNAL_MEMORY_D3D11_RESOURCE_KMT = 6, /* Windows: KMT handle (IDXGIResource::GetSharedHandle) */
+    PBF_EXTERNAL_MEMORY_TYPE_FORCE32 = 0x7FFFFFFF
+} pbf_external_memory_type;
+
+typedef struct pbf_external_buffer_desc {
+    uint32_t struct_size;
+    pbf_external_memory_type type; /* no default: must be set */
+    int32_t fd;                 /* OPAQUE_FD: the fd. On success the library owns it (CUDA closes
+                                   it); on failure it stays the caller's. Default -1. */
+    uint32_t dedicated;         /* 1: a dedicated allocation (VkMemoryDedicatedAllocateInfo, a
+                                   D3D12 committed resource, any D3D11 resource). Default 0. */
+    void* win32_handle;         /* Windows types: the handle; the caller keeps it. Default NULL. */
+    uint64_t size_bytes;        /* size of the whole allocation (VkMemoryAllocateInfo::
+                                   allocationSize, the resource's size); > 0, no default */
+    uint64_t offset_bytes;      /* where element 0 goes; a multiple of 16 (4 for ids) (default 0) */
+    pbf_buffer source;          /* default PBF_BUFFER_POSITIONS */
+    pbf_copy_mode mode;         /* default PBF_COPY_MANUAL */
+    uint32_t capacity;          /* elements that fit after offset_bytes (> 0; no default) */
+    uint32_t write_draw_args;   /* 1: each copy also writes draw arguments at
+                                   draw_args_offset_bytes of the same allocation (default 0) */
+    uint64_t draw_args_offset_bytes; /* a multiple of 4, 16 bytes: VkDrawIndirectCommand /
+                                   D3D12_DRAW_ARGUMENTS layout (see draw_args_vertices) */
+    uint32_t draw_args_vertices;/* as in pbf_gl_buffer_desc (default 0) */
+    uint32_t reserved0;
+} pbf_external_buffer_desc;
+PBF_API pbf_result PBF_CALL pbf_external_buffer_desc_init(pbf_external_buffer_desc* desc, uint32_t struct_size);
+static inline pbf_external_buffer_desc pbf_external_buffer_desc_default(void) {
+    pbf_external_buffer_desc d;
+    memset(&d, 0, sizeof d);
+    d.struct_size = (uint32_t)sizeof(pbf_external_buffer_desc);
+    (void)pbf_external_buffer_desc_init(&d, d.struct_size);
+    return d;
+}
+/* Imports a graphics API allocation as a copy destination (cudaImportExternalMemory). The
+ * allocation must live on the world's CUDA device (match pbf_interop_info.device_uuid with
+ * VkPhysicalDeviceIDProperties::deviceUUID, or device_luid with the DXGI adapter's LUID). */
+PBF_API pbf_result PBF_CALL pbf_world_import_external_buffer(pbf_world_id world,
+                                                             const pbf_external_buffer_desc* desc,
+                                                             pbf_external_buffer_id* out_buffer);
+/* Waits for the world's stream, then releases the import. The engine may free its allocation
+ * after this returns. */
+PBF_API pbf_result PBF_CALL pbf_world_release_external_buffer(pbf_world_id world, pbf_external_buffer_id buffer);
+
+typedef enum pbf_semaphore_type {
+    PBF_SEMAPHORE_VULKAN_BINARY_FD = 1,         /* Linux: VkSemaphore, OPAQUE_FD (vkGetSemaphoreFdKHR) */
+    PBF_SEMAPHORE_VULKAN_TIMELINE_FD = 2,       /* Linux: timeline VkSemaphore, OPAQUE_FD */
+    PBF_SEMAPHORE_VULKAN_BINARY_WIN32 = 3,      /* Windows: OPAQUE_WIN32 (NT handle) */
+    PBF_SEMAPHORE_VULKAN_BINARY_WIN32_KMT = 4,  /* Windows: OPAQUE_WIN32_KMT */
+    PBF_SEMAPHORE_VULKAN_TIMELINE_WIN32 = 5,    /* Windows: timeline, OPAQUE_WIN32 */
+    PBF_SEMAPHORE_D3D12_FENCE = 6,              /* Windows: NT handle of a shared ID3D12Fence */
+    PBF_SEMAPHORE_TYPE_FORCE32 = 0x7FFFFFFF
+} pbf_semaphore_type;
+
+typedef struct pbf_semaphore_desc {
+    uint32_t struct_size;
+    pbf_semaphore_type type;    /* no default: must be set */
+    int32_t fd;                 /* _FD types: owned by the library after success (default -1) */
+    uint32_t reserved0;
+    void* win32_handle;         /* Windows types: the caller keeps it (default NULL) */
+} pbf_semaphore_desc;
+PBF_API pbf_result PBF_CALL pbf_semaphore_desc_init(pbf_semaphore_desc* desc, uint32_t struct_size);
+static inline pbf_semaphore_desc pbf_semaphore_desc_default(void) {
+    pbf_semaphore_desc d;
+    memset(&d, 0, sizeof d);
+    d.struct_size = (uint32_t)sizeof(pbf_semaphore_desc);
+    (void)pbf_semaphore_desc_init(&d, d.struct_size);
+    return d;
+}
+PBF_API pbf_result PBF_CALL pbf_world_import_semaphore(pbf_world_id world, const pbf_semaphore_desc* desc,
+                                                       pbf_semaphore_id* out_semaphore);
+/* Waits for the world's stream, then releases the import. */
+PBF_API pbf_result PBF_CALL pbf_world_release_semaphore(pbf_world_id world, pbf_semaphore_id semaphore);
+
+/* Orders one copy against the engine: the world's stream waits for wait_semaphore (a zeroed id:
+ * none) right before the copy, and signals signal_semaphore (a zeroed id: none) right after it.
+ * Values are for timeline semaphores and D3D12 fences (wait until >= value; signal to value);
+ * binary semaphores ignore them. A binary semaphore the world waits on must have a signal
+ * submitted by the engine before the copy runs, as Vulkan requires. */
+typedef struct pbf_external_sync {
+    uint32_t struct_size;
+    uint32_t reserved0;
+    pbf_semaphore_id wait_semaphore;
+    uint64_t wait_value;
+    pbf_semaphore_id signal_semaphore;
+    uint64_t signal_value;
+} pbf_external_sync;
+PBF_API pbf_result PBF_CALL pbf_external_sync_init(pbf_external_sync* sync, uint32_t struct_size);
+static inline pbf_external_sync pbf_external_sync_default(void) {
+    pbf_external_sync s;
+    memset(&s, 0, sizeof s);
+    s.struct_size = (uint32_t)sizeof(pbf_external_sync);
+    (void)pbf_external_sync_init(&s, s.struct_size);
+    return s;
+}
+/* Queues a copy of the current particles into the buffer now, ordered by sync (may be NULL).
+ * Any mode but PBF_COPY_ON_RENDER_EVENT. */
+PBF_API pbf_result PBF_CALL pbf_world_copy_to_external_buffer(pbf_world_id world, pbf_external_buffer_id buffer,
+                                                              const pbf_external_sync* sync);
+/* Sets the sync of the buffer's next automatic copy (PBF_COPY_ON_STEP or _ON_RENDER_EVENT);
+ * used once, then cleared. NULL clears it. */
+PBF_API pbf_result PBF_CALL pbf_world_set_external_sync(pbf_world_id world, pbf_external_buffer_id buffer,
+                                                        const pbf_external_sync* sync);
+
+/* ---- The render-thread entry point ------------------------------------------------------- */
+/* Engines such as Unity call this on their render thread (GL.IssuePluginEvent(func, id)). It
+ * performs the work queued for PBF_COPY_ON_RENDER_EVENT buffers: pending GL registrations, the
+ * copies, pending unregistrations, in that order. event_id: PBF_RENDER_EVENT_ALL_WORLDS or a
+ * world's id from pbf_world_get_render_event_id. It returns nothing: failures go to the log
+ * callback and to pbf_interop_info.last_render_event_result. */
+typedef void (PBF_CALL* pbf_render_event_fn)(int event_id);
+#define PBF_RENDER_EVENT_ALL_WORLDS 0
+PBF_API pbf_render_event_fn PBF_CALL pbf_get_render_event_func(void);
+/* The event id (> 0) that selects this world alone. */
+PBF_API pbf_result PBF_CALL pbf_world_get_render_event_id(pbf_world_id world, int32_t* out_event_id);
+
+/* ---- State, device identity and cost ----------------------------------------------------- */
+typedef struct pbf_interop_info {
+    uint32_t struct_size;
+    uint32_t gl_buffers;            /* registered GL buffers (pending ones included) */
+    uint32_t external_buffers;
+    uint32_t semaphores;
+    uint64_t copies;                /* copies into graphics buffers so far */
+    uint64_t render_events;         /* render events that ran for this world */
+    float last_copy_gpu_ms;         /* GPU time of the last copy batch, map to unmap (waits for it) */
+    float last_copy_host_ms;        /* host time the call that queued it spent on it */
+    pbf_result last_render_event_result; /* PBF_OK, or why the last render event failed */
+    uint32_t pending_render_work;   /* registrations and unregistrations queued for the render event */
+    uint8_t device_uuid[16];        /* the CUDA device's UUID (VkPhysicalDeviceIDProperties::deviceUUID) */
+    uint8_t device_luid[8];         /* its LUID on Windows (DXGI_ADAPTER_DESC::AdapterLuid); else 0 */
+    uint32_t device_node_mask;      /* its LUID node mask on Windows; else 0 */
+    int32_t cuda_device;            /* -1 on the CPU backend */
+    char last_render_event_message[256]; /* "" or the last render event's failure */
+} pbf_interop_info;
+PBF_API pbf_result PBF_CALL pbf_world_get_interop_info(pbf_world_id world, pbf_interop_info* out_info);
+
+/* Debug: host<->device copies the library has made, process-wide, since it was loaded (copy-out,
+ * stats, particle counts; kernel launch arguments are not counted). The render path
+ * (PBF_COPY_*, device buffers, events, semaphores) adds none. Either pointer may be NULL. */
+PBF_API pbf_result PBF_CALL pbf_debug_get_transfer_count(uint64_t* out_transfers, uint64_t* out_bytes);
 
 #ifdef __cplusplus
 }

@@ -21,7 +21,7 @@ PBF_STATIC_ASSERT(enum_memory_is_32_bit, sizeof(pbf_memory_kind) == 4);
 SIZE_IS(pbf_world_id, 8);
 SIZE_IS(pbf_emitter_id, 8);
 SIZE_IS(pbf_collider_id, 8);
-SIZE_IS(pbf_solver_params, 48);
+SIZE_IS(pbf_solver_params, 52);
 OFFSET_IS(pbf_solver_params, iterations, 4);
 OFFSET_IS(pbf_solver_params, substeps, 8);
 OFFSET_IS(pbf_solver_params, relaxation, 12);
@@ -33,7 +33,8 @@ OFFSET_IS(pbf_solver_params, vorticity_epsilon, 32);
 OFFSET_IS(pbf_solver_params, ldc_enabled, 36);
 OFFSET_IS(pbf_solver_params, ldc_gain, 40);
 OFFSET_IS(pbf_solver_params, max_speed, 44);
-SIZE_IS(pbf_world_desc, 112);
+OFFSET_IS(pbf_solver_params, adaptive_error_target, 48);
+SIZE_IS(pbf_world_desc, 116);
 OFFSET_IS(pbf_world_desc, header_version, 4);
 OFFSET_IS(pbf_world_desc, backend, 8);
 OFFSET_IS(pbf_world_desc, cuda_device, 12);
@@ -96,6 +97,79 @@ OFFSET_IS(pbf_mapped_buffer, stride_bytes, 20);
 OFFSET_IS(pbf_mapped_buffer, reserved0, 24);
 OFFSET_IS(pbf_mapped_buffer, reserved1, 28);
 
+/* Interop (zero-copy rendering). */
+PBF_STATIC_ASSERT(enum_buffer_is_32_bit, sizeof(pbf_buffer) == 4);
+PBF_STATIC_ASSERT(enum_copy_mode_is_32_bit, sizeof(pbf_copy_mode) == 4);
+PBF_STATIC_ASSERT(enum_external_memory_type_is_32_bit, sizeof(pbf_external_memory_type) == 4);
+PBF_STATIC_ASSERT(enum_semaphore_type_is_32_bit, sizeof(pbf_semaphore_type) == 4);
+SIZE_IS(pbf_gl_buffer_id, 8);
+SIZE_IS(pbf_external_buffer_id, 8);
+SIZE_IS(pbf_semaphore_id, 8);
+SIZE_IS(pbf_device_buffers, 80);
+OFFSET_IS(pbf_device_buffers, memory, 4);
+OFFSET_IS(pbf_device_buffers, positions, 8);
+OFFSET_IS(pbf_device_buffers, velocities, 16);
+OFFSET_IS(pbf_device_buffers, ids, 24);
+OFFSET_IS(pbf_device_buffers, density_ratio, 32);
+OFFSET_IS(pbf_device_buffers, count_device, 40);
+OFFSET_IS(pbf_device_buffers, cuda_stream, 48);
+OFFSET_IS(pbf_device_buffers, count, 56);
+OFFSET_IS(pbf_device_buffers, capacity, 60);
+OFFSET_IS(pbf_device_buffers, vec4_stride_bytes, 64);
+OFFSET_IS(pbf_device_buffers, id_stride_bytes, 68);
+OFFSET_IS(pbf_device_buffers, cuda_device, 72);
+OFFSET_IS(pbf_device_buffers, reserved0, 76);
+SIZE_IS(pbf_gl_buffer_desc, 48);
+OFFSET_IS(pbf_gl_buffer_desc, buffer, 4);
+OFFSET_IS(pbf_gl_buffer_desc, source, 8);
+OFFSET_IS(pbf_gl_buffer_desc, mode, 12);
+OFFSET_IS(pbf_gl_buffer_desc, offset_bytes, 16);
+OFFSET_IS(pbf_gl_buffer_desc, capacity, 24);
+OFFSET_IS(pbf_gl_buffer_desc, draw_args_buffer, 28);
+OFFSET_IS(pbf_gl_buffer_desc, draw_args_offset_bytes, 32);
+OFFSET_IS(pbf_gl_buffer_desc, draw_args_vertices, 40);
+OFFSET_IS(pbf_gl_buffer_desc, reserved0, 44);
+SIZE_IS(pbf_external_buffer_desc, 72);
+OFFSET_IS(pbf_external_buffer_desc, type, 4);
+OFFSET_IS(pbf_external_buffer_desc, fd, 8);
+OFFSET_IS(pbf_external_buffer_desc, dedicated, 12);
+OFFSET_IS(pbf_external_buffer_desc, win32_handle, 16);
+OFFSET_IS(pbf_external_buffer_desc, size_bytes, 24);
+OFFSET_IS(pbf_external_buffer_desc, offset_bytes, 32);
+OFFSET_IS(pbf_external_buffer_desc, source, 40);
+OFFSET_IS(pbf_external_buffer_desc, mode, 44);
+OFFSET_IS(pbf_external_buffer_desc, capacity, 48);
+OFFSET_IS(pbf_external_buffer_desc, write_draw_args, 52);
+OFFSET_IS(pbf_external_buffer_desc, draw_args_offset_bytes, 56);
+OFFSET_IS(pbf_external_buffer_desc, draw_args_vertices, 64);
+OFFSET_IS(pbf_external_buffer_desc, reserved0, 68);
+SIZE_IS(pbf_semaphore_desc, 24);
+OFFSET_IS(pbf_semaphore_desc, type, 4);
+OFFSET_IS(pbf_semaphore_desc, fd, 8);
+OFFSET_IS(pbf_semaphore_desc, reserved0, 12);
+OFFSET_IS(pbf_semaphore_desc, win32_handle, 16);
+SIZE_IS(pbf_external_sync, 40);
+OFFSET_IS(pbf_external_sync, reserved0, 4);
+OFFSET_IS(pbf_external_sync, wait_semaphore, 8);
+OFFSET_IS(pbf_external_sync, wait_value, 16);
+OFFSET_IS(pbf_external_sync, signal_semaphore, 24);
+OFFSET_IS(pbf_external_sync, signal_value, 32);
+SIZE_IS(pbf_interop_info, 336);
+OFFSET_IS(pbf_interop_info, gl_buffers, 4);
+OFFSET_IS(pbf_interop_info, external_buffers, 8);
+OFFSET_IS(pbf_interop_info, semaphores, 12);
+OFFSET_IS(pbf_interop_info, copies, 16);
+OFFSET_IS(pbf_interop_info, render_events, 24);
+OFFSET_IS(pbf_interop_info, last_copy_gpu_ms, 32);
+OFFSET_IS(pbf_interop_info, last_copy_host_ms, 36);
+OFFSET_IS(pbf_interop_info, last_render_event_result, 40);
+OFFSET_IS(pbf_interop_info, pending_render_work, 44);
+OFFSET_IS(pbf_interop_info, device_uuid, 48);
+OFFSET_IS(pbf_interop_info, device_luid, 64);
+OFFSET_IS(pbf_interop_info, device_node_mask, 72);
+OFFSET_IS(pbf_interop_info, cuda_device, 76);
+OFFSET_IS(pbf_interop_info, last_render_event_message, 80);
+
 /* The header's inline defaults compile as C99 and are usable from C. */
 int pbf_header_c99_defaults_ok(void);
 int pbf_header_c99_defaults_ok(void) {
@@ -107,4 +181,16 @@ int pbf_header_c99_defaults_ok(void) {
     return w.struct_size == sizeof w && w.header_version == PBF_VERSION && b.struct_size == sizeof b &&
            e.struct_size == sizeof e && c.struct_size == sizeof c && p.struct_size == sizeof p &&
            p.iterations == 4;
+}
+
+/* The interop section's inline defaults compile as C99 too. */
+int pbf_header_c99_interop_defaults_ok(void);
+int pbf_header_c99_interop_defaults_ok(void) {
+    pbf_gl_buffer_desc g = pbf_gl_buffer_desc_default();
+    pbf_external_buffer_desc x = pbf_external_buffer_desc_default();
+    pbf_semaphore_desc s = pbf_semaphore_desc_default();
+    pbf_external_sync y = pbf_external_sync_default();
+    pbf_render_event_fn f = pbf_get_render_event_func();
+    return g.struct_size == sizeof g && g.mode == PBF_COPY_ON_STEP && x.struct_size == sizeof x && x.fd == -1 &&
+           s.struct_size == sizeof s && y.struct_size == sizeof y && f != NULL;
 }

@@ -9,10 +9,18 @@
 #include <string>
 
 #include "../world/world.h"
+#include "api_common.h"
 #include "pbf_c_api.h"
 
 using pbf::Status;
 using pbf::World;
+using pbf::api::fail;
+using pbf::api::guarded;
+using pbf::api::check_struct;
+using pbf::api::log_message;
+using pbf::api::WorldEntry;
+using pbf::api::WorldLock;
+using pbf::api::raw;
 
 namespace {
 
@@ -21,6 +29,14 @@ thread_local std::string t_last_error;
 std::recursive_mutex g_log_mutex;  // recursive: an error raised inside the callback does not self-deadlock
 pbf_log_fn g_log_fn = nullptr;
 void* g_log_user = nullptr;
+
+// ---- the world table -----------------------------------------------------------------------
+std::mutex g_worlds_mutex;
+pbf::SlotTable<std::shared_ptr<WorldEntry>> g_worlds;
+
+}  // namespace
+
+namespace pbf::api {
 
 void log_message(pbf_log_level level, const std::string& message) {
     std::lock_guard<std::recursive_mutex> lock(g_log_mutex);
@@ -32,40 +48,6 @@ pbf_result fail(pbf_result code, const std::string& message) {
     log_message(PBF_LOG_ERROR, t_last_error);
     return code;
 }
-pbf_result fail(const Status& s) { return s.ok() ? PBF_OK : fail(s.code, s.message); }
-
-// Runs body, mapping exceptions to result codes so nothing unwinds into the caller's C code.
-template <class F>
-pbf_result guarded(const char* fn, F&& body) {
-    try {
-        return body();
-    } catch (const std::bad_alloc&) {
-        return fail(PBF_ERROR_OUT_OF_MEMORY, std::string(fn) + ": host allocation failed");
-    } catch (const std::exception& e) {
-        return fail(PBF_ERROR_INTERNAL, std::string(fn) + ": " + e.what());
-    } catch (...) {
-        return fail(PBF_ERROR_INTERNAL, std::string(fn) + ": unknown exception");
-    }
-}
-
-// ---- argument checks -----------------------------------------------------------------------
-// An enum field as the 32 bits the caller stored: a C caller may store any int, and reading an
-// out-of-range value through the C++ enum type is undefined behaviour.
-template <class E>
-int32_t raw(const E& e) {
-    static_assert(sizeof(E) == sizeof(int32_t), "ABI enums are 32 bits");
-    int32_t v;
-    std::memcpy(&v, &e, sizeof v);
-    return v;
-}
-
-bool finite3(const float v[3]) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
-
-#define PBF_REQUIRE(cond, code, msg)                    \
-    do {                                                \
-        if (!(cond)) return fail((code), (msg));        \
-    } while (0)
-#define PBF_REQUIRE_ARG(cond, msg) PBF_REQUIRE(cond, PBF_ERROR_INVALID_ARGUMENT, std::string(fn) + ": " + (msg))
 
 pbf_result check_struct(const char* fn, const char* type, const void* p, uint32_t struct_size, size_t expected) {
     if (!p) return fail(PBF_ERROR_INVALID_ARGUMENT, std::string(fn) + ": " + type + " pointer is NULL");
@@ -76,12 +58,30 @@ pbf_result check_struct(const char* fn, const char* type, const void* p, uint32_
                                                "_default() from the matching header)");
     return PBF_OK;
 }
-#define PBF_CHECK_STRUCT(type, p)                                                            \
-    do {                                                                                     \
-        if (pbf_result r_ = check_struct(fn, #type, (p), (p) ? (p)->struct_size : 0u, sizeof(type)); \
-            r_ != PBF_OK)                                                                    \
-            return r_;                                                                       \
-    } while (0)
+
+WorldLock::WorldLock(const char* fn, pbf_world_id id, bool quiet) {
+    {
+        std::lock_guard<std::mutex> lock(g_worlds_mutex);
+        if (auto* e = g_worlds.find(id.index, id.generation)) entry_ = *e;
+    }
+    if (entry_) {
+        lock_ = std::unique_lock<std::mutex>(entry_->mutex);
+        if (!entry_->world) entry_.reset();
+    }
+    if (!entry_) {
+        const std::string message = std::string(fn) + ": world {" + std::to_string(id.index) + ", " +
+                                    std::to_string(id.generation) +
+                                    "} is not a live world (destroyed or never created)";
+        result_ = quiet ? PBF_ERROR_INVALID_HANDLE : fail(PBF_ERROR_INVALID_HANDLE, message);
+    }
+}
+
+}  // namespace pbf::api
+
+namespace {
+
+// ---- argument checks -----------------------------------------------------------------------
+bool finite3(const float v[3]) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 
 pbf_result check_solver_params(const char* fn, const pbf_solver_params* params) {
     PBF_CHECK_STRUCT(pbf_solver_params, params);
@@ -99,49 +99,11 @@ pbf_result check_solver_params(const char* fn, const pbf_solver_params* params) 
     PBF_REQUIRE_ARG(p.ldc_enabled <= 1, "solver.ldc_enabled must be 0 or 1");
     PBF_REQUIRE_ARG(std::isfinite(p.ldc_gain) && p.ldc_gain >= 0.0f && p.ldc_gain <= 1.0f, "solver.ldc_gain must be 0..1");
     PBF_REQUIRE_ARG(std::isfinite(p.max_speed) && p.max_speed > 0.0f, "solver.max_speed must be finite and > 0");
+    PBF_REQUIRE_ARG(std::isfinite(p.adaptive_error_target) && p.adaptive_error_target >= 0.0f &&
+                        p.adaptive_error_target < 1.0f,
+                    "solver.adaptive_error_target must be in [0, 1)");
     return PBF_OK;
 }
-
-// ---- the world table -----------------------------------------------------------------------
-// shared_ptr entries: a call holding an entry keeps it alive while pbf_world_destroy runs on
-// another thread; the entry's mutex serialises calls on one world.
-struct WorldEntry {
-    std::mutex mutex;
-    std::unique_ptr<World> world;  // null once destroyed
-};
-std::mutex g_worlds_mutex;
-pbf::SlotTable<std::shared_ptr<WorldEntry>> g_worlds;
-
-// Locks the world for the duration of a call, or explains why the handle is not valid.
-class WorldLock {
-public:
-    WorldLock(const char* fn, pbf_world_id id) {
-        {
-            std::lock_guard<std::mutex> lock(g_worlds_mutex);
-            if (auto* e = g_worlds.find(id.index, id.generation)) entry_ = *e;
-        }
-        if (entry_) {
-            lock_ = std::unique_lock<std::mutex>(entry_->mutex);
-            if (!entry_->world) entry_.reset();
-        }
-        if (!entry_) result_ = fail(PBF_ERROR_INVALID_HANDLE, std::string(fn) + ": world {" + std::to_string(id.index) +
-                                                                  ", " + std::to_string(id.generation) +
-                                                                  "} is not a live world (destroyed or never created)");
-    }
-    explicit operator bool() const { return entry_ != nullptr; }
-    pbf_result result() const { return result_; }
-    World* operator->() const { return entry_->world.get(); }
-
-private:
-    std::shared_ptr<WorldEntry> entry_;
-    std::unique_lock<std::mutex> lock_;
-    pbf_result result_ = PBF_OK;
-};
-
-#define PBF_LOCK_WORLD(w, id)  \
-    WorldLock w(fn, id);       \
-    if (!w) return w.result()
-
 
 template <class T, class Copy>
 pbf_result copy_out(const char* fn, pbf_world_id id, T* out, uint32_t max_count, uint32_t* written, Copy copy) {
@@ -166,7 +128,7 @@ PBF_API uint32_t PBF_CALL pbf_get_version(void) { return PBF_VERSION; }
 PBF_API const char* PBF_CALL pbf_last_error_message(void) { return t_last_error.c_str(); }
 
 PBF_API const char* PBF_CALL pbf_result_string(pbf_result r) {
-    switch (r) {
+    switch (raw(r)) {  // any int a C caller passes, without an out-of-range enum load
         case PBF_OK: return "PBF_OK";
         case PBF_ERROR_INVALID_ARGUMENT: return "PBF_ERROR_INVALID_ARGUMENT";
         case PBF_ERROR_INVALID_HANDLE: return "PBF_ERROR_INVALID_HANDLE";

@@ -49,6 +49,7 @@ struct BlockEmission {
 
 struct StatsReadback {
     uint32_t count = 0;
+    uint32_t iterations_used = 0;  // adaptive mode: iterations run in the last step
     uint64_t emitted_total = 0, drained_total = 0;
     double error_sum = 0.0, kinetic_energy = 0.0;
     float error_max = 0.0f;
@@ -74,6 +75,21 @@ const char* stage_name(int stage);
 struct StageTimes {
     float ms[kStageCount] = {};
 };
+
+// Backend memory of the live particles (device memory on CUDA, host memory on the CPU).
+struct LiveBuffers {
+    void* positions = nullptr;        // Vec4 x, y, z, density ratio
+    void* velocities = nullptr;       // Vec4 vx, vy, vz, 0
+    uint32_t* ids = nullptr;
+    const uint32_t* count = nullptr;  // the live count, in the same memory
+    uint32_t capacity = 0;
+    int32_t cuda_device = -1;         // -1 on the CPU
+};
+
+// The library's own host<->device copies, process-wide (each copy between host and device
+// memory made by a backend counts once), so tests can show that a path adds none.
+void note_host_device_transfer(uint64_t bytes);
+void host_device_transfers(uint64_t* transfers, uint64_t* bytes);
 
 struct BackendConfig {
     uint32_t capacity;
@@ -106,6 +122,12 @@ public:
     // Enqueues a copy of the live positions (float4 each) into device memory dst on the world's
     // stream, without waiting; *written = particles copied (needs the count: waits for it).
     virtual Status copy_positions_device(void* dst, uint32_t max_count, uint32_t* written) = 0;
+    // The live buffers in backend memory, without waiting or reading anything back: valid until
+    // the next step, emission or world destruction (a step reorders and swaps them).
+    virtual LiveBuffers live_buffers() = 0;
+    // Runs the world on stream (a cudaStream_t; null: the world's own stream again). Work queued
+    // before the switch is ordered before work queued after it. CUDA only.
+    virtual Status set_cuda_stream(void* stream) = 0;
     virtual void set_profiling(bool on) = 0;
     // Per-stage milliseconds of the last step (waits for it); zeros unless profiling is on.
     virtual Status stage_times(StageTimes* out) = 0;

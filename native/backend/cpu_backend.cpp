@@ -90,6 +90,15 @@ void CpuExec::reduce_stats(const SimConstants& s, const float* density, const Ve
     out->error_max = error_max;
 }
 
+void CpuExec::sum_compressive_error(const SimConstants& s, const float* density, const uint32_t* count, uint32_t n,
+                                    float* out) {
+    const int64_t live = std::min(n, *count);
+    double sum = 0.0;
+#pragma omp parallel for reduction(+ : sum) if (live > 2048)
+    for (int64_t i = 0; i < live; ++i) sum += fmaxf(density[i] * s.inv_rest_density - 1.0f, 0.0f);
+    *out += static_cast<float>(sum);
+}
+
 std::unique_ptr<Backend> create_cpu_backend(const BackendConfig& config, Status* status) {
     auto solver = std::make_unique<Solver<CpuExec>>();
     *status = solver->init(config);

@@ -29,6 +29,9 @@ public:
     void download(void* dst, const void* src, size_t bytes);
     void copy_device(void* dst, const void* src, size_t bytes) { download(dst, src, bytes); }
     void* native_stream() const { return nullptr; }
+    Status use_stream(void*) {
+        return Status::error(PBF_ERROR_INVALID_STATE, "the world runs on the CPU backend: it has no CUDA stream");
+    }
 
     template <class Op>
     void for_each(uint32_t n, const Op& op) {
@@ -42,6 +45,9 @@ public:
                     int* value_sel);
     void reduce_stats(const SimConstants& s, const float* density, const Vec4* velocities, uint32_t n,
                       StatsReadback* out);
+    // *out += Σ over live particles (i < *count) of max(ρ/ρ0 - 1, 0).
+    void sum_compressive_error(const SimConstants& s, const float* density, const uint32_t* count, uint32_t n,
+                               float* out);
 
     void timer_begin() { t0_ = std::chrono::steady_clock::now(); }
     void timer_end() { last_ms_ = std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0_).count(); }

@@ -33,7 +33,26 @@ CudaExec::~CudaExec() {
     if (reduce_out_) cudaFree(reduce_out_);
     if (start_) cudaEventDestroy(start_);
     if (stop_) cudaEventDestroy(stop_);
-    if (stream_) cudaStreamDestroy(stream_);
+    if (switch_event_) cudaEventDestroy(switch_event_);
+    if (own_stream_) cudaStreamDestroy(own_stream_);
+}
+
+Status CudaExec::use_stream(void* stream) {
+    cudaStream_t next = stream ? static_cast<cudaStream_t>(stream) : own_stream_;
+    if (next == stream_) return Status{};
+    // Errors here are the caller's (a stream of another device, say): reported, not recorded,
+    // so the world stays usable on its current stream.
+    cudaError_t e = cudaSuccess;
+    if (!switch_event_) e = cudaEventCreateWithFlags(&switch_event_, cudaEventDisableTiming);
+    if (e == cudaSuccess) e = cudaEventRecord(switch_event_, stream_);
+    if (e == cudaSuccess) e = cudaStreamWaitEvent(next, switch_event_, 0);
+    if (e != cudaSuccess) {
+        (void)cudaGetLastError();
+        return Status::error(PBF_ERROR_BACKEND, std::string("switching the world's CUDA stream: CUDA error ") +
+                                                    cudaGetErrorName(e) + " (" + cudaGetErrorString(e) + ")");
+    }
+    stream_ = next;
+    return Status{};
 }
 
 Status CudaExec::init(uint32_t capacity, uint32_t num_cells) {
@@ -43,7 +62,8 @@ Status CudaExec::init(uint32_t capacity, uint32_t num_cells) {
     cudaDeviceProp prop{};
     record(cudaGetDeviceProperties(&prop, device_));
     name_ = prop.name;
-    record(cudaStreamCreateWithFlags(&stream_, cudaStreamNonBlocking));
+    record(cudaStreamCreateWithFlags(&own_stream_, cudaStreamNonBlocking));
+    stream_ = own_stream_;
     record(cudaEventCreate(&start_));
     record(cudaEventCreate(&stop_));
     // Temporary storage for the largest sort this world can run, allocated once.
@@ -73,7 +93,10 @@ void CudaExec::release(void* p) {
 }
 
 void CudaExec::download(void* dst, const void* src, size_t bytes) {
-    if (bytes) record(cudaMemcpyAsync(dst, src, bytes, cudaMemcpyDeviceToHost, stream_));
+    if (bytes) {
+        record(cudaMemcpyAsync(dst, src, bytes, cudaMemcpyDeviceToHost, stream_));
+        note_host_device_transfer(bytes);
+    }
     record(cudaStreamSynchronize(stream_));
 }
 
@@ -138,6 +161,27 @@ void CudaExec::reduce_stats(const SimConstants& s, const float* density, const V
     float max_err;
     std::memcpy(&max_err, &host[2], sizeof(float));
     out->error_max = max_err;
+}
+
+namespace {
+__global__ void sum_error_kernel(SimConstants s, const float* density, const uint32_t* count, uint32_t n, float* out) {
+    const uint32_t live = min(n, *count);
+    float sum = 0.0f;
+    for (uint32_t i = blockIdx.x * blockDim.x + threadIdx.x; i < live; i += gridDim.x * blockDim.x)
+        sum += fmaxf(density[i] * s.inv_rest_density - 1.0f, 0.0f);
+    using Reduce = cub::BlockReduce<float, kReduceBlock>;
+    __shared__ typename Reduce::TempStorage temp;
+    const float block_sum = Reduce(temp).Sum(sum);
+    if (threadIdx.x == 0 && block_sum != 0.0f) atomicAdd(out, block_sum);
+}
+}  // namespace
+
+void CudaExec::sum_compressive_error(const SimConstants& s, const float* density, const uint32_t* count, uint32_t n,
+                                     float* out) {
+    if (n == 0) return;
+    const uint32_t blocks = std::min<uint32_t>((n + kReduceBlock - 1) / kReduceBlock, 264);
+    sum_error_kernel<<<blocks, kReduceBlock, 0, stream_>>>(s, density, count, n, out);
+    record(cudaGetLastError());
 }
 
 float CudaExec::timer_ms() {

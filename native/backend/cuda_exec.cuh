@@ -61,6 +61,9 @@ public:
                     int* value_sel);
     void reduce_stats(const SimConstants& s, const float* density, const Vec4* velocities, uint32_t n,
                       StatsReadback* out);
+    // *out += Σ over live particles (i < *count) of max(ρ/ρ0 - 1, 0); on the stream, no wait.
+    void sum_compressive_error(const SimConstants& s, const float* density, const uint32_t* count, uint32_t n,
+                               float* out);
 
     void timer_begin() { record(cudaEventRecord(start_, stream_)); }
     void timer_end() {

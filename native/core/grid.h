@@ -7,11 +7,19 @@ namespace pbf {
 
 PBF_HD int32_t clamp_cell(int32_t c, int32_t n) { return c < 0 ? 0 : (c >= n ? n - 1 : c); }
 
+// floor(x) as a cell index clamped to 0..n-1. The clamp happens before the conversion, so a
+// particle far outside the grid (an emission at 1e30 m, say) converts no out-of-range float to
+// int (undefined behaviour); NaN gives 0.
+PBF_HD int32_t cell_of(float x, int32_t n) {
+    const float f = floorf(x);
+    return f >= 0.0f ? (f < static_cast<float>(n) ? static_cast<int32_t>(f) : n - 1) : 0;
+}
+
 PBF_HD void cell_coords(const GridDims& g, Vec3 p, int32_t& cx, int32_t& cy, int32_t& cz) {
     // Clamped, so a particle outside the grid (only possible transiently) still gets a cell.
-    cx = clamp_cell(static_cast<int32_t>(floorf((p.x - g.origin.x) * g.inv_cell)), g.nx);
-    cy = clamp_cell(static_cast<int32_t>(floorf((p.y - g.origin.y) * g.inv_cell)), g.ny);
-    cz = clamp_cell(static_cast<int32_t>(floorf((p.z - g.origin.z) * g.inv_cell)), g.nz);
+    cx = cell_of((p.x - g.origin.x) * g.inv_cell, g.nx);
+    cy = cell_of((p.y - g.origin.y) * g.inv_cell, g.ny);
+    cz = cell_of((p.z - g.origin.z) * g.inv_cell, g.nz);
 }
 
 PBF_HD uint32_t cell_key(const GridDims& g, Vec3 p) {
@@ -43,8 +51,8 @@ PBF_HD void for_each_neighbor(const GridDims& g, const uint32_t* cell_begin, Vec
             const float chord2 = 1.0f - ey * ey - ez * ez;
             if (chord2 <= 0.0f) continue;  // the whole row is beyond the cutoff
             const float rx = sqrtf(chord2);
-            const int32_t x0 = clamp_cell(static_cast<int32_t>(floorf(lx - rx)), g.nx);
-            const int32_t x1 = clamp_cell(static_cast<int32_t>(floorf(lx + rx)), g.nx);
+            const int32_t x0 = cell_of(lx - rx, g.nx);
+            const int32_t x1 = cell_of(lx + rx, g.nx);
             const uint32_t row = (static_cast<uint32_t>(z) * g.ny + static_cast<uint32_t>(y)) * g.nx;
             const uint32_t begin = cell_begin[row + x0];
             const uint32_t end = cell_begin[row + x1 + 1];

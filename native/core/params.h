@@ -48,6 +48,8 @@ struct SimConstants {
     // Local Density Calibration: K = gain / Δt² (1/s²)
     uint32_t ldc_enabled;
     float ldc_k;
+    // > 0: iterate until the mean compressive density error is below it (iterations = cap)
+    float adaptive_target;
     // time and forces
     float dt, inv_dt;
     Vec3 gravity;

@@ -65,6 +65,41 @@ struct GatherOp {
     }
 };
 
+// ---- adaptive iterations -------------------------------------------------------------------------
+// Lives in backend memory: the device decides when a substep's iterations have converged, and
+// every later λ/Δp launch of that substep returns at once, so the host never waits for it.
+struct IterationControl {
+    uint32_t converged;        // this substep reached the target
+    uint32_t iterations_used;  // λ/Δp iterations run in the current step (all substeps)
+    float error_sum;           // Σ max(ρ/ρ0 - 1, 0) of the last λ pass
+    uint32_t pad;
+};
+
+// One thread: at each substep start (and the step's, which also clears the iteration count).
+struct ResetControlOp {
+    IterationControl* control;
+    uint32_t clear_used;
+    PBF_HD void operator()(uint32_t) const {
+        control->converged = 0;
+        control->error_sum = 0.0f;
+        if (clear_used) control->iterations_used = 0;
+    }
+};
+
+// One thread, after the λ pass's error sum: stop once the mean error is below target.
+struct ConvergenceOp {
+    IterationControl* control;
+    const uint32_t* count;
+    float target;
+    PBF_HD void operator()(uint32_t) const {
+        if (control->converged) return;
+        const float mean = *count ? control->error_sum / static_cast<float>(*count) : 0.0f;
+        if (mean < target) control->converged = 1;
+        else ++control->iterations_used;
+        control->error_sum = 0.0f;
+    }
+};
+
 // ---- densities ---------------------------------------------------------------------------------
 PBF_HD float density_at(const SimConstants& s, const uint32_t* cell_begin, const Vec4* pos, Vec3 xi) {
     float rho = 0.0f;
@@ -114,9 +149,21 @@ PBF_HD Vec3 ldc_force(const SimConstants& s, const uint32_t* cell_begin, const V
     return f * -s.ldc_k;
 }
 
+// Limits |v| to max_speed, and never returns Inf or NaN, whatever it is given: every velocity
+// the solver stores passes through here. A velocity whose |v|² overflowed (a tiny dt, a huge
+// gravity or max_speed) keeps its direction at max_speed; NaN components count as 0.
 PBF_HD Vec3 clamp_speed(Vec3 v, float max_speed) {
+    const float kFloatMax = 3.402823466e38f;
     const float sp2 = length_sq(v);
-    return sp2 > max_speed * max_speed ? v * (max_speed / sqrtf(sp2)) : v;
+    if (sp2 <= fminf(max_speed * max_speed, kFloatMax)) return v;  // the common case (false for NaN)
+    if (sp2 <= kFloatMax) return v * (max_speed / sqrtf(sp2));
+    // Rare: NaN -> 0, ±Inf -> ±FLT_MAX, then scale by 2^-100 so that |u|² is finite.
+    const Vec3 u = Vec3{v.x == v.x ? clampf(v.x, -kFloatMax, kFloatMax) : 0.0f,
+                        v.y == v.y ? clampf(v.y, -kFloatMax, kFloatMax) : 0.0f,
+                        v.z == v.z ? clampf(v.z, -kFloatMax, kFloatMax) : 0.0f} *
+                   7.88860905e-31f;
+    const float len = length(u);
+    return len > 0.0f ? u * (max_speed / len) : Vec3{0.0f, 0.0f, 0.0f};
 }
 
 // v += (g + f_ldc) Δt ; x* = x + v Δt, projected out of colliders and walls.
@@ -147,7 +194,9 @@ struct LambdaOp {
     const uint32_t* cell_begin;
     Vec4* predicted;
     float* density;
+    const IterationControl* control;  // null: fixed iteration count
     PBF_HD void operator()(uint32_t i) const {
+        if (control && control->converged) return;
         const Vec3 xi = xyz(predicted[i]);
         float rho = 0.0f, sum_grad2 = 0.0f;
         Vec3 grad_i{0.0f, 0.0f, 0.0f};
@@ -194,7 +243,12 @@ struct DeltaOp {
     const Vec4* positions;  // x at the start of the substep (for friction)
     const Vec4* predicted;
     Vec4* corrected;
+    const IterationControl* control;  // null: fixed iteration count
     PBF_HD void operator()(uint32_t i) const {
+        if (control && control->converged) {  // converged: carry x* over unchanged
+            corrected[i] = predicted[i];
+            return;
+        }
         const Vec4 pi = predicted[i];
         const Vec3 xi = xyz(pi);
         const float lambda_i = pi.w;
@@ -257,6 +311,8 @@ struct VorticityOp {
 };
 
 // f_vort = ε (N × ω), N = η/|η|, η = ∇|ω| (Eq. 16); then XSPH: v += c Σ_j (m/ρ_j) v_ij W_ij (Eq. 17).
+// The same walk sums ρ at the final positions (a poly6 it computes anyway): the next step's LDC
+// and the stats read it, so no separate density pass runs at the end of a step.
 struct VorticityXsphOp {
     SimConstants s;
     const uint32_t* cell_begin;
@@ -264,21 +320,26 @@ struct VorticityXsphOp {
     const Vec4* velocities;
     const Vec4* omega;
     Vec4* velocities_out;
+    float* density;
     PBF_HD void operator()(uint32_t i) const {
         const Vec3 xi = xyz(positions[i]);
         const Vec3 vi = xyz(velocities[i]);
         const float wi = omega[i].w;
         Vec3 eta{0.0f, 0.0f, 0.0f}, xsph{0.0f, 0.0f, 0.0f};
+        float rho = 0.0f;
         for_each_neighbor(s.grid, cell_begin, xi, [&](uint32_t j) {
-            if (j == i) return;
             const Vec4 pj = positions[j];
             const Vec3 d = xi - xyz(pj);
             const float r2 = length_sq(d);
             if (r2 >= s.h2) return;
+            const float w = poly6(r2, s.h2, s.poly6_coef);
+            rho += w;
+            if (j == i) return;
             const float vol = fast_div(s.mass, fmaxf(pj.w, 1e-6f) * s.rest_density);
             eta += spiky_gradient_r2(d, r2, s.h, s.spiky_coef) * ((omega[j].w - wi) * vol);
-            xsph += (xyz(velocities[j]) - vi) * (poly6(r2, s.h2, s.poly6_coef) * vol);
+            xsph += (xyz(velocities[j]) - vi) * (w * vol);
         });
+        density[i] = rho * s.mass;
         Vec3 v = vi + xsph * s.xsph_c;
         const float eta_len = length(eta);
         if (s.vorticity_epsilon > 0.0f && eta_len > 1e-9f) {
@@ -304,7 +365,8 @@ struct EmitBlockOp {
     PBF_HD void operator()(uint32_t k) const {
         const uint32_t slot = *count + k;
         if (slot >= capacity) return;
-        const uint32_t ix = k % nx, iy = (k / nx) % ny, iz = k / (nx * ny);
+        // nx * ny in 64 bits: a block 65536 x 65536 points wide wraps it to 0 in 32 (k / 0).
+        const uint32_t ix = k % nx, iy = (k / nx) % ny, iz = static_cast<uint32_t>(k / (uint64_t(nx) * ny));
         positions[slot] = make_vec4(origin + Vec3{ix * spacing, iy * spacing, iz * spacing}, 1.0f);
         velocities[slot] = make_vec4(velocity, 0.0f);
         ids[slot] = *next_id + k;

@@ -18,6 +18,7 @@ struct DeviceCounters {
     uint32_t pad;
     unsigned long long emitted_total;
     unsigned long long drained_total;
+    IterationControl control;
 };
 
 template <class Exec>
@@ -79,6 +80,7 @@ public:
         exec_.activate();
         exec_.timer_begin();
         exec_.profile_reset();
+        exec_.for_each(1, ResetControlOp{&counters_->control, 1u});
         for (const SubstepInput& in : substeps) substep(in);
         exec_.profile_mark(kStageCount);
         exec_.timer_end();
@@ -144,6 +146,7 @@ public:
         Status st = exec_.check("pbf_world_get_stats");
         if (!st.ok()) return st;
         out->count = c.count;
+        out->iterations_used = c.control.iterations_used;
         out->emitted_total = c.emitted_total;
         out->drained_total = c.drained_total;
         exec_.reduce_stats(s, density_, vel_[cur_], c.count, out);
@@ -173,6 +176,20 @@ public:
         exec_.copy_device(dst, pos_[cur_], size_t(n) * sizeof(Vec4));
         *written = n;
         return exec_.check("device copy of positions");
+    }
+    LiveBuffers live_buffers() override {
+        LiveBuffers b;
+        b.positions = pos_[cur_];
+        b.velocities = vel_[cur_];
+        b.ids = ids_[cur_];
+        b.count = &counters_->count;
+        b.capacity = config_.capacity;
+        b.cuda_device = Exec::kKind == PBF_BACKEND_CUDA ? config_.cuda_device : -1;
+        return b;
+    }
+    Status set_cuda_stream(void* stream) override {
+        exec_.activate();
+        return exec_.use_stream(stream);
     }
     void set_profiling(bool on) override { exec_.profile_enable(on); }
     Status stage_times(StageTimes* out) override {
@@ -216,11 +233,21 @@ private:
         exec_.profile_mark(kStageGridPredicted);
         build_grid(s, true);
         // 4. constraint iterations (Jacobi: Δp reads pred, writes the other pred buffer).
+        // Adaptive: after each λ pass the device sums the error and decides; launches after
+        // convergence return at once (iterations is the cap).
+        const bool adaptive = s.adaptive_target > 0.0f;
+        IterationControl* control = adaptive ? &counters_->control : nullptr;
+        if (adaptive) exec_.for_each(1, ResetControlOp{control, 0u});
         for (uint32_t it = 0; it < in.iterations; ++it) {
             exec_.profile_mark(kStageLambda);
-            exec_.for_each(bound_, LambdaOp{s, cell_begin_, pred_[cur_], density_});
+            exec_.for_each(bound_, LambdaOp{s, cell_begin_, pred_[cur_], density_, control});
+            if (adaptive) {
+                exec_.sum_compressive_error(s, density_, &counters_->count, bound_, &control->error_sum);
+                exec_.for_each(1, ConvergenceOp{control, &counters_->count, s.adaptive_target});
+            }
             exec_.profile_mark(kStageDeltaCollide);
-            exec_.for_each(bound_, DeltaOp{s, in.colliders, cell_begin_, pos_[cur_], pred_[cur_], pred_[1 - cur_]});
+            exec_.for_each(bound_, DeltaOp{s, in.colliders, cell_begin_, pos_[cur_], pred_[cur_], pred_[1 - cur_],
+                                           control});
             swap_pred();
         }
         // 5. v = (x* - x)/Δt, x = x*; vorticity confinement and XSPH.
@@ -231,14 +258,16 @@ private:
             exec_.profile_mark(kStageVorticity);
             exec_.for_each(bound_, VorticityOp{s, cell_begin_, pos_[cur_], vel_[cur_], omega});
             exec_.profile_mark(kStageVorticityXsph);
-            exec_.for_each(bound_,
-                           VorticityXsphOp{s, cell_begin_, pos_[cur_], vel_[cur_], omega, vel_[1 - cur_]});
+            exec_.for_each(bound_, VorticityXsphOp{s, cell_begin_, pos_[cur_], vel_[cur_], omega, vel_[1 - cur_],
+                                                   density_});
             swap_velocities();
+            density_valid_ = true;  // that pass also summed ρ at the final positions
+        } else {
+            density_valid_ = false;
         }
         grid_valid_ = true;  // built on x*, which the positions now are
-        density_valid_ = false;
         // With LDC the next substep needs ρ(x); computing it now also serves the stats.
-        if (s.ldc_enabled) {
+        if (s.ldc_enabled && !density_valid_) {
             exec_.profile_mark(kStageDensityEnd);
             exec_.for_each(bound_, DensityOp{s, cell_begin_, pos_[cur_], density_});
             density_valid_ = true;

@@ -2,7 +2,9 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 #include "../core/sph.h"
@@ -59,6 +61,30 @@ std::unique_ptr<World> World::create(const pbf_world_desc& desc, Status* status)
     // |∇_k C|² of a rest particle, with ∇C = (m/ρ0) ∇W.
     const double m_over_rho = 1.0 / cal.kernel_sum;
     w->gradient_norm2_ = static_cast<float>(cal.gradient_norm2 * m_over_rho * m_over_rho);
+    // Every constant the kernels use must be a normal float: a radius or rest density so extreme
+    // that one over- or underflows (a denormal rest density, a radius of 1e20 m) would make every
+    // density and velocity NaN.
+    {
+        const float coef6 = poly6_coefficient(w->h_), coef_grad = spiky_grad_coefficient(w->h_);
+        const double quantities[] = {w->mass_,
+                                     w->gradient_norm2_,
+                                     coef6,
+                                     coef_grad,
+                                     w->h_ * w->h_,
+                                     poly6(0.0f, w->h_ * w->h_, coef6),
+                                     w->mass_ * poly6(0.0f, w->h_ * w->h_, coef6),
+                                     1.0f / desc.rest_density};
+        for (double q : quantities) {
+            if (!(std::isfinite(q) && q >= double(FLT_MIN) && q <= double(FLT_MAX))) {
+                char text[96];
+                std::snprintf(text, sizeof text, "particle_radius %g and rest_density %g", desc.particle_radius,
+                              desc.rest_density);
+                *status = Status::error(PBF_ERROR_INVALID_ARGUMENT,
+                                        std::string(text) + " give SPH constants outside the range of float");
+                return nullptr;
+            }
+        }
+    }
 
     GridDims& g = w->grid_;
     g.origin = to_vec3(desc.domain_min);
@@ -68,8 +94,11 @@ std::unique_ptr<World> World::create(const pbf_world_desc& desc, Status* status)
                              std::ceil((desc.domain_max[2] - desc.domain_min[2]) / w->h_)};
     const double total = std::max(1.0, cells[0]) * std::max(1.0, cells[1]) * std::max(1.0, cells[2]);
     if (total > double(1u << 30)) {
+        // total may exceed any integer type (a tiny radius in a large domain): format it as a double.
+        char cells_text[32];
+        std::snprintf(cells_text, sizeof cells_text, total < 1e15 ? "%.0f" : "%.3g", total);
         *status = Status::error(PBF_ERROR_INVALID_ARGUMENT,
-                                "domain spans " + std::to_string(static_cast<uint64_t>(total)) +
+                                std::string("domain spans ") + cells_text +
                                     " grid cells of size h = 4 * particle_radius; at most 2^30 are supported");
         return nullptr;
     }
@@ -109,6 +138,7 @@ SimConstants World::constants(float dt) const {
     s.max_speed = params_.max_speed;
     s.ldc_enabled = params_.ldc_enabled;
     s.ldc_k = params_.ldc_gain / (dt * dt);
+    s.adaptive_target = params_.adaptive_error_target;
     s.dt = dt;
     s.inv_dt = 1.0f / dt;
     s.gravity = gravity_;
@@ -158,7 +188,8 @@ Status World::step(float dt) {
             const Vec3 helper = std::fabs(dir.y) < 0.9f ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
             const Vec3 t = cross(dir, helper) * (1.0f / length(cross(dir, helper)));
             const Vec3 b = cross(dir, t);
-            const float area_points = kPi * e.desc.radius * e.desc.radius / (spacing * spacing);
+            // Clamped before the conversion: a huge (finite) radius makes this Inf.
+            const float area_points = std::fmin(kPi * e.desc.radius * e.desc.radius / (spacing * spacing), 4.0e9f);
             NozzleEmission ne{n, e.sequence, std::max(1u, static_cast<uint32_t>(area_points)),
                               to_vec3(e.desc.position), dir, t, b, e.desc.radius, e.desc.speed};
             e.sequence += n;
@@ -175,6 +206,7 @@ Status World::step(float dt) {
     if (st.ok()) {
         ++step_index_;
         last_iterations_ = params_.iterations * substeps;
+        if (attachment_) st = attachment_->after_step();  // e.g. copies into graphics buffers
     }
     return st;
 }
@@ -209,7 +241,7 @@ Status World::get_stats(pbf_step_stats* out) {
     out->density_error_max = r.error_max;
     out->kinetic_energy = static_cast<float>(r.kinetic_energy);
     out->step_time_ms = step_index_ ? ms : 0.0f;
-    out->iterations = last_iterations_;
+    out->iterations = params_.adaptive_error_target > 0.0f ? r.iterations_used : last_iterations_;
     out->reserved0 = 0;
     return Status{};
 }

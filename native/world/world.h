@@ -29,6 +29,14 @@ struct LatticeCalibration {
 };
 LatticeCalibration calibrate_lattice(float spacing, float h);
 
+// State another layer keeps with a world (the interop layer, native/interop): told after each
+// successful step, destroyed with the world before its backend.
+class WorldAttachment {
+public:
+    virtual ~WorldAttachment() = default;
+    virtual Status after_step() = 0;
+};
+
 class World {
 public:
     // desc is validated; *status says why creation failed.
@@ -56,10 +64,13 @@ public:
     Status copy_ids(uint32_t* out, uint32_t max, uint32_t* written) { return backend_->copy_ids(out, max, written); }
     Status map_positions(pbf_mapped_buffer* out);
     void unmap() { mapped_ = false; }
+    void mark_mapped() { mapped_ = true; }  // a mapping made by another layer (device buffers)
     bool mapped() const { return mapped_; }
 
     float rest_spacing() const { return 2.0f * desc_.particle_radius; }
     Backend& backend() { return *backend_; }
+    WorldAttachment* attachment() { return attachment_.get(); }
+    void set_attachment(std::unique_ptr<WorldAttachment> a) { attachment_ = std::move(a); }
 
 private:
     World() = default;
@@ -77,6 +88,7 @@ private:
     uint64_t step_index_ = 0;
     uint32_t last_iterations_ = 0;
     bool mapped_ = false;
+    std::unique_ptr<WorldAttachment> attachment_;  // declared after backend_: destroyed before it
 };
 
 }  // namespace pbf

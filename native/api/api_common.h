@@ -1,0 +1,89 @@
+// Helpers shared by the C ABI's translation units (c_api.cpp, c_api_interop.cpp): the
+// thread-local error message, the log, exception guarding, struct_size checks and the world
+// lock. Internal: nothing here is exported.
+#pragma once
+#include <cstring>
+#include <memory>
+#include <mutex>
+#include <new>
+#include <stdexcept>
+#include <string>
+
+#include "../world/world.h"
+#include "pbf_c_api.h"
+
+namespace pbf::api {
+
+// An enum field as the 32 bits the caller stored: a C caller may store any int, and reading an
+// out-of-range value through the C++ enum type is undefined behaviour.
+template <class E>
+int32_t raw(const E& e) {
+    static_assert(sizeof(E) == sizeof(int32_t), "ABI enums are 32 bits");
+    int32_t v;
+    std::memcpy(&v, &e, sizeof v);
+    return v;
+}
+
+// Sends message to the log callback (if any).
+void log_message(pbf_log_level level, const std::string& message);
+
+// Sets the calling thread's last error ("CODE: message"), logs it and returns code.
+pbf_result fail(pbf_result code, const std::string& message);
+inline pbf_result fail(const Status& s) { return s.ok() ? PBF_OK : fail(s.code, s.message); }
+
+// Runs body, mapping exceptions to result codes so nothing unwinds into the caller's C code.
+template <class F>
+pbf_result guarded(const char* fn, F&& body) {
+    try {
+        return body();
+    } catch (const std::bad_alloc&) {
+        return fail(PBF_ERROR_OUT_OF_MEMORY, std::string(fn) + ": host allocation failed");
+    } catch (const std::exception& e) {
+        return fail(PBF_ERROR_INTERNAL, std::string(fn) + ": " + e.what());
+    } catch (...) {
+        return fail(PBF_ERROR_INTERNAL, std::string(fn) + ": unknown exception");
+    }
+}
+
+#define PBF_REQUIRE(cond, code, msg)                    \
+    do {                                                \
+        if (!(cond)) return ::pbf::api::fail((code), (msg)); \
+    } while (0)
+#define PBF_REQUIRE_ARG(cond, msg) PBF_REQUIRE(cond, PBF_ERROR_INVALID_ARGUMENT, std::string(fn) + ": " + (msg))
+
+pbf_result check_struct(const char* fn, const char* type, const void* p, uint32_t struct_size, size_t expected);
+#define PBF_CHECK_STRUCT(type, p)                                                            \
+    do {                                                                                     \
+        if (pbf_result r_ = ::pbf::api::check_struct(fn, #type, (p), (p) ? (p)->struct_size : 0u, sizeof(type)); \
+            r_ != PBF_OK)                                                                    \
+            return r_;                                                                       \
+    } while (0)
+
+// shared_ptr entries: a call holding an entry keeps it alive while pbf_world_destroy runs on
+// another thread; the entry's mutex serialises calls on one world.
+struct WorldEntry {
+    std::mutex mutex;
+    std::unique_ptr<World> world;  // null once destroyed
+};
+
+// Locks the world for the duration of a call, or explains why the handle is not valid (quiet:
+// without setting the thread's error or logging, for callers that expect stale handles).
+class WorldLock {
+public:
+    WorldLock(const char* fn, pbf_world_id id, bool quiet = false);
+    explicit operator bool() const { return entry_ != nullptr; }
+    pbf_result result() const { return result_; }
+    World* operator->() const { return entry_->world.get(); }
+    World& operator*() const { return *entry_->world; }
+
+private:
+    std::shared_ptr<WorldEntry> entry_;
+    std::unique_lock<std::mutex> lock_;
+    pbf_result result_ = PBF_OK;
+};
+
+#define PBF_LOCK_WORLD(w, id)           \
+    ::pbf::api::WorldLock w(fn, id);    \
+    if (!w) return w.result()
+
+}  // namespace pbf::api

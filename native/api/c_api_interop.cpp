@@ -1,0 +1,519 @@
+// The C ABI of zero-copy rendering (the interop section of pbf_c_api.h): validates every
+// argument and handle, refuses what this build or the world's backend lacks, and translates the
+// calls to the world's interop state (native/interop). Nothing else lives here.
+#include <algorithm>
+#include <cstring>
+#include <exception>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "../interop/interop.h"
+#include "api_common.h"
+#include "pbf_c_api.h"
+
+using pbf::Interop;
+using pbf::Status;
+using pbf::World;
+using pbf::api::fail;
+using pbf::api::guarded;
+using pbf::api::raw;
+
+namespace {
+
+bool is_zero(pbf_semaphore_id id) { return id.index == 0 && id.generation == 0; }
+uint32_t element_bytes(pbf_buffer source) { return raw(source) == PBF_BUFFER_IDS ? 4u : 16u; }
+// Enum fields are read as the 32 bits the caller stored (raw): any int may arrive from C.
+bool valid_source(pbf_buffer source) {
+    const int32_t s = raw(source);
+    return s == PBF_BUFFER_POSITIONS || s == PBF_BUFFER_VELOCITIES || s == PBF_BUFFER_IDS;
+}
+bool valid_mode(pbf_copy_mode mode) {
+    const int32_t m = raw(mode);
+    return m == PBF_COPY_ON_STEP || m == PBF_COPY_ON_RENDER_EVENT || m == PBF_COPY_MANUAL;
+}
+
+// Refuses what this build lacks (PBF_ERROR_BACKEND_UNAVAILABLE).
+pbf_result require_support(const char* fn, uint32_t flag) {
+    const uint32_t have = pbf::interop_support();
+    if (have & flag) return PBF_OK;
+    std::string why;
+    if (!(have & PBF_INTEROP_SUPPORT_CUDA)) why = "this libpbf was built without CUDA";
+    else if (flag == PBF_INTEROP_SUPPORT_OPENGL) why = "this libpbf was built without the OpenGL headers (no CUDA-GL interop)";
+    else if (flag == PBF_INTEROP_SUPPORT_EXTERNAL_WIN32) why = "win32 handles, D3D11 and D3D12 exist only in Windows builds";
+    else if (flag == PBF_INTEROP_SUPPORT_EXTERNAL_FD) why = "opaque file descriptors exist only in Linux builds";
+    else why = "not available in this build";
+    return fail(PBF_ERROR_BACKEND_UNAVAILABLE, std::string(fn) + ": " + why);
+}
+
+// The world must run on CUDA (PBF_ERROR_INVALID_STATE otherwise).
+pbf_result require_cuda_world(const char* fn, World& w) {
+    if (w.backend().kind() == PBF_BACKEND_CUDA) return PBF_OK;
+    return fail(PBF_ERROR_INVALID_STATE, std::string(fn) + ": the world runs on the CPU backend; this call needs a CUDA world");
+}
+
+// The world's interop state, created on first use.
+pbf_result interop_of(const char* fn, World& w, Interop** out) {
+    if (pbf_result r = require_cuda_world(fn, w); r != PBF_OK) return r;
+    if (auto* a = w.attachment()) {
+        *out = static_cast<Interop*>(a);  // the only attachment a world gets
+        return PBF_OK;
+    }
+    Status st;
+    std::unique_ptr<Interop> interop = Interop::create(w.backend(), &st);
+    if (!interop) return fail(st.code, std::string(fn) + ": " + st.message);
+    *out = interop.get();
+    w.set_attachment(std::move(interop));
+    return PBF_OK;
+}
+
+// The interop state if the world has one (no handle of it can be valid otherwise).
+Interop* existing_interop(World& w) { return static_cast<Interop*>(w.attachment()); }
+
+std::string handle_text(uint32_t index, uint32_t generation) {
+    return "{" + std::to_string(index) + ", " + std::to_string(generation) + "}";
+}
+
+#define PBF_INTEROP_OF(io, w)                                                  \
+    Interop* io = nullptr;                                                     \
+    if (pbf_result r_ = interop_of(fn, *w, &io); r_ != PBF_OK) return r_
+
+#define PBF_REQUIRE_HANDLE(io, has, id, what)                                                     \
+    PBF_REQUIRE((io) && (io)->has(id), PBF_ERROR_INVALID_HANDLE,                                  \
+                std::string(fn) + ": " + (what) + " " + handle_text((id).index, (id).generation) + \
+                    " is not live in this world (released, or never created here)")
+
+// ---- worlds with work for the render thread -----------------------------------------------
+std::mutex g_render_mutex;
+std::vector<pbf_world_id> g_render_worlds;
+
+void add_render_world(pbf_world_id id) {
+    std::lock_guard<std::mutex> lock(g_render_mutex);
+    for (const pbf_world_id& w : g_render_worlds)
+        if (w.index == id.index && w.generation == id.generation) return;
+    g_render_worlds.push_back(id);
+}
+
+void remove_render_world(pbf_world_id id) {
+    std::lock_guard<std::mutex> lock(g_render_mutex);
+    g_render_worlds.erase(std::remove_if(g_render_worlds.begin(), g_render_worlds.end(),
+                                         [&](const pbf_world_id& w) {
+                                             return w.index == id.index && w.generation == id.generation;
+                                         }),
+                          g_render_worlds.end());
+}
+
+void PBF_CALL render_event(int event_id) {
+    try {
+        std::vector<pbf_world_id> worlds;
+        {
+            std::lock_guard<std::mutex> lock(g_render_mutex);
+            worlds = g_render_worlds;
+        }
+        for (const pbf_world_id& id : worlds) {
+            if (event_id != PBF_RENDER_EVENT_ALL_WORLDS && int64_t(event_id) != int64_t(id.index) + 1) continue;
+            pbf::api::WorldLock w("pbf render event", id, /*quiet=*/true);
+            if (!w) {
+                remove_render_world(id);  // destroyed since
+                continue;
+            }
+            Interop* io = existing_interop(*w);
+            if (!io || !io->wants_render_events()) {
+                remove_render_world(id);
+                continue;
+            }
+            const Status st = io->render_event();
+            if (!st.ok())
+                pbf::api::log_message(PBF_LOG_ERROR, std::string(pbf_result_string(st.code)) + ": pbf render event, world " +
+                                                         handle_text(id.index, id.generation) + ": " + st.message);
+        }
+    } catch (const std::exception& e) {
+        pbf::api::log_message(PBF_LOG_ERROR, std::string("PBF_ERROR_INTERNAL: pbf render event: ") + e.what());
+    } catch (...) {
+        pbf::api::log_message(PBF_LOG_ERROR, "PBF_ERROR_INTERNAL: pbf render event: unknown exception");
+    }
+}
+
+pbf_result check_sync(const char* fn, Interop* io, const pbf_external_sync* sync) {
+    PBF_CHECK_STRUCT(pbf_external_sync, sync);
+    PBF_REQUIRE_ARG(sync->reserved0 == 0, "sync.reserved0 must be 0");
+    if (!is_zero(sync->wait_semaphore)) PBF_REQUIRE_HANDLE(io, has_semaphore, sync->wait_semaphore, "sync.wait_semaphore");
+    if (!is_zero(sync->signal_semaphore))
+        PBF_REQUIRE_HANDLE(io, has_semaphore, sync->signal_semaphore, "sync.signal_semaphore");
+    return PBF_OK;
+}
+
+}  // namespace
+
+// =============================================================================================
+extern "C" {
+
+PBF_API pbf_result PBF_CALL pbf_get_interop_support(uint32_t* out_flags) {
+    const char* fn = "pbf_get_interop_support";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_REQUIRE_ARG(out_flags != nullptr, "out_flags is NULL");
+        *out_flags = pbf::interop_support();
+        return PBF_OK;
+    });
+}
+
+// ---- streams and events ----------------------------------------------------------------------
+PBF_API pbf_result PBF_CALL pbf_world_get_cuda_stream(pbf_world_id id, void** out_stream) {
+    const char* fn = "pbf_world_get_cuda_stream";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_REQUIRE_ARG(out_stream != nullptr, "out_stream is NULL");
+        *out_stream = nullptr;
+        if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_CUDA); r != PBF_OK) return r;
+        PBF_LOCK_WORLD(w, id);
+        if (pbf_result r = require_cuda_world(fn, *w); r != PBF_OK) return r;
+        *out_stream = w->backend().cuda_stream();
+        return PBF_OK;
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_set_cuda_stream(pbf_world_id id, void* stream) {
+    const char* fn = "pbf_world_set_cuda_stream";
+    return guarded(fn, [&]() -> pbf_result {
+        if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_CUDA); r != PBF_OK) return r;
+        PBF_LOCK_WORLD(w, id);
+        if (pbf_result r = require_cuda_world(fn, *w); r != PBF_OK) return r;
+        const Status st = w->backend().set_cuda_stream(stream);
+        return st.ok() ? PBF_OK : fail(st.code, std::string(fn) + ": " + st.message);
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_record_cuda_event(pbf_world_id id, void** out_event) {
+    const char* fn = "pbf_world_record_cuda_event";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_REQUIRE_ARG(out_event != nullptr, "out_event is NULL");
+        *out_event = nullptr;
+        if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_CUDA); r != PBF_OK) return r;
+        PBF_LOCK_WORLD(w, id);
+        PBF_INTEROP_OF(io, w);
+        const Status st = io->record_event(out_event);
+        return st.ok() ? PBF_OK : fail(st.code, std::string(fn) + ": " + st.message);
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_wait_cuda_event(pbf_world_id id, void* event) {
+    const char* fn = "pbf_world_wait_cuda_event";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_REQUIRE_ARG(event != nullptr, "event is NULL");
+        if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_CUDA); r != PBF_OK) return r;
+        PBF_LOCK_WORLD(w, id);
+        PBF_INTEROP_OF(io, w);
+        const Status st = io->wait_event(event);
+        return st.ok() ? PBF_OK : fail(st.code, std::string(fn) + ": " + st.message);
+    });
+}
+
+// ---- device buffers ----------------------------------------------------------------------------
+PBF_API pbf_result PBF_CALL pbf_world_map_device_buffers(pbf_world_id id, uint32_t flags, pbf_device_buffers* out) {
+    const char* fn = "pbf_world_map_device_buffers";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_CHECK_STRUCT(pbf_device_buffers, out);
+        PBF_REQUIRE_ARG((flags & ~PBF_MAP_NO_WAIT) == 0, "flags must be 0 or PBF_MAP_NO_WAIT");
+        PBF_LOCK_WORLD(w, id);
+        pbf::Backend& b = w->backend();
+        const bool cuda = b.kind() == PBF_BACKEND_CUDA;
+        uint32_t count = PBF_COUNT_ON_DEVICE;
+        if (!cuda || !(flags & PBF_MAP_NO_WAIT)) {
+            const Status st = b.particle_count(&count);  // on CUDA: waits for the stream
+            if (!st.ok()) return fail(st.code, std::string(fn) + ": " + st.message);
+        }
+        const pbf::LiveBuffers live = b.live_buffers();
+        pbf_device_buffers r;
+        std::memset(&r, 0, sizeof r);
+        r.struct_size = sizeof r;
+        r.memory = cuda ? PBF_MEMORY_CUDA_DEVICE : PBF_MEMORY_HOST;
+        r.positions = live.positions;
+        r.velocities = live.velocities;
+        r.ids = live.ids;
+        r.density_ratio = static_cast<char*>(live.positions) + 12;
+        r.count_device = live.count;
+        r.cuda_stream = cuda ? b.cuda_stream() : nullptr;
+        r.count = count;
+        r.capacity = live.capacity;
+        r.vec4_stride_bytes = 16;
+        r.id_stride_bytes = 4;
+        r.cuda_device = cuda ? live.cuda_device : -1;
+        *out = r;
+        w->mark_mapped();
+        return PBF_OK;
+    });
+}
+
+// ---- OpenGL ----------------------------------------------------------------------------------
+PBF_API pbf_result PBF_CALL pbf_gl_buffer_desc_init(pbf_gl_buffer_desc* d, uint32_t struct_size) {
+    const char* fn = "pbf_gl_buffer_desc_init";
+    if (pbf_result r = pbf::api::check_struct(fn, "pbf_gl_buffer_desc", d, struct_size, sizeof(pbf_gl_buffer_desc));
+        r != PBF_OK)
+        return r;
+    std::memset(d, 0, sizeof *d);
+    d->struct_size = sizeof *d;
+    d->source = PBF_BUFFER_POSITIONS;
+    d->mode = PBF_COPY_ON_STEP;
+    return PBF_OK;
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_register_gl_buffer(pbf_world_id id, const pbf_gl_buffer_desc* d,
+                                                         pbf_gl_buffer_id* out) {
+    const char* fn = "pbf_world_register_gl_buffer";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_REQUIRE_ARG(out != nullptr, "out_buffer is NULL");
+        *out = pbf_gl_buffer_id{0, 0};
+        PBF_CHECK_STRUCT(pbf_gl_buffer_desc, d);
+        PBF_REQUIRE_ARG(d->buffer != 0, "buffer must be a GL buffer object name (non-zero)");
+        PBF_REQUIRE_ARG(valid_source(d->source), "source must be PBF_BUFFER_POSITIONS, _VELOCITIES or _IDS");
+        PBF_REQUIRE_ARG(valid_mode(d->mode), "mode must be PBF_COPY_ON_STEP, _ON_RENDER_EVENT or _MANUAL");
+        PBF_REQUIRE_ARG(d->capacity > 0, "capacity must be > 0");
+        PBF_REQUIRE_ARG(d->offset_bytes % element_bytes(d->source) == 0,
+                        "offset_bytes must be a multiple of " + std::to_string(element_bytes(d->source)));
+        PBF_REQUIRE_ARG(d->draw_args_offset_bytes % 4 == 0, "draw_args_offset_bytes must be a multiple of 4");
+        PBF_REQUIRE_ARG(d->reserved0 == 0, "reserved0 must be 0");
+        if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_OPENGL); r != PBF_OK) return r;
+        PBF_LOCK_WORLD(w, id);
+        PBF_INTEROP_OF(io, w);
+        const Status st = io->register_gl_buffer(*d, out);
+        if (!st.ok()) return fail(st.code, std::string(fn) + ": " + st.message);
+        if (d->mode == PBF_COPY_ON_RENDER_EVENT) add_render_world(id);
+        return PBF_OK;
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_unregister_gl_buffer(pbf_world_id id, pbf_gl_buffer_id buffer) {
+    const char* fn = "pbf_world_unregister_gl_buffer";
+    return guarded(fn, [&]() -> pbf_result {
+        if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_OPENGL); r != PBF_OK) return r;
+        PBF_LOCK_WORLD(w, id);
+        Interop* io = existing_interop(*w);
+        PBF_REQUIRE_HANDLE(io, has_gl_buffer, buffer, "GL buffer");
+        const Status st = io->unregister_gl_buffer(buffer);
+        return st.ok() ? PBF_OK : fail(st.code, std::string(fn) + ": " + st.message);
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_copy_to_gl_buffer(pbf_world_id id, pbf_gl_buffer_id buffer) {
+    const char* fn = "pbf_world_copy_to_gl_buffer";
+    return guarded(fn, [&]() -> pbf_result {
+        if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_OPENGL); r != PBF_OK) return r;
+        PBF_LOCK_WORLD(w, id);
+        Interop* io = existing_interop(*w);
+        PBF_REQUIRE_HANDLE(io, has_gl_buffer, buffer, "GL buffer");
+        PBF_REQUIRE(io->gl_buffer_mode(buffer) != PBF_COPY_ON_RENDER_EVENT, PBF_ERROR_INVALID_STATE,
+                    std::string(fn) + ": the buffer was registered with PBF_COPY_ON_RENDER_EVENT: the render thread copies");
+        const Status st = io->copy_to_gl_buffer(buffer);
+        return st.ok() ? PBF_OK : fail(st.code, std::string(fn) + ": " + st.message);
+    });
+}
+
+// ---- external memory and semaphores ----------------------------------------------------------
+PBF_API pbf_result PBF_CALL pbf_external_buffer_desc_init(pbf_external_buffer_desc* d, uint32_t struct_size) {
+    const char* fn = "pbf_external_buffer_desc_init";
+    if (pbf_result r =
+            pbf::api::check_struct(fn, "pbf_external_buffer_desc", d, struct_size, sizeof(pbf_external_buffer_desc));
+        r != PBF_OK)
+        return r;
+    std::memset(d, 0, sizeof *d);
+    d->struct_size = sizeof *d;
+    d->fd = -1;
+    d->source = PBF_BUFFER_POSITIONS;
+    d->mode = PBF_COPY_MANUAL;
+    return PBF_OK;
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_import_external_buffer(pbf_world_id id, const pbf_external_buffer_desc* d,
+                                                             pbf_external_buffer_id* out) {
+    const char* fn = "pbf_world_import_external_buffer";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_REQUIRE_ARG(out != nullptr, "out_buffer is NULL");
+        *out = pbf_external_buffer_id{0, 0};
+        PBF_CHECK_STRUCT(pbf_external_buffer_desc, d);
+        PBF_REQUIRE_ARG(raw(d->type) >= PBF_EXTERNAL_MEMORY_OPAQUE_FD && raw(d->type) <= PBF_EXTERNAL_MEMORY_D3D11_RESOURCE_KMT,
+                        "type must be a pbf_external_memory_type");
+        const bool fd_type = raw(d->type) == PBF_EXTERNAL_MEMORY_OPAQUE_FD;
+        if (fd_type) PBF_REQUIRE_ARG(d->fd >= 0, "fd must be an open file descriptor (>= 0)");
+        else PBF_REQUIRE_ARG(d->win32_handle != nullptr, "win32_handle must be set for this type");
+        PBF_REQUIRE_ARG(d->dedicated <= 1, "dedicated must be 0 or 1");
+        PBF_REQUIRE_ARG(valid_source(d->source), "source must be PBF_BUFFER_POSITIONS, _VELOCITIES or _IDS");
+        PBF_REQUIRE_ARG(valid_mode(d->mode), "mode must be PBF_COPY_ON_STEP, _ON_RENDER_EVENT or _MANUAL");
+        PBF_REQUIRE_ARG(d->size_bytes > 0, "size_bytes must be > 0");
+        PBF_REQUIRE_ARG(d->capacity > 0, "capacity must be > 0");
+        const uint64_t elem = element_bytes(d->source);
+        PBF_REQUIRE_ARG(d->offset_bytes % elem == 0, "offset_bytes must be a multiple of " + std::to_string(elem));
+        const uint64_t bytes = uint64_t(d->capacity) * elem;
+        PBF_REQUIRE_ARG(d->offset_bytes <= d->size_bytes && bytes <= d->size_bytes - d->offset_bytes,
+                        "offset_bytes + capacity * " + std::to_string(elem) + " exceeds size_bytes");
+        PBF_REQUIRE_ARG(d->write_draw_args <= 1, "write_draw_args must be 0 or 1");
+        if (d->write_draw_args) {
+            PBF_REQUIRE_ARG(d->draw_args_offset_bytes % 4 == 0, "draw_args_offset_bytes must be a multiple of 4");
+            PBF_REQUIRE_ARG(d->size_bytes >= 16 && d->draw_args_offset_bytes <= d->size_bytes - 16,
+                            "draw_args_offset_bytes + 16 exceeds size_bytes");
+            const uint64_t a0 = d->draw_args_offset_bytes, a1 = a0 + 16;
+            PBF_REQUIRE_ARG(a1 <= d->offset_bytes || a0 >= d->offset_bytes + bytes,
+                            "the draw arguments overlap the particles");
+        }
+        PBF_REQUIRE_ARG(d->reserved0 == 0, "reserved0 must be 0");
+        if (pbf_result r = require_support(fn, fd_type ? PBF_INTEROP_SUPPORT_EXTERNAL_FD : PBF_INTEROP_SUPPORT_EXTERNAL_WIN32);
+            r != PBF_OK)
+            return r;
+        PBF_LOCK_WORLD(w, id);
+        PBF_INTEROP_OF(io, w);
+        const Status st = io->import_external_buffer(*d, out);
+        if (!st.ok()) return fail(st.code, std::string(fn) + ": " + st.message);
+        if (d->mode == PBF_COPY_ON_RENDER_EVENT) add_render_world(id);
+        return PBF_OK;
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_release_external_buffer(pbf_world_id id, pbf_external_buffer_id buffer) {
+    const char* fn = "pbf_world_release_external_buffer";
+    return guarded(fn, [&]() -> pbf_result {
+        if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_CUDA); r != PBF_OK) return r;
+        PBF_LOCK_WORLD(w, id);
+        Interop* io = existing_interop(*w);
+        PBF_REQUIRE_HANDLE(io, has_external_buffer, buffer, "external buffer");
+        const Status st = io->release_external_buffer(buffer);
+        return st.ok() ? PBF_OK : fail(st.code, std::string(fn) + ": " + st.message);
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_semaphore_desc_init(pbf_semaphore_desc* d, uint32_t struct_size) {
+    const char* fn = "pbf_semaphore_desc_init";
+    if (pbf_result r = pbf::api::check_struct(fn, "pbf_semaphore_desc", d, struct_size, sizeof(pbf_semaphore_desc));
+        r != PBF_OK)
+        return r;
+    std::memset(d, 0, sizeof *d);
+    d->struct_size = sizeof *d;
+    d->fd = -1;
+    return PBF_OK;
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_import_semaphore(pbf_world_id id, const pbf_semaphore_desc* d,
+                                                       pbf_semaphore_id* out) {
+    const char* fn = "pbf_world_import_semaphore";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_REQUIRE_ARG(out != nullptr, "out_semaphore is NULL");
+        *out = pbf_semaphore_id{0, 0};
+        PBF_CHECK_STRUCT(pbf_semaphore_desc, d);
+        PBF_REQUIRE_ARG(raw(d->type) >= PBF_SEMAPHORE_VULKAN_BINARY_FD && raw(d->type) <= PBF_SEMAPHORE_D3D12_FENCE,
+                        "type must be a pbf_semaphore_type");
+        const bool fd_type =
+            raw(d->type) == PBF_SEMAPHORE_VULKAN_BINARY_FD || raw(d->type) == PBF_SEMAPHORE_VULKAN_TIMELINE_FD;
+        if (fd_type) PBF_REQUIRE_ARG(d->fd >= 0, "fd must be an open file descriptor (>= 0)");
+        else PBF_REQUIRE_ARG(d->win32_handle != nullptr, "win32_handle must be set for this type");
+        PBF_REQUIRE_ARG(d->reserved0 == 0, "reserved0 must be 0");
+        if (pbf_result r = require_support(fn, fd_type ? PBF_INTEROP_SUPPORT_EXTERNAL_FD : PBF_INTEROP_SUPPORT_EXTERNAL_WIN32);
+            r != PBF_OK)
+            return r;
+        PBF_LOCK_WORLD(w, id);
+        PBF_INTEROP_OF(io, w);
+        const Status st = io->import_semaphore(*d, out);
+        return st.ok() ? PBF_OK : fail(st.code, std::string(fn) + ": " + st.message);
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_release_semaphore(pbf_world_id id, pbf_semaphore_id semaphore) {
+    const char* fn = "pbf_world_release_semaphore";
+    return guarded(fn, [&]() -> pbf_result {
+        if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_CUDA); r != PBF_OK) return r;
+        PBF_LOCK_WORLD(w, id);
+        Interop* io = existing_interop(*w);
+        PBF_REQUIRE_HANDLE(io, has_semaphore, semaphore, "semaphore");
+        const Status st = io->release_semaphore(semaphore);
+        return st.ok() ? PBF_OK : fail(st.code, std::string(fn) + ": " + st.message);
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_external_sync_init(pbf_external_sync* s, uint32_t struct_size) {
+    const char* fn = "pbf_external_sync_init";
+    if (pbf_result r = pbf::api::check_struct(fn, "pbf_external_sync", s, struct_size, sizeof(pbf_external_sync));
+        r != PBF_OK)
+        return r;
+    std::memset(s, 0, sizeof *s);
+    s->struct_size = sizeof *s;
+    return PBF_OK;
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_copy_to_external_buffer(pbf_world_id id, pbf_external_buffer_id buffer,
+                                                              const pbf_external_sync* sync) {
+    const char* fn = "pbf_world_copy_to_external_buffer";
+    return guarded(fn, [&]() -> pbf_result {
+        if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_CUDA); r != PBF_OK) return r;
+        PBF_LOCK_WORLD(w, id);
+        Interop* io = existing_interop(*w);
+        PBF_REQUIRE_HANDLE(io, has_external_buffer, buffer, "external buffer");
+        if (sync)
+            if (pbf_result r = check_sync(fn, io, sync); r != PBF_OK) return r;
+        PBF_REQUIRE(io->external_buffer_mode(buffer) != PBF_COPY_ON_RENDER_EVENT, PBF_ERROR_INVALID_STATE,
+                    std::string(fn) + ": the buffer was imported with PBF_COPY_ON_RENDER_EVENT: the render thread copies");
+        const Status st = io->copy_to_external_buffer(buffer, sync);
+        return st.ok() ? PBF_OK : fail(st.code, std::string(fn) + ": " + st.message);
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_set_external_sync(pbf_world_id id, pbf_external_buffer_id buffer,
+                                                        const pbf_external_sync* sync) {
+    const char* fn = "pbf_world_set_external_sync";
+    return guarded(fn, [&]() -> pbf_result {
+        if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_CUDA); r != PBF_OK) return r;
+        PBF_LOCK_WORLD(w, id);
+        Interop* io = existing_interop(*w);
+        PBF_REQUIRE_HANDLE(io, has_external_buffer, buffer, "external buffer");
+        if (sync)
+            if (pbf_result r = check_sync(fn, io, sync); r != PBF_OK) return r;
+        PBF_REQUIRE(io->external_buffer_mode(buffer) != PBF_COPY_MANUAL, PBF_ERROR_INVALID_STATE,
+                    std::string(fn) + ": the buffer was imported with PBF_COPY_MANUAL: pass the sync to "
+                                      "pbf_world_copy_to_external_buffer");
+        io->set_external_sync(buffer, sync);
+        return PBF_OK;
+    });
+}
+
+// ---- render thread -----------------------------------------------------------------------------
+PBF_API pbf_render_event_fn PBF_CALL pbf_get_render_event_func(void) { return &render_event; }
+
+PBF_API pbf_result PBF_CALL pbf_world_get_render_event_id(pbf_world_id id, int32_t* out_event_id) {
+    const char* fn = "pbf_world_get_render_event_id";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_REQUIRE_ARG(out_event_id != nullptr, "out_event_id is NULL");
+        *out_event_id = 0;
+        PBF_LOCK_WORLD(w, id);
+        PBF_REQUIRE(id.index < 0x7FFFFFFEu, PBF_ERROR_CAPACITY, std::string(fn) + ": world index too large for an event id");
+        *out_event_id = int32_t(id.index + 1);
+        return PBF_OK;
+    });
+}
+
+// ---- info and debug ----------------------------------------------------------------------------
+PBF_API pbf_result PBF_CALL pbf_world_get_interop_info(pbf_world_id id, pbf_interop_info* out) {
+    const char* fn = "pbf_world_get_interop_info";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_CHECK_STRUCT(pbf_interop_info, out);
+        PBF_LOCK_WORLD(w, id);
+        pbf_interop_info info;
+        std::memset(&info, 0, sizeof info);
+        info.struct_size = sizeof info;
+        info.cuda_device = -1;
+        info.last_render_event_result = PBF_OK;
+        if (w->backend().kind() == PBF_BACKEND_CUDA) {
+            PBF_INTEROP_OF(io, w);
+            io->get_info(&info);
+        }
+        *out = info;
+        return PBF_OK;
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_debug_get_transfer_count(uint64_t* out_transfers, uint64_t* out_bytes) {
+    const char* fn = "pbf_debug_get_transfer_count";
+    return guarded(fn, [&]() -> pbf_result {
+        uint64_t transfers = 0, bytes = 0;
+        pbf::host_device_transfers(&transfers, &bytes);
+        if (out_transfers) *out_transfers = transfers;
+        if (out_bytes) *out_bytes = bytes;
+        return PBF_OK;
+    });
+}
+
+}  // extern "C"
