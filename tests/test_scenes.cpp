@@ -256,3 +256,37 @@ TEST_CASE("a kinematic box moving through a pool pushes the fluid", "[scene][col
     CHECK(pbf_collider_set_pose(w, fixed, static_pos, static_rot) == PBF_ERROR_INVALID_STATE);
     REQUIRE_PBF(pbf_world_destroy(w));
 }
+
+TEST_CASE("adaptive iterations stop at the error target and report the iterations run", "[scene][adaptive]") {
+    auto run = [](float target, uint32_t cap, uint32_t ldc, double* error, double* iterations) {
+        pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.0125f, 0.8f, 0.5f, 0.1f, 4096);
+        d.solver.substeps = 2;
+        d.solver.iterations = cap;
+        d.solver.ldc_enabled = ldc;
+        d.solver.adaptive_error_target = target;
+        pbf_world_id w;
+        REQUIRE_PBF(pbf_world_create(&d, &w));
+        fill(w, 0, 0, 0, 0.2f, 0.4f, 0.1f);
+        *error = *iterations = 0;
+        for (int step = 0; step < 60; ++step) {
+            REQUIRE_PBF(pbf_world_step(w, kDt));
+            const pbf_step_stats s = stats(w);
+            REQUIRE(s.iterations <= cap * 2u);
+            *error += s.density_error_mean / 60.0;
+            *iterations += s.iterations / 60.0;
+        }
+        REQUIRE_PBF(pbf_world_destroy(w));
+    };
+    double fixed_error, fixed_iterations, loose_error, loose_iterations, tight_error, tight_iterations;
+    run(0.0f, 8, 1, &fixed_error, &fixed_iterations);
+    run(0.02f, 8, 1, &loose_error, &loose_iterations);
+    run(0.002f, 8, 1, &tight_error, &tight_iterations);
+    INFO("fixed 8: error " << fixed_error << ", iterations " << fixed_iterations << "; target 2%: " << loose_error
+                           << ", " << loose_iterations << "; target 0.2%: " << tight_error << ", "
+                           << tight_iterations);
+    CHECK(fixed_iterations == Approx(16.0));       // 8 per substep, 2 substeps: reported exactly
+    CHECK(loose_iterations < tight_iterations);    // a looser target needs fewer iterations
+    CHECK(tight_iterations <= fixed_iterations);
+    CHECK(loose_error < 0.03);                     // measured after the step: near the target
+    CHECK(tight_error <= loose_error);
+}

@@ -161,6 +161,7 @@ namespace Pbf.Interop
         public uint ldc_enabled;
         public float ldc_gain;
         public float max_speed;
+        public float adaptive_error_target;
     }
 
     [StructLayout(LayoutKind.Sequential)]

@@ -104,6 +104,7 @@ int main(void) {
     FIELD(pbf_solver_params, ldc_enabled);
     FIELD(pbf_solver_params, ldc_gain);
     FIELD(pbf_solver_params, max_speed);
+    FIELD(pbf_solver_params, adaptive_error_target);
 
     STRUCT(pbf_world_desc);
     FIELD(pbf_world_desc, struct_size);
