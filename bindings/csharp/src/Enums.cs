@@ -83,3 +83,45 @@ namespace Pbf
         CudaDevice = 2,
     }
 }
+
+namespace Pbf
+{
+    /// <summary>What this build of libpbf can do for zero-copy rendering (pbf_get_interop_support
+    /// bits; see <see cref="Library.GetInteropSupport"/>).</summary>
+    [System.Flags]
+    public enum InteropSupport : uint
+    {
+        None = 0,
+        /// <summary>CUDA streams, events and device pointers.</summary>
+        Cuda = 0x1,
+        /// <summary>CUDA-GL interop: <see cref="World.RegisterGlBuffer"/>.</summary>
+        OpenGL = 0x2,
+        /// <summary>Opaque fd memory and semaphores (Vulkan on Linux).</summary>
+        ExternalFd = 0x4,
+        /// <summary>Win32 handles, D3D11 / D3D12 (Windows).</summary>
+        ExternalWin32 = 0x8,
+    }
+
+    /// <summary>pbf_buffer: which particle buffer a graphics-buffer copy writes.</summary>
+    public enum BufferSource
+    {
+        /// <summary>16 bytes per particle: float x, y, z, density ratio.</summary>
+        Positions = 1,
+        /// <summary>16 bytes per particle: float vx, vy, vz, 0.</summary>
+        Velocities = 2,
+        /// <summary>4 bytes per particle: uint id.</summary>
+        Ids = 3,
+    }
+
+    /// <summary>pbf_copy_mode: when a graphics buffer receives the particles.</summary>
+    public enum CopyMode
+    {
+        /// <summary><see cref="World.Step"/> queues the copy after each step.</summary>
+        OnStep = 1,
+        /// <summary>The render event (<see cref="Library.GetRenderEventFunc"/>) copies, on the
+        /// engine's render thread.</summary>
+        OnRenderEvent = 2,
+        /// <summary>Only <see cref="World.CopyToGlBuffer"/> copies.</summary>
+        Manual = 3,
+    }
+}

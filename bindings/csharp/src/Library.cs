@@ -11,7 +11,7 @@ namespace Pbf
     public delegate void LogHandler(LogLevel level, string message);
 
     /// <summary>Process-wide parts of libpbf: versions and logging.</summary>
-    public static class Library
+    public static partial class Library
     {
         /// <summary>PBF_VERSION of the header these bindings mirror.</summary>
         public const uint HeaderVersion = Native.PBF_VERSION;

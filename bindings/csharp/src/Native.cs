@@ -77,6 +77,45 @@ namespace Pbf.Interop
         PBF_MEMORY_KIND_FORCE32 = 0x7FFFFFFF,
     }
 
+    // Interop section of the header.
+    public enum pbf_buffer : int
+    {
+        PBF_BUFFER_POSITIONS = 1,
+        PBF_BUFFER_VELOCITIES = 2,
+        PBF_BUFFER_IDS = 3,
+        PBF_BUFFER_FORCE32 = 0x7FFFFFFF,
+    }
+
+    public enum pbf_copy_mode : int
+    {
+        PBF_COPY_ON_STEP = 1,
+        PBF_COPY_ON_RENDER_EVENT = 2,
+        PBF_COPY_MANUAL = 3,
+        PBF_COPY_MODE_FORCE32 = 0x7FFFFFFF,
+    }
+
+    public enum pbf_external_memory_type : int
+    {
+        PBF_EXTERNAL_MEMORY_OPAQUE_FD = 1,
+        PBF_EXTERNAL_MEMORY_OPAQUE_WIN32 = 2,
+        PBF_EXTERNAL_MEMORY_OPAQUE_WIN32_KMT = 3,
+        PBF_EXTERNAL_MEMORY_D3D12_RESOURCE = 4,
+        PBF_EXTERNAL_MEMORY_D3D11_RESOURCE = 5,
+        PBF_EXTERNAL_MEMORY_D3D11_RESOURCE_KMT = 6,
+        PBF_EXTERNAL_MEMORY_TYPE_FORCE32 = 0x7FFFFFFF,
+    }
+
+    public enum pbf_semaphore_type : int
+    {
+        PBF_SEMAPHORE_VULKAN_BINARY_FD = 1,
+        PBF_SEMAPHORE_VULKAN_TIMELINE_FD = 2,
+        PBF_SEMAPHORE_VULKAN_BINARY_WIN32 = 3,
+        PBF_SEMAPHORE_VULKAN_BINARY_WIN32_KMT = 4,
+        PBF_SEMAPHORE_VULKAN_TIMELINE_WIN32 = 5,
+        PBF_SEMAPHORE_D3D12_FENCE = 6,
+        PBF_SEMAPHORE_TYPE_FORCE32 = 0x7FFFFFFF,
+    }
+
     // ---- Fixed-size C arrays -------------------------------------------------------------------
     /// <summary>float[3] of the header.</summary>
     [StructLayout(LayoutKind.Sequential)]
@@ -120,6 +159,48 @@ namespace Pbf.Interop
         }
     }
 
+    /// <summary>char[256] of the header: a NUL-terminated UTF-8 string.</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct Char256
+    {
+        public Char128 first, second;
+
+        public const int Length = 256;
+
+        /// <summary>The bytes up to the first NUL (or all 256), decoded as UTF-8.</summary>
+        public override string ToString()
+        {
+            Span<byte> bytes = MemoryMarshal.AsBytes(MemoryMarshal.CreateSpan(ref this, 1));
+            int n = bytes.IndexOf((byte)0);
+            if (n < 0) n = bytes.Length;
+            return System.Text.Encoding.UTF8.GetString(bytes.Slice(0, n).ToArray());
+        }
+    }
+
+    /// <summary>uint8_t[16] of the header (a device UUID).</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct Bytes16
+    {
+        public byte b00, b01, b02, b03, b04, b05, b06, b07, b08, b09, b10, b11, b12, b13, b14, b15;
+
+        public const int Length = 16;
+
+        /// <summary>A copy of the 16 bytes.</summary>
+        public byte[] ToArray() { return MemoryMarshal.AsBytes(MemoryMarshal.CreateSpan(ref this, 1)).ToArray(); }
+    }
+
+    /// <summary>uint8_t[8] of the header (a LUID).</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct Bytes8
+    {
+        public byte b0, b1, b2, b3, b4, b5, b6, b7;
+
+        public const int Length = 8;
+
+        /// <summary>A copy of the 8 bytes.</summary>
+        public byte[] ToArray() { return MemoryMarshal.AsBytes(MemoryMarshal.CreateSpan(ref this, 1)).ToArray(); }
+    }
+
     // ---- Handles -------------------------------------------------------------------------------
     [StructLayout(LayoutKind.Sequential)]
     public struct pbf_world_id
@@ -139,6 +220,30 @@ namespace Pbf.Interop
 
     [StructLayout(LayoutKind.Sequential)]
     public struct pbf_collider_id
+    {
+        public uint index;
+        public uint generation;
+        public override string ToString() { return "{" + index + ", " + generation + "}"; }
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_gl_buffer_id
+    {
+        public uint index;
+        public uint generation;
+        public override string ToString() { return "{" + index + ", " + generation + "}"; }
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_external_buffer_id
+    {
+        public uint index;
+        public uint generation;
+        public override string ToString() { return "{" + index + ", " + generation + "}"; }
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_semaphore_id
     {
         public uint index;
         public uint generation;
@@ -261,9 +366,109 @@ namespace Pbf.Interop
         public uint reserved1;
     }
 
+    // ---- Interop structs -------------------------------------------------------------------
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_device_buffers
+    {
+        public uint struct_size;
+        public pbf_memory_kind memory;
+        public IntPtr positions;
+        public IntPtr velocities;
+        public IntPtr ids;
+        public IntPtr density_ratio;
+        public IntPtr count_device;
+        public IntPtr cuda_stream;
+        public uint count;
+        public uint capacity;
+        public uint vec4_stride_bytes;
+        public uint id_stride_bytes;
+        public int cuda_device;
+        public uint reserved0;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_gl_buffer_desc
+    {
+        public uint struct_size;
+        public uint buffer;
+        public pbf_buffer source;
+        public pbf_copy_mode mode;
+        public ulong offset_bytes;
+        public uint capacity;
+        public uint draw_args_buffer;
+        public ulong draw_args_offset_bytes;
+        public uint draw_args_vertices;
+        public uint reserved0;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_external_buffer_desc
+    {
+        public uint struct_size;
+        public pbf_external_memory_type type;
+        public int fd;
+        public uint dedicated;
+        public IntPtr win32_handle;
+        public ulong size_bytes;
+        public ulong offset_bytes;
+        public pbf_buffer source;
+        public pbf_copy_mode mode;
+        public uint capacity;
+        public uint write_draw_args;
+        public ulong draw_args_offset_bytes;
+        public uint draw_args_vertices;
+        public uint reserved0;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_semaphore_desc
+    {
+        public uint struct_size;
+        public pbf_semaphore_type type;
+        public int fd;
+        public uint reserved0;
+        public IntPtr win32_handle;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_external_sync
+    {
+        public uint struct_size;
+        public uint reserved0;
+        public pbf_semaphore_id wait_semaphore;
+        public ulong wait_value;
+        public pbf_semaphore_id signal_semaphore;
+        public ulong signal_value;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_interop_info
+    {
+        public uint struct_size;
+        public uint gl_buffers;
+        public uint external_buffers;
+        public uint semaphores;
+        public ulong copies;
+        public ulong render_events;
+        public float last_copy_gpu_ms;
+        public float last_copy_host_ms;
+        public pbf_result last_render_event_result;
+        public uint pending_render_work;
+        public Bytes16 device_uuid;
+        public Bytes8 device_luid;
+        public uint device_node_mask;
+        public int cuda_device;
+        public Char256 last_render_event_message;
+    }
+
     /// <summary>typedef void (*pbf_log_fn)(pbf_log_level, const char*, void*).</summary>
     [UnmanagedFunctionPointer(CallingConvention.Cdecl)]
     public delegate void pbf_log_fn(pbf_log_level level, IntPtr message, IntPtr user_data);
+
+    /// <summary>typedef void (*pbf_render_event_fn)(int event_id): what pbf_get_render_event_func
+    /// returns. Pass the pointer itself to the engine (Unity: GL.IssuePluginEvent(ptr, id)).</summary>
+    [UnmanagedFunctionPointer(CallingConvention.Cdecl)]
+    public delegate void pbf_render_event_fn(int event_id);
 
     // ---- Functions -----------------------------------------------------------------------------
     public static class Native
@@ -287,6 +492,22 @@ namespace Pbf.Interop
         public static uint PBF_VERSION_GET_MAJOR(uint v) { return v >> 22; }
         public static uint PBF_VERSION_GET_MINOR(uint v) { return (v >> 12) & 0x3FFu; }
         public static uint PBF_VERSION_GET_PATCH(uint v) { return v & 0xFFFu; }
+
+        // Interop constants
+        /// <summary>pbf_get_interop_support bits: streams, events, device pointers.</summary>
+        public const uint PBF_INTEROP_SUPPORT_CUDA = 0x1u;
+        /// <summary>pbf_world_register_gl_buffer (CUDA-GL interop).</summary>
+        public const uint PBF_INTEROP_SUPPORT_OPENGL = 0x2u;
+        /// <summary>Opaque fd memory and semaphores (Linux).</summary>
+        public const uint PBF_INTEROP_SUPPORT_EXTERNAL_FD = 0x4u;
+        /// <summary>Win32 handles, D3D11 / D3D12 (Windows).</summary>
+        public const uint PBF_INTEROP_SUPPORT_EXTERNAL_WIN32 = 0x8u;
+        /// <summary>pbf_world_map_device_buffers flag: do not wait for the world's stream.</summary>
+        public const uint PBF_MAP_NO_WAIT = 0x1u;
+        /// <summary>pbf_device_buffers.count when mapped with PBF_MAP_NO_WAIT on CUDA.</summary>
+        public const uint PBF_COUNT_ON_DEVICE = 0xFFFFFFFFu;
+        /// <summary>The render event id that runs the render work of every world.</summary>
+        public const int PBF_RENDER_EVENT_ALL_WORLDS = 0;
 
         // Version, errors, logging
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
@@ -449,6 +670,109 @@ namespace Pbf.Interop
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_world_unmap(pbf_world_id world);
 
+        // ==== Interop: zero-copy rendering ====
+        // Every function exists in every build; what the build lacks returns
+        // PBF_ERROR_BACKEND_UNAVAILABLE, a CUDA-only call on a CPU world PBF_ERROR_INVALID_STATE.
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_get_interop_support(out uint out_flags);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_get_interop_support(IntPtr out_flags);
+
+        // Streams and events (cudaStream_t / cudaEvent_t as IntPtr)
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_get_cuda_stream(pbf_world_id world, out IntPtr out_stream);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_get_cuda_stream(pbf_world_id world, IntPtr out_stream_ptr);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_set_cuda_stream(pbf_world_id world, IntPtr stream);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_record_cuda_event(pbf_world_id world, out IntPtr out_event);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_record_cuda_event(pbf_world_id world, IntPtr out_event_ptr);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_wait_cuda_event(pbf_world_id world, IntPtr @event);
+
+        // Live buffers as device pointers
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_map_device_buffers(pbf_world_id world, uint flags, ref pbf_device_buffers out_buffers);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_map_device_buffers(pbf_world_id world, uint flags, IntPtr out_buffers);
+
+        // OpenGL
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_gl_buffer_desc_init(ref pbf_gl_buffer_desc desc, uint struct_size);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_gl_buffer_desc_init(IntPtr desc, uint struct_size);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_register_gl_buffer(pbf_world_id world, ref pbf_gl_buffer_desc desc, out pbf_gl_buffer_id out_buffer);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_register_gl_buffer(pbf_world_id world, IntPtr desc, out pbf_gl_buffer_id out_buffer);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_register_gl_buffer(pbf_world_id world, ref pbf_gl_buffer_desc desc, IntPtr out_buffer);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_unregister_gl_buffer(pbf_world_id world, pbf_gl_buffer_id buffer);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_copy_to_gl_buffer(pbf_world_id world, pbf_gl_buffer_id buffer);
+
+        // External memory and semaphores (Vulkan, Direct3D)
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_external_buffer_desc_init(ref pbf_external_buffer_desc desc, uint struct_size);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_external_buffer_desc_init(IntPtr desc, uint struct_size);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_import_external_buffer(pbf_world_id world, ref pbf_external_buffer_desc desc, out pbf_external_buffer_id out_buffer);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_import_external_buffer(pbf_world_id world, IntPtr desc, out pbf_external_buffer_id out_buffer);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_import_external_buffer(pbf_world_id world, ref pbf_external_buffer_desc desc, IntPtr out_buffer);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_release_external_buffer(pbf_world_id world, pbf_external_buffer_id buffer);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_semaphore_desc_init(ref pbf_semaphore_desc desc, uint struct_size);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_semaphore_desc_init(IntPtr desc, uint struct_size);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_import_semaphore(pbf_world_id world, ref pbf_semaphore_desc desc, out pbf_semaphore_id out_semaphore);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_import_semaphore(pbf_world_id world, IntPtr desc, out pbf_semaphore_id out_semaphore);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_import_semaphore(pbf_world_id world, ref pbf_semaphore_desc desc, IntPtr out_semaphore);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_release_semaphore(pbf_world_id world, pbf_semaphore_id semaphore);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_external_sync_init(ref pbf_external_sync sync, uint struct_size);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_external_sync_init(IntPtr sync, uint struct_size);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_copy_to_external_buffer(pbf_world_id world, pbf_external_buffer_id buffer, ref pbf_external_sync sync);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_copy_to_external_buffer(pbf_world_id world, pbf_external_buffer_id buffer, IntPtr sync);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_set_external_sync(pbf_world_id world, pbf_external_buffer_id buffer, ref pbf_external_sync sync);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_set_external_sync(pbf_world_id world, pbf_external_buffer_id buffer, IntPtr sync);
+
+        // The render-thread entry point
+        /// <summary>pbf_render_event_fn as a raw function pointer (never null): hand it to the
+        /// engine as is (Unity: GL.IssuePluginEvent(pbf_get_render_event_func(), eventId)).</summary>
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern IntPtr pbf_get_render_event_func();
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_get_render_event_id(pbf_world_id world, out int out_event_id);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_get_render_event_id(pbf_world_id world, IntPtr out_event_id);
+
+        // State, device identity and cost
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_get_interop_info(pbf_world_id world, ref pbf_interop_info out_info);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_get_interop_info(pbf_world_id world, IntPtr out_info);
+        /// <summary>Debug: host&lt;-&gt;device copies made by the library, process-wide.</summary>
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_debug_get_transfer_count(out ulong out_transfers, out ulong out_bytes);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_debug_get_transfer_count(IntPtr out_transfers, IntPtr out_bytes);
+
         // ---- Helpers that the header provides as static inline functions ----------------------
         /// <summary>Marshal.SizeOf(T) as the struct_size a desc carries (computed once per type).</summary>
         public static uint SizeOf<T>() where T : struct { return SizeCache<T>.Value; }
@@ -493,6 +817,34 @@ namespace Pbf.Interop
             var d = new pbf_collider_desc { struct_size = SizeOf<pbf_collider_desc>() };
             pbf_collider_desc_init(ref d, d.struct_size);
             return d;
+        }
+
+        public static pbf_gl_buffer_desc pbf_gl_buffer_desc_default()
+        {
+            var d = new pbf_gl_buffer_desc { struct_size = SizeOf<pbf_gl_buffer_desc>() };
+            pbf_gl_buffer_desc_init(ref d, d.struct_size);
+            return d;
+        }
+
+        public static pbf_external_buffer_desc pbf_external_buffer_desc_default()
+        {
+            var d = new pbf_external_buffer_desc { struct_size = SizeOf<pbf_external_buffer_desc>() };
+            pbf_external_buffer_desc_init(ref d, d.struct_size);
+            return d;
+        }
+
+        public static pbf_semaphore_desc pbf_semaphore_desc_default()
+        {
+            var d = new pbf_semaphore_desc { struct_size = SizeOf<pbf_semaphore_desc>() };
+            pbf_semaphore_desc_init(ref d, d.struct_size);
+            return d;
+        }
+
+        public static pbf_external_sync pbf_external_sync_default()
+        {
+            var s = new pbf_external_sync { struct_size = SizeOf<pbf_external_sync>() };
+            pbf_external_sync_init(ref s, s.struct_size);
+            return s;
         }
 
         /// <summary>Decodes a NUL-terminated UTF-8 string owned by the library ("" for NULL).</summary>

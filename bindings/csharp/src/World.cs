@@ -13,7 +13,7 @@ namespace Pbf
     /// <see cref="ObjectDisposedException"/>. Calls on one world may come from any thread (the
     /// library serialises them); calls on different worlds run in parallel.
     /// </summary>
-    public sealed class World : IDisposable
+    public sealed partial class World : IDisposable
     {
         readonly pbf_world_id _id;
         int _disposed;

@@ -124,7 +124,10 @@ namespace Pbf.Tests
             {
                 FieldInfo fi = typeof(Native).GetField(f[1], BindingFlags.Public | BindingFlags.Static);
                 Assert.IsNotNull(fi, "Native." + f[1]);
-                Assert.AreEqual(uint.Parse(f[2], CultureInfo.InvariantCulture), (uint)fi.GetValue(null), f[1]);
+                Assert.IsTrue(fi.IsLiteral, "Native." + f[1] + " must be a const");
+                // uint for the header's unsigned macros, int for PBF_RENDER_EVENT_ALL_WORLDS.
+                Assert.AreEqual(long.Parse(f[2], CultureInfo.InvariantCulture),
+                                Convert.ToInt64(fi.GetValue(null), CultureInfo.InvariantCulture), f[1]);
                 ++n;
             }
             Assert.GreaterOrEqual(n, 4, "PBF_VERSION_MAJOR, _MINOR, _PATCH and PBF_VERSION");
@@ -143,6 +146,8 @@ namespace Pbf.Tests
                 Tuple.Create(typeof(pbf_collider_shape), typeof(ColliderShape)),
                 Tuple.Create(typeof(pbf_collider_motion), typeof(ColliderMotion)),
                 Tuple.Create(typeof(pbf_memory_kind), typeof(MemoryKind)),
+                Tuple.Create(typeof(pbf_buffer), typeof(BufferSource)),
+                Tuple.Create(typeof(pbf_copy_mode), typeof(CopyMode)),
             };
             foreach (var p in pairs)
             {

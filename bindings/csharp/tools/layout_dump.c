@@ -1,5 +1,6 @@
-/* Prints the layout of every struct, the value of every enum constant and the version macros of
- * include/pbf_c_api.h, one fact a line, for the C# layout parity test (tests/LayoutTests.cs):
+/* Prints the layout of every struct, the value of every enum constant and the version and
+ * interop macros of include/pbf_c_api.h, one fact a line, for the C# layout parity test
+ * (tests/LayoutTests.cs):
  *
  *   const  NAME VALUE
  *   enum   TYPE NAME VALUE
@@ -27,6 +28,13 @@ int main(void) {
     CONST(PBF_VERSION_MINOR);
     CONST(PBF_VERSION_PATCH);
     CONST(PBF_VERSION);
+    CONST(PBF_INTEROP_SUPPORT_CUDA);
+    CONST(PBF_INTEROP_SUPPORT_OPENGL);
+    CONST(PBF_INTEROP_SUPPORT_EXTERNAL_FD);
+    CONST(PBF_INTEROP_SUPPORT_EXTERNAL_WIN32);
+    CONST(PBF_MAP_NO_WAIT);
+    CONST(PBF_COUNT_ON_DEVICE);
+    CONST(PBF_RENDER_EVENT_ALL_WORLDS);
 
     ENUM(pbf_result, PBF_OK);
     ENUM(pbf_result, PBF_ERROR_INVALID_ARGUMENT);
@@ -70,6 +78,32 @@ int main(void) {
     ENUM(pbf_memory_kind, PBF_MEMORY_CUDA_DEVICE);
     ENUM(pbf_memory_kind, PBF_MEMORY_KIND_FORCE32);
 
+    ENUM(pbf_buffer, PBF_BUFFER_POSITIONS);
+    ENUM(pbf_buffer, PBF_BUFFER_VELOCITIES);
+    ENUM(pbf_buffer, PBF_BUFFER_IDS);
+    ENUM(pbf_buffer, PBF_BUFFER_FORCE32);
+
+    ENUM(pbf_copy_mode, PBF_COPY_ON_STEP);
+    ENUM(pbf_copy_mode, PBF_COPY_ON_RENDER_EVENT);
+    ENUM(pbf_copy_mode, PBF_COPY_MANUAL);
+    ENUM(pbf_copy_mode, PBF_COPY_MODE_FORCE32);
+
+    ENUM(pbf_external_memory_type, PBF_EXTERNAL_MEMORY_OPAQUE_FD);
+    ENUM(pbf_external_memory_type, PBF_EXTERNAL_MEMORY_OPAQUE_WIN32);
+    ENUM(pbf_external_memory_type, PBF_EXTERNAL_MEMORY_OPAQUE_WIN32_KMT);
+    ENUM(pbf_external_memory_type, PBF_EXTERNAL_MEMORY_D3D12_RESOURCE);
+    ENUM(pbf_external_memory_type, PBF_EXTERNAL_MEMORY_D3D11_RESOURCE);
+    ENUM(pbf_external_memory_type, PBF_EXTERNAL_MEMORY_D3D11_RESOURCE_KMT);
+    ENUM(pbf_external_memory_type, PBF_EXTERNAL_MEMORY_TYPE_FORCE32);
+
+    ENUM(pbf_semaphore_type, PBF_SEMAPHORE_VULKAN_BINARY_FD);
+    ENUM(pbf_semaphore_type, PBF_SEMAPHORE_VULKAN_TIMELINE_FD);
+    ENUM(pbf_semaphore_type, PBF_SEMAPHORE_VULKAN_BINARY_WIN32);
+    ENUM(pbf_semaphore_type, PBF_SEMAPHORE_VULKAN_BINARY_WIN32_KMT);
+    ENUM(pbf_semaphore_type, PBF_SEMAPHORE_VULKAN_TIMELINE_WIN32);
+    ENUM(pbf_semaphore_type, PBF_SEMAPHORE_D3D12_FENCE);
+    ENUM(pbf_semaphore_type, PBF_SEMAPHORE_TYPE_FORCE32);
+
     /* The enums themselves are struct fields; their size must be 4 in C as in C#. */
     printf("enumsize pbf_result %lu\n", (unsigned long)sizeof(pbf_result));
     printf("enumsize pbf_log_level %lu\n", (unsigned long)sizeof(pbf_log_level));
@@ -78,6 +112,10 @@ int main(void) {
     printf("enumsize pbf_collider_shape %lu\n", (unsigned long)sizeof(pbf_collider_shape));
     printf("enumsize pbf_collider_motion %lu\n", (unsigned long)sizeof(pbf_collider_motion));
     printf("enumsize pbf_memory_kind %lu\n", (unsigned long)sizeof(pbf_memory_kind));
+    printf("enumsize pbf_buffer %lu\n", (unsigned long)sizeof(pbf_buffer));
+    printf("enumsize pbf_copy_mode %lu\n", (unsigned long)sizeof(pbf_copy_mode));
+    printf("enumsize pbf_external_memory_type %lu\n", (unsigned long)sizeof(pbf_external_memory_type));
+    printf("enumsize pbf_semaphore_type %lu\n", (unsigned long)sizeof(pbf_semaphore_type));
 
     STRUCT(pbf_world_id);
     FIELD(pbf_world_id, index);
@@ -181,6 +219,95 @@ int main(void) {
     FIELD(pbf_mapped_buffer, stride_bytes);
     FIELD(pbf_mapped_buffer, reserved0);
     FIELD(pbf_mapped_buffer, reserved1);
+
+    /* The interop section. */
+    STRUCT(pbf_gl_buffer_id);
+    FIELD(pbf_gl_buffer_id, index);
+    FIELD(pbf_gl_buffer_id, generation);
+
+    STRUCT(pbf_external_buffer_id);
+    FIELD(pbf_external_buffer_id, index);
+    FIELD(pbf_external_buffer_id, generation);
+
+    STRUCT(pbf_semaphore_id);
+    FIELD(pbf_semaphore_id, index);
+    FIELD(pbf_semaphore_id, generation);
+
+    STRUCT(pbf_device_buffers);
+    FIELD(pbf_device_buffers, struct_size);
+    FIELD(pbf_device_buffers, memory);
+    FIELD(pbf_device_buffers, positions);
+    FIELD(pbf_device_buffers, velocities);
+    FIELD(pbf_device_buffers, ids);
+    FIELD(pbf_device_buffers, density_ratio);
+    FIELD(pbf_device_buffers, count_device);
+    FIELD(pbf_device_buffers, cuda_stream);
+    FIELD(pbf_device_buffers, count);
+    FIELD(pbf_device_buffers, capacity);
+    FIELD(pbf_device_buffers, vec4_stride_bytes);
+    FIELD(pbf_device_buffers, id_stride_bytes);
+    FIELD(pbf_device_buffers, cuda_device);
+    FIELD(pbf_device_buffers, reserved0);
+
+    STRUCT(pbf_gl_buffer_desc);
+    FIELD(pbf_gl_buffer_desc, struct_size);
+    FIELD(pbf_gl_buffer_desc, buffer);
+    FIELD(pbf_gl_buffer_desc, source);
+    FIELD(pbf_gl_buffer_desc, mode);
+    FIELD(pbf_gl_buffer_desc, offset_bytes);
+    FIELD(pbf_gl_buffer_desc, capacity);
+    FIELD(pbf_gl_buffer_desc, draw_args_buffer);
+    FIELD(pbf_gl_buffer_desc, draw_args_offset_bytes);
+    FIELD(pbf_gl_buffer_desc, draw_args_vertices);
+    FIELD(pbf_gl_buffer_desc, reserved0);
+
+    STRUCT(pbf_external_buffer_desc);
+    FIELD(pbf_external_buffer_desc, struct_size);
+    FIELD(pbf_external_buffer_desc, type);
+    FIELD(pbf_external_buffer_desc, fd);
+    FIELD(pbf_external_buffer_desc, dedicated);
+    FIELD(pbf_external_buffer_desc, win32_handle);
+    FIELD(pbf_external_buffer_desc, size_bytes);
+    FIELD(pbf_external_buffer_desc, offset_bytes);
+    FIELD(pbf_external_buffer_desc, source);
+    FIELD(pbf_external_buffer_desc, mode);
+    FIELD(pbf_external_buffer_desc, capacity);
+    FIELD(pbf_external_buffer_desc, write_draw_args);
+    FIELD(pbf_external_buffer_desc, draw_args_offset_bytes);
+    FIELD(pbf_external_buffer_desc, draw_args_vertices);
+    FIELD(pbf_external_buffer_desc, reserved0);
+
+    STRUCT(pbf_semaphore_desc);
+    FIELD(pbf_semaphore_desc, struct_size);
+    FIELD(pbf_semaphore_desc, type);
+    FIELD(pbf_semaphore_desc, fd);
+    FIELD(pbf_semaphore_desc, reserved0);
+    FIELD(pbf_semaphore_desc, win32_handle);
+
+    STRUCT(pbf_external_sync);
+    FIELD(pbf_external_sync, struct_size);
+    FIELD(pbf_external_sync, reserved0);
+    FIELD(pbf_external_sync, wait_semaphore);
+    FIELD(pbf_external_sync, wait_value);
+    FIELD(pbf_external_sync, signal_semaphore);
+    FIELD(pbf_external_sync, signal_value);
+
+    STRUCT(pbf_interop_info);
+    FIELD(pbf_interop_info, struct_size);
+    FIELD(pbf_interop_info, gl_buffers);
+    FIELD(pbf_interop_info, external_buffers);
+    FIELD(pbf_interop_info, semaphores);
+    FIELD(pbf_interop_info, copies);
+    FIELD(pbf_interop_info, render_events);
+    FIELD(pbf_interop_info, last_copy_gpu_ms);
+    FIELD(pbf_interop_info, last_copy_host_ms);
+    FIELD(pbf_interop_info, last_render_event_result);
+    FIELD(pbf_interop_info, pending_render_work);
+    FIELD(pbf_interop_info, device_uuid);
+    FIELD(pbf_interop_info, device_luid);
+    FIELD(pbf_interop_info, device_node_mask);
+    FIELD(pbf_interop_info, cuda_device);
+    FIELD(pbf_interop_info, last_render_event_message);
 
     return 0;
 }
