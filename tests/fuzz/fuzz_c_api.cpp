@@ -24,14 +24,18 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
+
+// c_shim.c: calls pbf_result_string with any int, as C code may.
+extern "C" const char* pbf_fuzz_result_string(int32_t value);
 
 namespace {
 
 constexpr uint32_t kMaxCapacity = 65536;    // largest world the fuzzer lets the library allocate
 constexpr double kMaxCells = 65536.0;       // largest grid
 constexpr size_t kMaxWorlds = 6;            // live worlds at once (more creates are skipped)
-constexpr double kWorkBudget = 4.0e6;       // particle-passes per input
+constexpr double kWorkBudget = 1.0e6;       // particle-passes per input
 constexpr uint32_t kDeadId = 0xFFFFFFFFu;
 
 [[noreturn]] void fuzz_fail(const char* what, const char* file, int line) {
@@ -106,6 +110,21 @@ struct Reader {
     }
 };
 
+// Stores any 32 bits in an enum field, as a C caller can (a C++ conversion or copy of a value
+// outside the enum's range would be undefined behaviour in the fuzzer itself).
+template <class E>
+void set_bits(E* field, uint32_t v) {
+    static_assert(sizeof(E) == sizeof(uint32_t), "ABI enums are 32 bits");
+    std::memcpy(field, &v, sizeof v);
+}
+
+template <class E>
+int32_t bits_of(const E& e) {
+    int32_t v;
+    std::memcpy(&v, &e, sizeof v);
+    return v;
+}
+
 bool finite3(const float* v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 
 // Exact-size heap copies, so AddressSanitizer sees any read or write past a struct.
@@ -115,8 +134,12 @@ std::unique_ptr<T> heap(const T& v) {
 }
 
 // ---- results ---------------------------------------------------------------------------------
+// PBF_FUZZ_TRACE=1 in the environment prints every call's result (to replay a crash by hand).
+bool g_trace = false;
+
 // Every result is a known code; a failure has a message naming that code.
 pbf_result checked(pbf_result r) {
+    if (g_trace) std::fprintf(stderr, "    -> %s %s\n", pbf_result_string(r), r ? pbf_last_error_message() : "");
     FUZZ_ASSERT(uint32_t(r) <= uint32_t(PBF_ERROR_INTERNAL));
     FUZZ_ASSERT(r != PBF_ERROR_INTERNAL);  // "a bug in libpbf"
     const char* msg = pbf_last_error_message();
@@ -259,10 +282,12 @@ Snapshot snapshot(const WorldModel& w) {
     return s;
 }
 
+bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
+    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0);
+}
+
 bool same_snapshot(const Snapshot& a, const Snapshot& b) {
-    return a.count == b.count && a.ids == b.ids &&
-           std::memcmp(a.pos.data(), b.pos.data(), a.pos.size() * sizeof(float)) == 0 &&
-           std::memcmp(a.vel.data(), b.vel.data(), a.vel.size() * sizeof(float)) == 0 &&
+    return a.count == b.count && a.ids == b.ids && same_bits(a.pos, b.pos) && same_bits(a.vel, b.vel) &&
            std::memcmp(&a.params, &b.params, sizeof a.params) == 0;
 }
 
@@ -326,6 +351,7 @@ void fuzz_params(Reader& in, pbf_solver_params* p) {
     if (mask & 0x200) p->ldc_gain = in.f(0.0f, 1.0f);
     if (mask & 0x400) p->max_speed = in.f(0.1f, 200.0f);
     if (mask & 0x800) p->struct_size = in.struct_size(sizeof *p);
+    if (mask & 0x1000) p->adaptive_error_target = in.f(0.0f, 0.05f);
 }
 
 // What check_solver_params accepts (a refused struct is checked to change nothing).
@@ -336,7 +362,8 @@ bool params_valid(const pbf_solver_params& p) {
            std::isfinite(p.scorr_dq) && p.scorr_dq > 0 && p.scorr_dq < 1 && std::isfinite(p.xsph_c) &&
            p.xsph_c >= 0 && p.xsph_c <= 1 && std::isfinite(p.vorticity_epsilon) && p.vorticity_epsilon >= 0 &&
            p.vorticity_epsilon <= 100 && p.ldc_enabled <= 1 && std::isfinite(p.ldc_gain) && p.ldc_gain >= 0 &&
-           p.ldc_gain <= 1 && std::isfinite(p.max_speed) && p.max_speed > 0;
+           p.ldc_gain <= 1 && std::isfinite(p.max_speed) && p.max_speed > 0 && std::isfinite(p.adaptive_error_target) &&
+           p.adaptive_error_target >= 0 && p.adaptive_error_target < 1;
 }
 
 // The grid the library would build for desc (or a negative number if it would refuse the desc
@@ -372,8 +399,7 @@ void op_create_world(Reader& in, State& s) {
     const uint16_t mask = in.u16();
     if (mask & 0x0001) {
         const uint8_t b = in.u8() % 16;
-        d.backend = b < 10 ? PBF_BACKEND_CPU : b < 13 ? PBF_BACKEND_AUTO : b < 15 ? PBF_BACKEND_CUDA
-                                                                                  : pbf_backend(in.raw32());
+        set_bits(&d.backend, b < 10 ? PBF_BACKEND_CPU : b < 13 ? PBF_BACKEND_AUTO : b < 15 ? PBF_BACKEND_CUDA : in.raw32());
     }
     if (mask & 0x0002) d.max_particles = in.u32(1, 2048);
     if (mask & 0x0004) d.particle_radius = in.f(0.01f, 0.1f);
@@ -400,6 +426,16 @@ void op_create_world(Reader& in, State& s) {
     }
     if (s.worlds.size() >= kMaxWorlds) return;
 
+    if (g_trace)
+        std::fprintf(stderr,
+                     "  desc: size %u version %08x backend %d cap %u radius %g rho0 %g g (%g %g %g) domain (%g %g %g)..(%g "
+                     "%g %g) solver: it %u sub %u relax %g k %g n %g dq %g xsph %g vort %g ldc %u/%g vmax %g\n",
+                     d.struct_size, d.header_version, bits_of(d.backend), d.max_particles, d.particle_radius,
+                     d.rest_density, d.gravity[0], d.gravity[1], d.gravity[2], d.domain_min[0], d.domain_min[1],
+                     d.domain_min[2], d.domain_max[0], d.domain_max[1], d.domain_max[2], d.solver.iterations,
+                     d.solver.substeps, d.solver.relaxation, d.solver.scorr_k, d.solver.scorr_n, d.solver.scorr_dq,
+                     d.solver.xsph_c, d.solver.vorticity_epsilon, d.solver.ldc_enabled, d.solver.ldc_gain,
+                     d.solver.max_speed);
     const auto desc = heap(d);
     pbf_world_id id{0xAAAAAAAAu, 0xBBBBBBBBu};
     const pbf_result r = checked(pbf_world_create(null_desc ? nullptr : desc.get(), null_out ? nullptr : &id));
@@ -464,6 +500,7 @@ void op_step(Reader& in, State& s) {
     WorldModel* w = nullptr;
     const pbf_world_id id = pick_world(in, s, &w);
     const float dt = in.f(0.0f, 0.05f);
+    if (g_trace) std::fprintf(stderr, "  dt %g\n", dt);
     const bool dt_ok = std::isfinite(dt) && dt > 0.0f && dt <= 1.0f;
     uint32_t before = 0;
     if (w) {
@@ -525,6 +562,7 @@ void op_get(Reader& in, State& s) {
         p.struct_size = in.struct_size(sizeof p);
         const auto hp = heap(p);
         r = checked(pbf_world_get_solver_params(id, null_out ? nullptr : hp.get()));
+        FUZZ_ASSERT(r != PBF_OK || w != nullptr);
         if (r != PBF_OK && !null_out) FUZZ_ASSERT(std::memcmp(hp.get(), &p, sizeof p) == 0);
         if (r == PBF_OK) FUZZ_ASSERT(std::memcmp(hp.get(), &w->params, sizeof p) == 0);
         if (!null_out && p.struct_size != sizeof p) FUZZ_ASSERT(r == PBF_ERROR_STRUCT_SIZE);
@@ -534,6 +572,7 @@ void op_get(Reader& in, State& s) {
         info.struct_size = in.struct_size(sizeof info);
         const auto hi = heap(info);
         r = checked(pbf_world_get_info(id, null_out ? nullptr : hi.get()));
+        FUZZ_ASSERT(r != PBF_OK || w != nullptr);
         if (r != PBF_OK && !null_out) FUZZ_ASSERT(std::memcmp(hi.get(), &info, sizeof info) == 0);
         if (r == PBF_OK) FUZZ_ASSERT(hi->max_particles == w->capacity && hi->grid_cells == w->grid_cells);
         if (!null_out && info.struct_size != sizeof info) FUZZ_ASSERT(r == PBF_ERROR_STRUCT_SIZE);
@@ -548,6 +587,7 @@ void op_get(Reader& in, State& s) {
     } else {
         uint32_t n = 0x12345678u;
         r = checked(pbf_world_get_particle_count(id, null_out ? nullptr : &n));
+        FUZZ_ASSERT(r != PBF_OK || w != nullptr);
         if (r == PBF_OK) FUZZ_ASSERT(n <= w->capacity);
         else FUZZ_ASSERT(n == 0x12345678u);
     }
@@ -595,12 +635,14 @@ void op_emit_block(Reader& in, State& s) {
     bool valid_desc = !null_desc && b.struct_size == sizeof b && finite3(b.box_min) && finite3(b.box_max) &&
                       finite3(b.velocity);
     for (int a = 0; a < 3 && valid_desc; ++a) valid_desc = b.box_max[a] > b.box_min[a];
-    if (!null_out && (null_desc || b.struct_size == sizeof b)) FUZZ_ASSERT(r == PBF_OK || emitted == 0);
+    if (!null_out && r != PBF_OK) FUZZ_ASSERT(emitted == 0);
     if (!w) {
         FUZZ_ASSERT(r != PBF_OK);
         return;
     }
-    if (valid_desc) w->mapped = kMaybeMapped;  // emit ends a mapping (header); see report: also on failure
+    // An emit that adds particles ends a mapping. A refused emit (world full) also ends it today
+    // (tests/test_c_api.cpp "a failed emit leaves a mapping in place", [known-bug]): tolerated.
+    if (valid_desc && w->mapped != kNotMapped) w->mapped = r == PBF_OK ? kNotMapped : kMaybeMapped;
     const uint32_t after = count_of(*w);
     if (r == PBF_OK) {
         FUZZ_ASSERT(valid_desc);
@@ -621,7 +663,7 @@ void op_emit_block(Reader& in, State& s) {
 
 void fill_emitter(Reader& in, const WorldModel* w, pbf_emitter_desc* e) {
     const uint8_t t = in.u8() % 16;
-    e->type = t < 7 ? PBF_EMITTER_NOZZLE : t < 14 ? PBF_EMITTER_DRAIN : pbf_emitter_type(in.u32(0, 4));
+    set_bits(&e->type, t < 7 ? PBF_EMITTER_NOZZLE : t < 14 ? PBF_EMITTER_DRAIN : in.u32(0, 4));
     float lo[3] = {-0.5f, 0.0f, -0.5f}, hi[3] = {0.5f, 1.0f, 0.5f};
     if (w) {
         std::memcpy(lo, w->domain_min, sizeof lo);
@@ -661,6 +703,11 @@ void op_create_emitter(Reader& in, State& s) {
     fill_emitter(in, w, &e);
     const uint8_t ptrs = in.u8();
     const bool null_desc = ptrs < 8, null_out = (ptrs & 0xF0) == 0xF0;
+    if (g_trace)
+        std::fprintf(stderr, "  emitter: type %d pos (%g %g %g) dir (%g %g %g) speed %g radius %g pps %g box (%g %g %g)..(%g %g %g)\n",
+                     bits_of(e.type), e.position[0], e.position[1], e.position[2], e.direction[0], e.direction[1],
+                     e.direction[2], e.speed, e.radius, e.particles_per_second, e.box_min[0], e.box_min[1],
+                     e.box_min[2], e.box_max[0], e.box_max[1], e.box_max[2]);
     const auto he = heap(e);
     pbf_emitter_id out{0x11111111u, 0x22222222u};
     const pbf_result r =
@@ -725,9 +772,9 @@ void op_create_collider(Reader& in, State& s) {
     const pbf_world_id id = pick_world(in, s, &w);
     pbf_collider_desc c = pbf_collider_desc_default();
     const uint8_t sh = in.u8() % 16;
-    c.shape = sh < 14 ? pbf_collider_shape(1 + sh % 4) : pbf_collider_shape(in.u32(0, 6));
+    set_bits(&c.shape, sh < 14 ? 1u + sh % 4u : in.u32(0, 6));
     const uint8_t mo = in.u8() % 8;
-    c.motion = mo < 4 ? PBF_MOTION_STATIC : mo < 7 ? PBF_MOTION_KINEMATIC : pbf_collider_motion(in.u32(0, 3));
+    set_bits(&c.motion, mo < 4 ? PBF_MOTION_STATIC : mo < 7 ? PBF_MOTION_KINEMATIC : in.u32(0, 3));
     const uint16_t mask = in.u16();
     in.vec3(c.position, -1.0f, 1.0f);
     if (mask & 0x01)
@@ -912,17 +959,18 @@ void op_map(Reader& in, State& s) {
 
 void op_desc_init(Reader& in) {
     const uint8_t which = in.u8() % 5;
-    const uint32_t size = in.struct_size(0);  // mostly 0: refused; sometimes the right size by chance
+    const bool right_size = in.u8() < 96;
     const bool null_p = in.u8() < 64;
-    pbf_result r;
-    size_t right = 0;
+    pbf_result r = PBF_OK;
+    uint32_t size = 0, right = 0;
     auto run = [&](auto& obj, auto call) {
         using T = std::remove_reference_t<decltype(obj)>;
+        size = right_size ? uint32_t(sizeof obj) : in.struct_size(sizeof obj) + (in.u8() & 1 ? 0 : 1);
         std::memset(&obj, 0x42, sizeof obj);
         const T before = obj;
         const auto h = heap(obj);
         r = checked(call(null_p ? nullptr : h.get(), size));
-        right = sizeof obj;
+        right = uint32_t(sizeof obj);
         if (r != PBF_OK && !null_p) FUZZ_ASSERT(std::memcmp(h.get(), &before, sizeof before) == 0);
         if (r == PBF_OK) FUZZ_ASSERT(h->struct_size == sizeof obj);
     };
@@ -946,10 +994,99 @@ void op_desc_init(Reader& in) {
     FUZZ_ASSERT((r == PBF_OK) == (!null_p && size == right));
 }
 
+// The interop calls a CPU world can answer (the CUDA/GL/Vulkan ones refuse: no CUDA in this
+// build): device buffers (host memory on the CPU backend), event id, info, support, counters.
+void op_interop(Reader& in, State& s) {
+    WorldModel* w = nullptr;
+    const pbf_world_id id = pick_world(in, s, &w);
+    const uint8_t what = in.u8() % 8;
+    const bool null_out = in.u8() < 16;
+    if (what == 0) {
+        pbf_device_buffers b;
+        std::memset(&b, 0x66, sizeof b);
+        b.struct_size = in.struct_size(sizeof b);
+        const uint32_t flags = in.u8() < 200 ? 0u : in.u32(0, 3);
+        const auto hb = heap(b);
+        const pbf_result r = checked(pbf_world_map_device_buffers(id, flags, null_out ? nullptr : hb.get()));
+        if (r != PBF_OK) {
+            if (!null_out) FUZZ_ASSERT(std::memcmp(hb.get(), &b, sizeof b) == 0);
+            return;
+        }
+        FUZZ_ASSERT(w && !null_out && b.struct_size == sizeof b && (flags & ~PBF_MAP_NO_WAIT) == 0);
+        const uint32_t count = count_of(*w);
+        FUZZ_ASSERT(hb->memory == PBF_MEMORY_HOST && hb->count == count && hb->capacity == w->capacity);
+        FUZZ_ASSERT(hb->vec4_stride_bytes == 16 && hb->id_stride_bytes == 4 && hb->cuda_device == -1);
+        FUZZ_ASSERT(hb->cuda_stream == nullptr && hb->count_device && *hb->count_device == count);
+        FUZZ_ASSERT(static_cast<char*>(hb->density_ratio) == static_cast<char*>(hb->positions) + 12);
+        // "capacity elements allocated behind each pointer": touch them all (AddressSanitizer
+        // checks the ranges); the live ones match a copy.
+        volatile float sink = 0.0f;
+        const float* pos = static_cast<const float*>(hb->positions);
+        const float* vel = static_cast<const float*>(hb->velocities);
+        const uint32_t* ids = static_cast<const uint32_t*>(hb->ids);
+        for (size_t k = 0; k < size_t(hb->capacity) * 4; ++k) sink = sink + pos[k] * 0.0f + vel[k] * 0.0f;
+        for (size_t k = 0; k < hb->capacity; ++k) sink = sink + float(ids[k] & 1u) * 0.0f;
+        if (count) {
+            std::vector<uint32_t> copy(count);
+            uint32_t written = 0;
+            FUZZ_ASSERT(checked(pbf_world_copy_ids(id, copy.data(), count, &written)) == PBF_OK && written == count);
+            FUZZ_ASSERT(std::memcmp(copy.data(), ids, size_t(count) * 4) == 0);
+        }
+        w->mapped = kMapped;  // pbf_world_unmap ends it
+        w->map.count = 0;     // op_map's reader reads only a pbf_world_map_positions mapping
+        return;
+    }
+    pbf_result r = PBF_OK;
+    if (what == 1) {
+        int32_t ev = 12345;
+        r = checked(pbf_world_get_render_event_id(id, null_out ? nullptr : &ev));
+        if (r == PBF_OK) FUZZ_ASSERT(w && ev > 0 && ev == int32_t(id.index + 1));
+    } else if (what == 2) {
+        pbf_interop_info info;
+        std::memset(&info, 0x21, sizeof info);
+        info.struct_size = in.struct_size(sizeof info);
+        const auto hi = heap(info);
+        r = checked(pbf_world_get_interop_info(id, null_out ? nullptr : hi.get()));
+        if (r == PBF_OK) FUZZ_ASSERT(w && hi->cuda_device == -1 && hi->gl_buffers == 0);
+        else if (!null_out) FUZZ_ASSERT(std::memcmp(hi.get(), &info, sizeof info) == 0);
+    } else if (what == 3) {
+        uint32_t flags = 0;
+        r = checked(pbf_get_interop_support(null_out ? nullptr : &flags));
+        if (r == PBF_OK) FUZZ_ASSERT((flags & PBF_INTEROP_SUPPORT_CUDA) == 0);  // a CPU-only build
+    } else if (what == 4) {
+        uint64_t transfers = 0, bytes = 0;
+        r = checked(pbf_debug_get_transfer_count(null_out ? nullptr : &transfers, (in.u8() & 1) ? nullptr : &bytes));
+    } else if (what == 5) {
+        void* stream = reinterpret_cast<void*>(uintptr_t(0x1234));
+        r = checked(pbf_world_get_cuda_stream(id, null_out ? nullptr : &stream));
+        if (!null_out) FUZZ_ASSERT(stream == nullptr);
+        FUZZ_ASSERT(r != PBF_OK);  // no CUDA world in this build
+        r = checked(pbf_world_set_cuda_stream(id, nullptr));
+        FUZZ_ASSERT(r != PBF_OK);
+    } else if (what == 6) {
+        void* event = reinterpret_cast<void*>(uintptr_t(0x1234));
+        r = checked(pbf_world_record_cuda_event(id, null_out ? nullptr : &event));
+        if (!null_out) FUZZ_ASSERT(event == nullptr);
+        FUZZ_ASSERT(r != PBF_OK);
+        r = checked(pbf_world_wait_cuda_event(id, nullptr));
+        FUZZ_ASSERT(r != PBF_OK);
+    } else {
+        r = checked(pbf_world_unmap(id));  // also ends a device-buffer mapping
+        if (w) {
+            if (w->mapped == kMapped) FUZZ_ASSERT(r == PBF_OK);
+            if (w->mapped == kNotMapped) FUZZ_ASSERT(r == PBF_ERROR_INVALID_STATE);
+            w->mapped = kNotMapped;
+        } else {
+            FUZZ_ASSERT(r == PBF_ERROR_INVALID_HANDLE);
+        }
+    }
+    if (!w && what != 3 && what != 4) FUZZ_ASSERT(r != PBF_OK);
+}
+
 void op_misc(Reader& in) {
     const uint8_t what = in.u8() % 4;
     if (what == 0) {
-        FUZZ_ASSERT(pbf_result_string(pbf_result(in.raw32())) != nullptr);
+        FUZZ_ASSERT(pbf_fuzz_result_string(int32_t(in.raw32())) != nullptr);  // any int, from C
     } else if (what == 1) {
         FUZZ_ASSERT(pbf_get_version() == PBF_VERSION);
         FUZZ_ASSERT(pbf_last_error_message() != nullptr);
@@ -966,6 +1103,8 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
     // One OpenMP thread: deterministic and cheaper under the sanitizers (the loops only go
     // parallel above 2048 particles anyway).
     setenv("OMP_NUM_THREADS", "1", 0);
+    const char* trace = std::getenv("PBF_FUZZ_TRACE");
+    g_trace = trace && *trace && *trace != '0';
     return 0;
 }
 
@@ -975,7 +1114,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     int ops = 0;
     while (!in.empty() && ops++ < 256) {
         const uint8_t op = in.u8();
-        WorldModel* touched = nullptr;
+        if (g_trace) {
+            static const char* const names[20] = {"create", "create", "destroy", "step", "step", "step",
+                                                  "set_params", "get", "gravity", "emit_block", "emit_block",
+                                                  "create_emitter", "destroy_emitter", "emitter_update",
+                                                  "create_collider", "destroy_collider", "set_pose", "copy", "map",
+                                                  "desc_init/interop/misc"};
+            std::fprintf(stderr, "op %d: %s\n", ops, names[op % 20]);
+        }
         switch (op % 20) {
             case 0:
             case 1: op_create_world(in, s); break;
@@ -998,12 +1144,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             case 18: op_map(in, s); break;
             default:
                 if (op & 0x80) op_desc_init(in);
+                else if (op & 0x40) op_interop(in, s);
                 else op_misc(in);
                 break;
         }
-        (void)touched;
-        // Every live world still satisfies the cheap invariants after any call.
-        for (const WorldModel& w : s.worlds) check_world(w, false);
+        // Every live world still satisfies the cheap invariants after any call: count <= capacity
+        // after each, the stats' accounting every 8th (stats may run a density pass).
+        for (const WorldModel& w : s.worlds) {
+            if (ops % 8 == 0) check_world(w, false);
+            else count_of(w);
+        }
     }
     for (const WorldModel& w : s.worlds) {
         check_world(w, true);

@@ -37,11 +37,12 @@ struct SceneSpec {
 // Substeps per 1/60 s frame from the CFL-like rule of samples/dam_break.c: the fastest
 // particle of the dam break, about sqrt(2 g · 2a), moves under 0.4 h per substep. The tank uses
 // the dam's rule too (same a, na), so both scenes of one resolution share a substep count.
-inline uint32_t cfl_substeps(const SceneSpec& s, float frame_dt) {
+// Clamped to the API's 1..16 unless `clamp` is false (callers that step one substep per call).
+inline uint32_t cfl_substeps(const SceneSpec& s, float frame_dt, bool clamp = true) {
     const float h = 2.0f * s.spacing();
     const float v = std::sqrt(2.0f * kGravity * 2.0f * s.a);
-    const int n = int(std::ceil(v * frame_dt / (0.4f * h)));
-    return uint32_t(std::clamp(n, 1, 16));
+    const int n = std::max(1, int(std::ceil(v * frame_dt / (0.4f * h))));
+    return uint32_t(clamp ? std::min(n, 16) : n);
 }
 
 inline void set3(float* d, float x, float y, float z) {

@@ -17,6 +17,8 @@
 //                --backend cpu|cuda (cpu)  --particles N (timing only)
 // Solver options: --iterations N (4)  --ldc 0|1 (1)  --gain G (0.1, K·Δt²)  --substeps S
 //                (0: the CFL-like rule of samples/dam_break.c)  --frame-dt DT (1/60)
+//                Diagnostics (library defaults otherwise): --relaxation E --scorr-k K --xsph C
+//                --vorticity EPS
 //
 // Exit status: 0 ok, 1 a libpbf error, 2 bad arguments. A run that diverges (non-finite
 // energy) still writes its rows and exits 0 with "diverged" on stdout: divergence is a result.
@@ -93,8 +95,16 @@ int cmd_run(const Args& args) {
     d.solver.iterations = uint32_t(args.num("--iterations", 4));
     d.solver.ldc_enabled = uint32_t(args.num("--ldc", 1));
     d.solver.ldc_gain = float(args.num("--gain", 0.1));
+    d.solver.relaxation = float(args.num("--relaxation", d.solver.relaxation));
+    d.solver.scorr_k = float(args.num("--scorr-k", d.solver.scorr_k));
+    d.solver.xsph_c = float(args.num("--xsph", d.solver.xsph_c));
+    d.solver.vorticity_epsilon = float(args.num("--vorticity", d.solver.vorticity_epsilon));
     uint32_t substeps = uint32_t(args.num("--substeps", 0));
-    if (substeps == 0) substeps = paper::cfl_substeps(sc, frame_dt);
+    if (substeps == 0) substeps = paper::cfl_substeps(sc, frame_dt, !per_substep);
+    if (!per_substep && substeps > 16) {
+        std::fprintf(stderr, "pbf_paper: substeps must be 1..16 (or use --per-substep 1)\n");
+        return 2;
+    }
     d.solver.substeps = per_substep ? 1u : substeps;
     const float call_dt = per_substep ? frame_dt / float(substeps) : frame_dt;
     const int calls_per_frame = per_substep ? int(substeps) : 1;

@@ -1,0 +1,115 @@
+#!/usr/bin/env bash
+# Regenerates docs/paper/ (the LDC reproduction report) in one command:
+#
+#   tools/paper/run_report.sh              # build (CPU), run every simulation, plot, write README
+#   tools/paper/run_report.sh --plots-only # re-plot and rewrite README from docs/paper/data
+#                                          # (e.g. after copying gpu_paper.sh's CSVs into
+#                                          #  docs/paper/data/gpu/)
+#
+# Environment: BUILD (default build-paper: a CPU build, -DPBF_WITH_CUDA=OFF), RESUME=1 keeps
+# every run whose CSV already exists, NICE (default 5). The full CPU set takes about an hour
+# on 2 busy cores; every run is at most ~41k particles.
+#
+# Outputs: docs/paper/data/*.csv (one time series per run, the timing table, provenance.txt),
+# docs/paper/*.png, docs/paper/README.md (from tools/paper/report_template.md). Particle
+# snapshots for the splat renders go to $BUILD/paper-snapshots (not part of the report).
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/../.."
+BUILD=${BUILD:-build-paper}
+DATA=docs/paper/data
+SNAP=$BUILD/paper-snapshots
+NICE=${NICE:-5}
+PY=${PYTHON:-python3}
+# One OpenMP thread per run: on a shared 2-core machine two spinning threads run ~3x slower
+# than one. The physics does not depend on the thread count (per-particle passes, no atomics).
+export OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}
+
+if [[ "${1:-}" == "--plots-only" ]]; then
+  exec "$PY" tools/paper/plot.py --data "$DATA" --snapshots "$SNAP" --out docs/paper
+fi
+
+"$PY" -c "import matplotlib, numpy" 2>/dev/null || { echo "run_report.sh: needs python3 with matplotlib and numpy (pip install matplotlib numpy)" >&2; exit 1; }
+cmake -S . -B "$BUILD" -DPBF_WITH_CUDA=OFF -DCMAKE_BUILD_TYPE=Release > /dev/null
+cmake --build "$BUILD" --target pbf_paper -j2 > /dev/null
+BIN=$BUILD/tools/paper/pbf_paper
+mkdir -p "$DATA" "$SNAP"
+{
+  echo "commit: $(git describe --always --dirty 2>/dev/null || echo unknown)"
+  echo "date: $(date -u +%Y-%m-%dT%H:%MZ)"
+  echo "cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //') x $(nproc)"
+  echo "load average at start: $(cut -d' ' -f1-3 /proc/loadavg)"
+} > "$DATA/provenance.txt"
+
+# run NAME ARGS...: one simulation into $DATA/NAME.csv (kept with RESUME=1).
+run() {
+  local name=$1; shift
+  if [[ "${RESUME:-0}" == 1 && -s "$DATA/$name.csv" ]]; then return; fi
+  echo "== $name"
+  nice -n "$NICE" "$BIN" run "$@" --csv "$DATA/$name.csv.tmp" | sed 's/^/   /'
+  mv "$DATA/$name.csv.tmp" "$DATA/$name.csv"
+}
+
+# The common scene: a = 0.4 m, 32 particles across a, 6 layers deep; dam tank 5a long.
+# 12,288 particles in both scenes; substeps from the CFL-like rule (7 per 1/60 s frame) for
+# every method, so methods differ only in iterations and LDC.
+BASE="--a 0.4 --na 32 --nz 6 --length 5"
+DAM_SNAPS="--snap-times 0.2,0.4,0.6,1.0"
+TANK_SNAPS="--snap-times 1.0"
+
+# 1. Methods: conventional PBF 1..6 iterations, LDC (default gain 0.1) 1..3 iterations.
+for it in 1 2 3 4 5 6; do
+  run dam_conv$it  --scene dam  $BASE --iterations $it --ldc 0 --frames 90 $DAM_SNAPS --snap-prefix "$SNAP/dam_conv$it"
+  run tank_conv$it --scene tank $BASE --iterations $it --ldc 0 --frames 60 $TANK_SNAPS --snap-prefix "$SNAP/tank_conv$it"
+done
+for it in 1 2 3; do
+  run dam_ldc$it  --scene dam  $BASE --iterations $it --ldc 1 --gain 0.1 --frames 90 $DAM_SNAPS --snap-prefix "$SNAP/dam_ldc$it"
+  run tank_ldc$it --scene tank $BASE --iterations $it --ldc 1 --gain 0.1 --frames 60 $TANK_SNAPS --snap-prefix "$SNAP/tank_ldc$it"
+done
+
+# 2. K sweep (gain = K·Δt²) at 1 and 2 iterations; gain 0 is conventional, 0.1 is above.
+for g in 0.03 0.2 0.3 0.5 0.8 1.0; do
+  run dam_ldc1_g$g  --scene dam  $BASE --iterations 1 --ldc 1 --gain $g --frames 90
+  run tank_ldc1_g$g --scene tank $BASE --iterations 1 --ldc 1 --gain $g --frames 60
+done
+for g in 0.03 0.2 0.3 0.5; do
+  run dam_ldc2_g$g  --scene dam  $BASE --iterations 2 --ldc 1 --gain $g --frames 90
+  run tank_ldc2_g$g --scene tank $BASE --iterations 2 --ldc 1 --gain $g --frames 60
+done
+
+# 3. Substeps: stability of 1-2 iterations with fewer (and more) substeps than the rule's 7.
+for S in 1 2 4 10 16; do
+  run sub_conv1_S$S --scene dam $BASE --iterations 1 --ldc 0 --substeps $S --frames 48
+  run sub_ldc1_S$S  --scene dam $BASE --iterations 1 --ldc 1 --substeps $S --frames 48
+  run sub_conv2_S$S --scene dam $BASE --iterations 2 --ldc 0 --substeps $S --frames 48
+done
+
+#    LDC at the gain the sweep recommends (0.3), with few substeps.
+for S in 1 2 4; do
+  run sub_ldc1g0.3_S$S --scene dam $BASE --iterations 1 --ldc 1 --gain 0.3 --substeps $S --frames 48
+done
+#    Large steps: the dam break at 2 substeps per frame (Δt = 1/120 s), every method, to see
+#    whether the flow attenuation of the paper's Fig. 6 appears when steps are large.
+for it in 1 2 3 4 5 6; do
+  run damS2_conv$it --scene dam $BASE --iterations $it --ldc 0 --substeps 2 --frames 90
+done
+for it in 1 2 3; do
+  run damS2_ldc$it --scene dam $BASE --iterations $it --ldc 1 --gain 0.1 --substeps 2 --frames 90
+done
+
+# 4. Martin & Moyce: the front sampled every substep up to T ≈ 3.3, at four resolutions with
+#    the thickness a/3 (nz = na/3), the library default (LDC, 4 iterations) and conventional.
+for res in "16 5" "24 8" "32 11" "40 13"; do
+  set -- $res
+  run mm_ldc4_na$1 --scene dam --a 0.4 --na $1 --nz $2 --length 5 --iterations 4 --ldc 1 --frames 40 --per-substep 1
+  run mm_conv4_na$1 --scene dam --a 0.4 --na $1 --nz $2 --length 5 --iterations 4 --ldc 0 --frames 40 --per-substep 1
+done
+
+# 5. Time per step against iterations on this CPU (13,824 particles, one substep per step).
+if [[ "${RESUME:-0}" != 1 || ! -s "$DATA/timing_cpu.csv" ]]; then
+  echo "== timing_cpu"
+  "$BIN" timing --particles 13824 --iterations 1,2,3,4,5,6 --ldc 0,1 --steps 60 --warmup 10 \
+    --csv "$DATA/timing_cpu.csv.tmp" | sed 's/^/   /'
+  mv "$DATA/timing_cpu.csv.tmp" "$DATA/timing_cpu.csv"
+fi
+
+"$PY" tools/paper/plot.py --data "$DATA" --snapshots "$SNAP" --out docs/paper
