@@ -11,6 +11,7 @@
 //                    [--steps 100 --warmup 20] --csv FILE
 //       Time per step against iterations, on a 3D column a × 2a × a/2 (as pbf_bench's dam):
 //       --particles N picks na = cbrt(N). One substep per step, dt keeps the front under 0.4 h.
+//       The LDC-off and LDC-on worlds of one iteration count are stepped alternately.
 //
 // Scene options: --scene dam|tank  --a METRES (0.4)  --na N (32, particles across a)
 //                --nz N (6, layers in z)  --length L (5, dam tank length in a)
@@ -224,48 +225,61 @@ int cmd_timing(const Args& args) {
     if (!csv) return 1;
     std::fprintf(csv, "backend,device,particles,iterations,ldc,gain,dt,steps,ms_median,ms_p10,ms_p90,ms_mean,"
                       "density_error_mean\n");
-    for (const std::string& it : split(args.get("--iterations", "1,2,3,4,5,6")))
-        for (const std::string& l : split(args.get("--ldc", "0,1"))) {
-            pbf_world_desc d = paper::make_desc(sc);
-            d.solver.iterations = uint32_t(std::atoi(it.c_str()));
-            d.solver.ldc_enabled = uint32_t(std::atoi(l.c_str()));
-            d.solver.ldc_gain = float(args.num("--gain", 0.1));
-            d.solver.substeps = 1;
+    // For each iteration count, one world per LDC setting, stepped alternately (A B A B ...): on a
+    // shared machine, load from other jobs then hits both methods alike and their difference
+    // (LDC's cost) stays meaningful.
+    const std::vector<std::string> ldcs = split(args.get("--ldc", "0,1"));
+    for (const std::string& it : split(args.get("--iterations", "1,2,3,4,5,6"))) {
+        struct Entry {
+            pbf_world_desc d;
             pbf_world_id w;
-            if (!check(pbf_world_create(&d, &w), "pbf_world_create")) return 1;
             pbf_world_info info;
-            std::memset(&info, 0, sizeof info);
-            info.struct_size = sizeof info;
-            if (!check(pbf_world_get_info(w, &info), "info")) return 1;
             uint32_t n = 0;
-            if (!check(paper::emit_fluid(w, sc, &n), "emit")) return 1;
             std::vector<double> ms;
             double err = 0.0;
-            for (int k = 0; k < warmup + steps; ++k) {
-                if (!check(pbf_world_step(w, dt), "pbf_world_step")) return 1;
+        };
+        std::vector<Entry> worlds(ldcs.size());
+        for (size_t k = 0; k < ldcs.size(); ++k) {
+            Entry& e = worlds[k];
+            e.d = paper::make_desc(sc);
+            e.d.solver.iterations = uint32_t(std::atoi(it.c_str()));
+            e.d.solver.ldc_enabled = uint32_t(std::atoi(ldcs[k].c_str()));
+            e.d.solver.ldc_gain = float(args.num("--gain", 0.1));
+            e.d.solver.substeps = 1;
+            if (!check(pbf_world_create(&e.d, &e.w), "pbf_world_create")) return 1;
+            std::memset(&e.info, 0, sizeof e.info);
+            e.info.struct_size = sizeof e.info;
+            if (!check(pbf_world_get_info(e.w, &e.info), "info")) return 1;
+            if (!check(paper::emit_fluid(e.w, sc, &e.n), "emit")) return 1;
+        }
+        for (int k = 0; k < warmup + steps; ++k)
+            for (Entry& e : worlds) {
+                if (!check(pbf_world_step(e.w, dt), "pbf_world_step")) return 1;
                 bool ok = true;
-                const pbf_step_stats st = read_stats(w, &ok);
+                const pbf_step_stats st = read_stats(e.w, &ok);
                 if (!ok) return 1;
                 if (k < warmup) continue;
-                ms.push_back(st.step_time_ms);
-                err += st.density_error_mean;
+                e.ms.push_back(st.step_time_ms);
+                e.err += st.density_error_mean;
             }
-            std::vector<double> sorted = ms;
+        for (Entry& e : worlds) {
+            std::vector<double> sorted = e.ms;
             std::sort(sorted.begin(), sorted.end());
             double mean = 0.0;
-            for (double v : ms) mean += v;
-            mean /= double(ms.size());
+            for (double v : e.ms) mean += v;
+            mean /= double(e.ms.size());
             auto q = [&](double f) { return sorted[size_t(f * double(sorted.size() - 1))]; };
             std::fprintf(csv, "%s,%s,%u,%u,%u,%.3f,%.6f,%d,%.4f,%.4f,%.4f,%.4f,%.6f\n",
-                         info.backend == PBF_BACKEND_CUDA ? "cuda" : "cpu", info.device_name, n, d.solver.iterations,
-                         d.solver.ldc_enabled, d.solver.ldc_gain, dt, steps, q(0.5), q(0.1), q(0.9), mean,
-                         err / double(steps));
+                         e.info.backend == PBF_BACKEND_CUDA ? "cuda" : "cpu", e.info.device_name, e.n,
+                         e.d.solver.iterations, e.d.solver.ldc_enabled, e.d.solver.ldc_gain, dt, steps, q(0.5), q(0.1),
+                         q(0.9), mean, e.err / double(steps));
             std::fflush(csv);
-            std::printf("timing: %u particles, %u iterations, LDC %u: median %.3f ms/step\n", n, d.solver.iterations,
-                        d.solver.ldc_enabled, q(0.5));
+            std::printf("timing: %u particles, %u iterations, LDC %u: median %.3f ms/step\n", e.n,
+                        e.d.solver.iterations, e.d.solver.ldc_enabled, q(0.5));
             std::fflush(stdout);
-            if (!check(pbf_world_destroy(w), "pbf_world_destroy")) return 1;
+            if (!check(pbf_world_destroy(e.w), "pbf_world_destroy")) return 1;
         }
+    }
     if (csv != stdout) std::fclose(csv);
     return 0;
 }

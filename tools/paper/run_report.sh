@@ -10,7 +10,8 @@
 # every run whose CSV already exists, NICE (default 5). The full CPU set takes about an hour
 # on 2 busy cores; every run is at most ~41k particles.
 #
-# Outputs: docs/paper/data/*.csv (one time series per run, the timing table, provenance.txt),
+# Outputs: docs/paper/data/*.csv (one time series per run, the timing table), provenance.txt
+# (appended: which commit made which run),
 # docs/paper/*.png, docs/paper/README.md (from tools/paper/report_template.md). Particle
 # snapshots for the splat renders go to $BUILD/paper-snapshots (not part of the report).
 set -euo pipefail
@@ -33,12 +34,12 @@ cmake -S . -B "$BUILD" -DPBF_WITH_CUDA=OFF -DCMAKE_BUILD_TYPE=Release > /dev/nul
 cmake --build "$BUILD" --target pbf_paper -j2 > /dev/null
 BIN=$BUILD/tools/paper/pbf_paper
 mkdir -p "$DATA" "$SNAP"
+COMMIT=$(git describe --always --dirty 2>/dev/null || echo unknown)
 {
-  echo "commit: $(git describe --always --dirty 2>/dev/null || echo unknown)"
-  echo "date: $(date -u +%Y-%m-%dT%H:%MZ)"
-  echo "cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //') x $(nproc)"
-  echo "load average at start: $(cut -d' ' -f1-3 /proc/loadavg)"
-} > "$DATA/provenance.txt"
+  echo "run_report.sh started $(date -u +%Y-%m-%dT%H:%MZ) at $COMMIT (RESUME=${RESUME:-0}) on" \
+       "$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //') x $(nproc)," \
+       "load average $(cut -d' ' -f1-3 /proc/loadavg)"
+} >> "$DATA/provenance.txt"
 
 # run NAME ARGS...: one simulation into $DATA/NAME.csv (kept with RESUME=1).
 run() {
@@ -47,6 +48,7 @@ run() {
   echo "== $name"
   nice -n "$NICE" "$BIN" run "$@" --csv "$DATA/$name.csv.tmp" | sed 's/^/   /'
   mv "$DATA/$name.csv.tmp" "$DATA/$name.csv"
+  echo "  $name: $COMMIT $(date -u +%H:%MZ)" >> "$DATA/provenance.txt"
 }
 
 # The common scene: a = 0.4 m, 32 particles across a, 6 layers deep; dam tank 5a long.
@@ -104,12 +106,28 @@ for res in "16 5" "24 8" "32 11" "40 13"; do
   run mm_conv4_na$1 --scene dam --a 0.4 --na $1 --nz $2 --length 5 --iterations 4 --ldc 0 --frames 40 --per-substep 1
 done
 
-# 5. Time per step against iterations on this CPU (13,824 particles, one substep per step).
+# 5. Diagnostics of the instabilities and of the wall compaction (README §10), one knob at a time.
+D24="--scene dam --a 0.4 --na 24 --nz 4 --length 5 --iterations 1 --ldc 0 --frames 40"
+run diag_dam_1it_default $D24
+run diag_dam_1it_scorr0  $D24 --scorr-k 0
+run diag_dam_1it_relax3  $D24 --relaxation 3
+run diag_dam_1it_noxsph_novort $D24 --xsph 0 --vorticity 0
+T32="--scene tank $BASE --iterations 1 --ldc 0 --frames 20"
+run diag_tank_1it_default $T32
+run diag_tank_1it_scorr0  $T32 --scorr-k 0
+run diag_tank_1it_relax3  $T32 --relaxation 3
+run diag_tank_1it_S16     $T32 --substeps 16
+for nz in 4 8 16; do
+  run diag_tank_6it_nz$nz --scene tank --a 0.4 --na 16 --nz $nz --iterations 6 --ldc 0 --frames 40
+done
+
+# 6. Time per step against iterations on this CPU (13,824 particles, one substep per step).
 if [[ "${RESUME:-0}" != 1 || ! -s "$DATA/timing_cpu.csv" ]]; then
   echo "== timing_cpu"
-  "$BIN" timing --particles 13824 --iterations 1,2,3,4,5,6 --ldc 0,1 --steps 60 --warmup 10 \
+  "$BIN" timing --particles 13824 --iterations 1,2,3,4,5,6 --ldc 0,1 --steps 120 --warmup 10 \
     --csv "$DATA/timing_cpu.csv.tmp" | sed 's/^/   /'
   mv "$DATA/timing_cpu.csv.tmp" "$DATA/timing_cpu.csv"
+  echo "  timing_cpu: $COMMIT $(date -u +%H:%MZ)" >> "$DATA/provenance.txt"
 fi
 
 "$PY" tools/paper/plot.py --data "$DATA" --snapshots "$SNAP" --out docs/paper
