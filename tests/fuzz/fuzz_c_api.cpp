@@ -35,7 +35,7 @@ namespace {
 constexpr uint32_t kMaxCapacity = 65536;    // largest world the fuzzer lets the library allocate
 constexpr double kMaxCells = 65536.0;       // largest grid
 constexpr size_t kMaxWorlds = 6;            // live worlds at once (more creates are skipped)
-constexpr double kWorkBudget = 1.0e6;       // particle-passes per input
+constexpr double kWorkBudget = 5.0e7;       // neighbour candidates visited by steps, per input
 constexpr uint32_t kDeadId = 0xFFFFFFFFu;
 
 [[noreturn]] void fuzz_fail(const char* what, const char* file, int line) {
@@ -506,10 +506,15 @@ void op_step(Reader& in, State& s) {
     if (w) {
         before = count_of(*w);
         if (dt_ok) {
-            // Charge the step's work (sources can fill the world) against the budget.
+            // Charge the step's work against the budget, in neighbour candidates visited: each
+            // particle scans the 27 cells around it, so a world packed far beyond rest density
+            // (more particles than its few cells hold) costs O(n²) a pass. Sources can fill it.
             const double particles = w->any_enabled_source() ? double(w->capacity) : double(before);
+            const double candidates =
+                std::min(particles, 27.0 * std::ceil(particles / double(std::max(1u, w->grid_cells))) + 27.0);
             const double cost = double(w->params.substeps) *
-                                (particles * (double(w->params.iterations) * 2.0 + 8.0) + 4.0 * w->grid_cells + 64.0);
+                                (particles * candidates * (double(w->params.iterations) * 2.0 + 8.0) +
+                                 4.0 * w->grid_cells + 64.0);
             if (cost > s.budget) return;
             s.budget -= cost;
         }
