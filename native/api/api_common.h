@@ -30,6 +30,10 @@ void log_message(pbf_log_level level, const std::string& message);
 // Sets the calling thread's last error ("CODE: message"), logs it and returns code.
 pbf_result fail(pbf_result code, const std::string& message);
 inline pbf_result fail(const Status& s) { return s.ok() ? PBF_OK : fail(s.code, s.message); }
+// The same, naming the C function the failure came from.
+inline pbf_result fail(const char* fn, const Status& s) {
+    return s.ok() ? PBF_OK : fail(s.code, std::string(fn) + ": " + s.message);
+}
 
 // Runs body, mapping exceptions to result codes so nothing unwinds into the caller's C code.
 template <class F>

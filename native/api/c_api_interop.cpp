@@ -178,7 +178,7 @@ PBF_API pbf_result PBF_CALL pbf_world_set_cuda_stream(pbf_world_id id, void* str
         PBF_LOCK_WORLD(w, id);
         if (pbf_result r = require_cuda_world(fn, *w); r != PBF_OK) return r;
         const Status st = w->backend().set_cuda_stream(stream);
-        return st.ok() ? PBF_OK : fail(st.code, std::string(fn) + ": " + st.message);
+        return fail(fn, st);
     });
 }
 
@@ -191,7 +191,7 @@ PBF_API pbf_result PBF_CALL pbf_world_record_cuda_event(pbf_world_id id, void** 
         PBF_LOCK_WORLD(w, id);
         PBF_INTEROP_OF(io, w);
         const Status st = io->record_event(out_event);
-        return st.ok() ? PBF_OK : fail(st.code, std::string(fn) + ": " + st.message);
+        return fail(fn, st);
     });
 }
 
@@ -203,7 +203,7 @@ PBF_API pbf_result PBF_CALL pbf_world_wait_cuda_event(pbf_world_id id, void* eve
         PBF_LOCK_WORLD(w, id);
         PBF_INTEROP_OF(io, w);
         const Status st = io->wait_event(event);
-        return st.ok() ? PBF_OK : fail(st.code, std::string(fn) + ": " + st.message);
+        return fail(fn, st);
     });
 }
 
@@ -289,7 +289,7 @@ PBF_API pbf_result PBF_CALL pbf_world_unregister_gl_buffer(pbf_world_id id, pbf_
         Interop* io = existing_interop(*w);
         PBF_REQUIRE_HANDLE(io, has_gl_buffer, buffer, "GL buffer");
         const Status st = io->unregister_gl_buffer(buffer);
-        return st.ok() ? PBF_OK : fail(st.code, std::string(fn) + ": " + st.message);
+        return fail(fn, st);
     });
 }
 
@@ -303,7 +303,7 @@ PBF_API pbf_result PBF_CALL pbf_world_copy_to_gl_buffer(pbf_world_id id, pbf_gl_
         PBF_REQUIRE(io->gl_buffer_mode(buffer) != PBF_COPY_ON_RENDER_EVENT, PBF_ERROR_INVALID_STATE,
                     std::string(fn) + ": the buffer was registered with PBF_COPY_ON_RENDER_EVENT: the render thread copies");
         const Status st = io->copy_to_gl_buffer(buffer);
-        return st.ok() ? PBF_OK : fail(st.code, std::string(fn) + ": " + st.message);
+        return fail(fn, st);
     });
 }
 
@@ -374,7 +374,7 @@ PBF_API pbf_result PBF_CALL pbf_world_release_external_buffer(pbf_world_id id, p
         Interop* io = existing_interop(*w);
         PBF_REQUIRE_HANDLE(io, has_external_buffer, buffer, "external buffer");
         const Status st = io->release_external_buffer(buffer);
-        return st.ok() ? PBF_OK : fail(st.code, std::string(fn) + ": " + st.message);
+        return fail(fn, st);
     });
 }
 
@@ -409,7 +409,7 @@ PBF_API pbf_result PBF_CALL pbf_world_import_semaphore(pbf_world_id id, const pb
         PBF_LOCK_WORLD(w, id);
         PBF_INTEROP_OF(io, w);
         const Status st = io->import_semaphore(*d, out);
-        return st.ok() ? PBF_OK : fail(st.code, std::string(fn) + ": " + st.message);
+        return fail(fn, st);
     });
 }
 
@@ -421,7 +421,7 @@ PBF_API pbf_result PBF_CALL pbf_world_release_semaphore(pbf_world_id id, pbf_sem
         Interop* io = existing_interop(*w);
         PBF_REQUIRE_HANDLE(io, has_semaphore, semaphore, "semaphore");
         const Status st = io->release_semaphore(semaphore);
-        return st.ok() ? PBF_OK : fail(st.code, std::string(fn) + ": " + st.message);
+        return fail(fn, st);
     });
 }
 
@@ -448,7 +448,7 @@ PBF_API pbf_result PBF_CALL pbf_world_copy_to_external_buffer(pbf_world_id id, p
         PBF_REQUIRE(io->external_buffer_mode(buffer) != PBF_COPY_ON_RENDER_EVENT, PBF_ERROR_INVALID_STATE,
                     std::string(fn) + ": the buffer was imported with PBF_COPY_ON_RENDER_EVENT: the render thread copies");
         const Status st = io->copy_to_external_buffer(buffer, sync);
-        return st.ok() ? PBF_OK : fail(st.code, std::string(fn) + ": " + st.message);
+        return fail(fn, st);
     });
 }
 

@@ -119,9 +119,6 @@ public:
     virtual Status map_positions(void** data, uint32_t* count) = 0;
     // For zero-copy interop. The world's CUDA stream (null on the CPU backend).
     virtual void* cuda_stream() const = 0;
-    // Enqueues a copy of the live positions (float4 each) into device memory dst on the world's
-    // stream, without waiting; *written = particles copied (needs the count: waits for it).
-    virtual Status copy_positions_device(void* dst, uint32_t max_count, uint32_t* written) = 0;
     // The live buffers in backend memory, without waiting or reading anything back: valid until
     // the next step, emission or world destruction (a step reorders and swaps them).
     virtual LiveBuffers live_buffers() = 0;

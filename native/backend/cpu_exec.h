@@ -27,7 +27,6 @@ public:
     void release(void* p);
     void zero(void* p, size_t bytes);
     void download(void* dst, const void* src, size_t bytes);
-    void copy_device(void* dst, const void* src, size_t bytes) { download(dst, src, bytes); }
     void* native_stream() const { return nullptr; }
     Status use_stream(void*) {
         return Status::error(PBF_ERROR_INVALID_STATE, "the world runs on the CPU backend: it has no CUDA stream");

@@ -43,9 +43,6 @@ public:
     void release(void* p);
     void zero(void* p, size_t bytes) { record(cudaMemsetAsync(p, 0, bytes, stream_)); }
     void download(void* dst, const void* src, size_t bytes);
-    void copy_device(void* dst, const void* src, size_t bytes) {
-        if (bytes) record(cudaMemcpyAsync(dst, src, bytes, cudaMemcpyDeviceToDevice, stream_));
-    }
     void* native_stream() const { return stream_; }
     // Runs on stream from now on (null: the world's own); work queued before is ordered first.
     Status use_stream(void* stream);

@@ -167,16 +167,6 @@ public:
     }
 
     void* cuda_stream() const override { return exec_.native_stream(); }
-    Status copy_positions_device(void* dst, uint32_t max_count, uint32_t* written) override {
-        exec_.activate();
-        uint32_t count = 0;
-        Status st = read_count(&count);
-        if (!st.ok()) return st;
-        const uint32_t n = std::min(count, max_count);
-        exec_.copy_device(dst, pos_[cur_], size_t(n) * sizeof(Vec4));
-        *written = n;
-        return exec_.check("device copy of positions");
-    }
     LiveBuffers live_buffers() override {
         LiveBuffers b;
         b.positions = pos_[cur_];
