@@ -121,7 +121,7 @@ typedef struct pbf_solver_params {
     float vorticity_epsilon;    /* vorticity confinement ε, in m/s; >= 0 (default 0.0005) */
     uint32_t ldc_enabled;       /* 1: Local Density Calibration before the iterations (default 1) */
     float ldc_gain;             /* LDC strength as K·Δt² (dimensionless; Δt the substep), so the
-                                   paper's K = ldc_gain / Δt². 0..1 (default 0.1). LDC acts on
+                                   paper's K = ldc_gain / Δt². 0..1 (default 0.3). LDC acts on
                                    compression only: densities below rest count as rest. */
     float max_speed;            /* particle speed clamp in m/s, > 0 (default 100) */
     float adaptive_error_target;/* 0 (default): run exactly `iterations` per substep. > 0: stop a

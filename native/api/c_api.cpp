@@ -166,7 +166,7 @@ PBF_API pbf_result PBF_CALL pbf_solver_params_init(pbf_solver_params* p, uint32_
     p->xsph_c = 0.01f;
     p->vorticity_epsilon = 0.0005f;
     p->ldc_enabled = 1;
-    p->ldc_gain = 0.1f;
+    p->ldc_gain = 0.3f;
     p->max_speed = 100.0f;
     return PBF_OK;
 }

@@ -57,7 +57,7 @@ namespace Pbf
         public float VorticityEpsilon { get { return _raw.vorticity_epsilon; } set { _raw.vorticity_epsilon = value; } }
         /// <summary>Local Density Calibration before the iterations (default on).</summary>
         public bool LdcEnabled { get { return _raw.ldc_enabled != 0; } set { _raw.ldc_enabled = value ? 1u : 0u; } }
-        /// <summary>LDC strength as K·Δt², 0..1 (default 0.1).</summary>
+        /// <summary>LDC strength as K·Δt², 0..1 (default 0.3).</summary>
         public float LdcGain { get { return _raw.ldc_gain; } set { _raw.ldc_gain = value; } }
         /// <summary>Particle speed clamp in m/s, &gt; 0 (default 100).</summary>
         public float MaxSpeed { get { return _raw.max_speed; } set { _raw.max_speed = value; } }

@@ -138,7 +138,7 @@ namespace Pbf.Tests
             Assert.AreEqual(0.01f, d.XsphC);
             Assert.AreEqual(0.0005f, d.VorticityEpsilon);
             Assert.IsTrue(d.LdcEnabled);
-            Assert.AreEqual(0.1f, d.LdcGain);
+            Assert.AreEqual(0.3f, d.LdcGain);
             Assert.AreEqual(100f, d.MaxSpeed);
 
             var desc = Scene.CpuDesc();
