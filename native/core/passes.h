@@ -49,19 +49,19 @@ struct CellBeginOp {
     }
 };
 
-// Moves particle data into sorted order (pred may be null when only positions are binned).
+// Moves particle data into sorted order: the ids and two Vec4 streams (x and v when binning x;
+// x and x* when binning x*, when v is dead until the velocity update rewrites it).
 struct GatherOp {
     const uint32_t* order;
-    const Vec4 *pos_in, *vel_in, *pred_in;
+    const Vec4 *a_in, *b_in;
     const uint32_t* id_in;
-    Vec4 *pos_out, *vel_out, *pred_out;
+    Vec4 *a_out, *b_out;
     uint32_t* id_out;
     PBF_HD void operator()(uint32_t i) const {
         const uint32_t src = order[i];
-        pos_out[i] = pos_in[src];
-        vel_out[i] = vel_in[src];
+        a_out[i] = a_in[src];
+        b_out[i] = b_in[src];
         id_out[i] = id_in[src];
-        if (pred_in) pred_out[i] = pred_in[src];
     }
 };
 
@@ -101,9 +101,10 @@ struct ConvergenceOp {
 };
 
 // ---- densities ---------------------------------------------------------------------------------
-PBF_HD float density_at(const SimConstants& s, const uint32_t* cell_begin, const Vec4* pos, Vec3 xi) {
+PBF_HD float density_at(const SimConstants& s, const uint32_t* cell_begin, const NeighborMasks& masks,
+                        const Vec4* pos, uint32_t i, Vec3 xi) {
     float rho = 0.0f;
-    for_each_neighbor(s.grid, cell_begin, xi, [&](uint32_t j) {
+    for_each_neighbor_of(s.grid, cell_begin, masks, i, xi, [&](uint32_t j) {
         const Vec3 d = xi - xyz(pos[j]);
         rho += poly6(length_sq(d), s.h2, s.poly6_coef);
     });
@@ -111,13 +112,15 @@ PBF_HD float density_at(const SimConstants& s, const uint32_t* cell_begin, const
 }
 
 // SPH density at the current positions; also stores ρ/ρ0 in positions' w (for colouring).
+// With masks (the last substep's, while the particle order is unchanged) it replays them.
 struct DensityOp {
     SimConstants s;
     const uint32_t* cell_begin;
     Vec4* positions;
     float* density;
+    NeighborMasks masks;  // rows null: walk the grid
     PBF_HD void operator()(uint32_t i) const {
-        const float rho = density_at(s, cell_begin, positions, xyz(positions[i]));
+        const float rho = density_at(s, cell_begin, masks, positions, i, xyz(positions[i]));
         density[i] = rho;
         positions[i].w = rho * s.inv_rest_density;
     }
@@ -130,14 +133,14 @@ struct DensityOp {
 // sign does exactly that (a denser j, ρ_ij > 0, pushes i along -n_ij, away from j). The unit
 // test "LDC force points from denser toward less dense" pins this reading.
 PBF_HD Vec3 ldc_force(const SimConstants& s, const uint32_t* cell_begin, const Vec4* pos, const float* density,
-                      uint32_t i) {
+                      uint32_t i, const NeighborMasks& masks = NeighborMasks{}) {
     const Vec3 xi = xyz(pos[i]);
     // Densities below ρ0 count as ρ0: LDC smooths compression only. Read literally, Eq. 1 also
     // evens out the density deficit of free-surface and wall particles (too few neighbours, not
     // real expansion), pushing the fluid outward and boiling a resting tank.
     const float rho_i = fmaxf(density[i], s.rest_density);
     Vec3 f{0.0f, 0.0f, 0.0f};
-    for_each_neighbor(s.grid, cell_begin, xi, [&](uint32_t j) {
+    for_each_neighbor_of(s.grid, cell_begin, masks, i, xi, [&](uint32_t j) {
         const Vec3 d = xyz(pos[j]) - xi;  // from i to j
         const float r2 = length_sq(d);
         if (r2 >= s.h2 || r2 <= 1e-20f) return;
@@ -175,9 +178,10 @@ struct PredictOp {
     const Vec4* positions;
     Vec4* velocities;
     Vec4* predicted;
+    NeighborMasks masks;  // the last substep's, while the particle order is unchanged; else null
     PBF_HD void operator()(uint32_t i) const {
         Vec3 accel = s.gravity;
-        if (s.ldc_enabled) accel += ldc_force(s, cell_begin, positions, density, i);
+        if (s.ldc_enabled) accel += ldc_force(s, cell_begin, positions, density, i, masks);
         const Vec3 x = xyz(positions[i]);
         const Vec3 v = clamp_speed(xyz(velocities[i]) + accel * s.dt, s.max_speed);
         velocities[i] = make_vec4(v, 0.0f);
@@ -189,9 +193,13 @@ struct PredictOp {
 // λ_i = -C_i / (Σ_k |∇_k C_i|² + ε) with C_i = ρ_i/ρ0 - 1. The constraint is unilateral
 // (C clamped at 0): particles at the free surface are not pulled together, which with few
 // iterations otherwise causes clumping. λ is stored in predicted[i].w for the Δp pass.
+// The substep's first λ pass walks the grid and records the neighbour masks (record = 1);
+// every later neighbour pass of the substep replays them.
 struct LambdaOp {
     SimConstants s;
     const uint32_t* cell_begin;
+    NeighborMasks masks;
+    uint32_t record;
     Vec4* predicted;
     float* density;
     const IterationControl* control;  // null: fixed iteration count
@@ -201,7 +209,7 @@ struct LambdaOp {
         float rho = 0.0f, sum_grad2 = 0.0f;
         Vec3 grad_i{0.0f, 0.0f, 0.0f};
         const float scale = s.mass * s.inv_rest_density;
-        for_each_neighbor(s.grid, cell_begin, xi, [&](uint32_t j) {
+        auto visit = [&](uint32_t j) {
             const Vec3 d = xi - xyz(predicted[j]);
             const float r2 = length_sq(d);
             if (r2 >= s.h2) return;
@@ -210,12 +218,26 @@ struct LambdaOp {
             const Vec3 g = spiky_gradient_r2(d, r2, s.h, s.spiky_coef) * scale;
             grad_i += g;
             sum_grad2 += length_sq(g);
-        });
+        };
+        if (record) for_each_neighbor_recording(s.grid, cell_begin, predicted, s.h2, masks, i, xi, visit);
+        else for_each_listed_neighbor(s.grid, cell_begin, masks, i, visit);
         rho *= s.mass;
         density[i] = rho;
         const float c = fmaxf(rho * s.inv_rest_density - 1.0f, 0.0f);
         sum_grad2 += length_sq(grad_i);
         predicted[i].w = -c / (sum_grad2 + s.lambda_epsilon);
+    }
+};
+
+// Records the neighbour masks alone, for a substep without constraint iterations.
+struct RecordNeighborsOp {
+    SimConstants s;
+    const uint32_t* cell_begin;
+    NeighborMasks masks;
+    const Vec4* predicted;
+    PBF_HD void operator()(uint32_t i) const {
+        for_each_neighbor_recording(s.grid, cell_begin, predicted, s.h2, masks, i, xyz(predicted[i]),
+                                    [](uint32_t) {});
     }
 };
 
@@ -240,6 +262,7 @@ struct DeltaOp {
     SimConstants s;
     ColliderSet colliders;
     const uint32_t* cell_begin;
+    NeighborMasks masks;
     const Vec4* positions;  // x at the start of the substep (for friction)
     const Vec4* predicted;
     Vec4* corrected;
@@ -253,7 +276,7 @@ struct DeltaOp {
         const Vec3 xi = xyz(pi);
         const float lambda_i = pi.w;
         Vec3 dp{0.0f, 0.0f, 0.0f};
-        for_each_neighbor(s.grid, cell_begin, xi, [&](uint32_t j) {
+        for_each_listed_neighbor(s.grid, cell_begin, masks, i, [&](uint32_t j) {
             if (j == i) return;
             const Vec4 pj = predicted[j];
             const Vec3 d = xi - xyz(pj);
@@ -288,6 +311,7 @@ struct VelocityUpdateOp {
 struct VorticityOp {
     SimConstants s;
     const uint32_t* cell_begin;
+    NeighborMasks masks;
     const Vec4* positions;
     const Vec4* velocities;
     Vec4* omega;
@@ -295,7 +319,7 @@ struct VorticityOp {
         const Vec3 xi = xyz(positions[i]);
         const Vec3 vi = xyz(velocities[i]);
         Vec3 w{0.0f, 0.0f, 0.0f};
-        for_each_neighbor(s.grid, cell_begin, xi, [&](uint32_t j) {
+        for_each_listed_neighbor(s.grid, cell_begin, masks, i, [&](uint32_t j) {
             if (j == i) return;
             const Vec4 pj = positions[j];
             const Vec3 d = xi - xyz(pj);
@@ -316,6 +340,7 @@ struct VorticityOp {
 struct VorticityXsphOp {
     SimConstants s;
     const uint32_t* cell_begin;
+    NeighborMasks masks;
     const Vec4* positions;
     const Vec4* velocities;
     const Vec4* omega;
@@ -327,7 +352,7 @@ struct VorticityXsphOp {
         const float wi = omega[i].w;
         Vec3 eta{0.0f, 0.0f, 0.0f}, xsph{0.0f, 0.0f, 0.0f};
         float rho = 0.0f;
-        for_each_neighbor(s.grid, cell_begin, xi, [&](uint32_t j) {
+        for_each_listed_neighbor(s.grid, cell_begin, masks, i, [&](uint32_t j) {
             const Vec4 pj = positions[j];
             const Vec3 d = xi - xyz(pj);
             const float r2 = length_sq(d);

@@ -3,6 +3,9 @@
 #pragma once
 #include <cmath>
 #include <cstdint>
+#if defined(_MSC_VER) && !defined(__CUDA_ARCH__)
+#include <intrin.h>
+#endif
 
 #if defined(__CUDACC__)
 #define PBF_HD __host__ __device__ __forceinline__
@@ -56,6 +59,19 @@ PBF_HD float fast_div(float a, float b) {
     return __fdividef(a, b);
 #else
     return a / b;
+#endif
+}
+
+// Index of the lowest set bit of a non-zero mask.
+PBF_HD uint32_t lowest_bit(uint32_t mask) {
+#if defined(__CUDA_ARCH__)
+    return static_cast<uint32_t>(__ffs(static_cast<int>(mask)) - 1);
+#elif defined(_MSC_VER)
+    unsigned long k;
+    _BitScanForward(&k, mask);
+    return static_cast<uint32_t>(k);
+#else
+    return static_cast<uint32_t>(__builtin_ctz(mask));
 #endif
 }
 

@@ -42,14 +42,19 @@ public:
             p = exec_.template alloc<T>(count);
             ok = ok && p != nullptr;
         };
+        // Four Vec4 arrays in rotating roles (x, v, x*, spare), one id array (its gather target
+        // is the sort's free value buffer), the sort's keys and values, ρ, the neighbour masks.
+        for (Vec4*& b : vec4_) alloc(b, n);
+        pos_ = vec4_[0];
+        vel_ = vec4_[1];
+        pred_ = vec4_[2];
+        spare_ = vec4_[3];
+        alloc(ids_, n);
         for (int b = 0; b < 2; ++b) {
-            alloc(pos_[b], n);
-            alloc(vel_[b], n);
-            alloc(pred_[b], n);
-            alloc(ids_[b], n);
             alloc(keys_[b], n);
             alloc(order_[b], n);
         }
+        alloc(masks_, n * kMaskRows);
         alloc(density_, n);
         alloc(cell_begin_, size_t(config.grid.num_cells) + 1);
         alloc(counters_, 1);
@@ -60,12 +65,13 @@ public:
         }
         // Unused slots hold finite data so passes that touch them (they never affect live
         // particles) compute nothing undefined; all counters start at zero.
+        for (Vec4* b : vec4_) exec_.zero(b, n * sizeof(Vec4));
+        exec_.zero(ids_, n * sizeof(uint32_t));
         for (int b = 0; b < 2; ++b) {
-            exec_.zero(pos_[b], n * sizeof(Vec4));
-            exec_.zero(vel_[b], n * sizeof(Vec4));
-            exec_.zero(pred_[b], n * sizeof(Vec4));
-            exec_.zero(ids_[b], n * sizeof(uint32_t));
+            exec_.zero(keys_[b], n * sizeof(uint32_t));
+            exec_.zero(order_[b], n * sizeof(uint32_t));
         }
+        exec_.zero(masks_, n * kMaskRows * sizeof(uint32_t));
         exec_.zero(density_, n * sizeof(float));
         exec_.zero(cell_begin_, (size_t(config.grid.num_cells) + 1) * sizeof(uint32_t));
         exec_.zero(counters_, sizeof(DeviceCounters));
@@ -96,7 +102,7 @@ public:
         const uint32_t fit = uint32_t(std::min<uint64_t>(requested, config_.capacity - count));
         if (fit > 0) {
             EmitBlockOp op{&counters_->count, &counters_->next_id, config_.capacity, b.origin, b.spacing, b.nx, b.ny,
-                           b.velocity, pos_[cur_], vel_[cur_], ids_[cur_]};
+                           b.velocity, pos_, vel_, ids_};
             exec_.for_each(fit, op);
             commit_emission(fit);
             bound_ = count + fit;
@@ -119,7 +125,7 @@ public:
         Status st = read_count(&count);
         if (!st.ok()) return st;
         const uint32_t n = std::min(count, max_count);
-        exec_.download(out, what == 0 ? static_cast<const void*>(pos_[cur_]) : vel_[cur_], size_t(n) * sizeof(Vec4));
+        exec_.download(out, what == 0 ? static_cast<const void*>(pos_) : vel_, size_t(n) * sizeof(Vec4));
         *written = n;
         return exec_.check("copy-out");
     }
@@ -130,7 +136,7 @@ public:
         Status st = read_count(&count);
         if (!st.ok()) return st;
         const uint32_t n = std::min(count, max_count);
-        exec_.download(out, ids_[cur_], size_t(n) * sizeof(uint32_t));
+        exec_.download(out, ids_, size_t(n) * sizeof(uint32_t));
         *written = n;
         return exec_.check("copy-out");
     }
@@ -138,7 +144,7 @@ public:
     Status read_stats(const SimConstants& s, StatsReadback* out) override {
         exec_.activate();
         if (!density_valid_) {  // the grid is valid between API calls: one density pass suffices
-            exec_.for_each(bound_, DensityOp{s, cell_begin_, pos_[cur_], density_});
+            exec_.for_each(bound_, DensityOp{s, cell_begin_, pos_, density_, valid_masks()});
             density_valid_ = true;
         }
         DeviceCounters c{};
@@ -149,7 +155,7 @@ public:
         out->iterations_used = c.control.iterations_used;
         out->emitted_total = c.emitted_total;
         out->drained_total = c.drained_total;
-        exec_.reduce_stats(s, density_, vel_[cur_], c.count, out);
+        exec_.reduce_stats(s, density_, vel_, c.count, out);
         return exec_.check("pbf_world_get_stats");
     }
 
@@ -162,16 +168,16 @@ public:
     Status map_positions(void** data, uint32_t* count) override {
         exec_.activate();
         Status st = read_count(count);
-        *data = pos_[cur_];
+        *data = pos_;
         return st;
     }
 
     void* cuda_stream() const override { return exec_.native_stream(); }
     LiveBuffers live_buffers() override {
         LiveBuffers b;
-        b.positions = pos_[cur_];
-        b.velocities = vel_[cur_];
-        b.ids = ids_[cur_];
+        b.positions = pos_;
+        b.velocities = vel_;
+        b.ids = ids_;
         b.count = &counters_->count;
         b.capacity = config_.capacity;
         b.cuda_device = Exec::kKind == PBF_BACKEND_CUDA ? config_.cuda_device : -1;
@@ -197,13 +203,13 @@ private:
             if (nz.count == 0) continue;
             EmitNozzleOp op{&counters_->count, &counters_->next_id, config_.capacity, nz.count, nz.sequence,
                             nz.disc_points, nz.center, nz.direction, nz.tangent, nz.bitangent, nz.radius,
-                            nz.speed, s.dt, pos_[cur_], vel_[cur_], ids_[cur_]};
+                            nz.speed, s.dt, pos_, vel_, ids_};
             exec_.for_each(nz.count, op);
             commit_emission(nz.count);
             bound_ = std::min<uint64_t>(config_.capacity, uint64_t(bound_) + nz.count);
         }
         for (const DrainBox& d : in.drains) {
-            exec_.for_each(bound_, DrainOp{&counters_->count, pos_[cur_], d.box_min, d.box_max, ids_[cur_],
+            exec_.for_each(bound_, DrainOp{&counters_->count, pos_, d.box_min, d.box_max, ids_,
                                            &counters_->drained});
         }
         if (!in.drains.empty()) exec_.for_each(1, CommitDrainOp{&counters_->drained, &counters_->drained_total});
@@ -214,11 +220,11 @@ private:
             exec_.profile_mark(kStageGridX);
             if (!grid_valid_) build_grid(s, false);
             exec_.profile_mark(kStageDensityX);
-            if (!density_valid_) exec_.for_each(bound_, DensityOp{s, cell_begin_, pos_[cur_], density_});
+            if (!density_valid_) exec_.for_each(bound_, DensityOp{s, cell_begin_, pos_, density_, valid_masks()});
         }
         exec_.profile_mark(kStageForcesPredict);
         // 2. forces (gravity + LDC), predict x*.
-        exec_.for_each(bound_, PredictOp{s, in.colliders, cell_begin_, density_, pos_[cur_], vel_[cur_], pred_[cur_]});
+        exec_.for_each(bound_, PredictOp{s, in.colliders, cell_begin_, density_, pos_, vel_, pred_, valid_masks()});
         // 3. neighbours: grid of x*.
         exec_.profile_mark(kStageGridPredicted);
         build_grid(s, true);
@@ -230,27 +236,30 @@ private:
         if (adaptive) exec_.for_each(1, ResetControlOp{control, 0u});
         for (uint32_t it = 0; it < in.iterations; ++it) {
             exec_.profile_mark(kStageLambda);
-            exec_.for_each(bound_, LambdaOp{s, cell_begin_, pred_[cur_], density_, control});
+            const NeighborMasks masks{masks_, sorted_keys_, config_.capacity};
+            exec_.for_each(bound_, LambdaOp{s, cell_begin_, masks, it == 0 ? 1u : 0u, pred_, density_, control});
             if (adaptive) {
                 exec_.sum_compressive_error(s, density_, &counters_->count, bound_, &control->error_sum);
                 exec_.for_each(1, ConvergenceOp{control, &counters_->count, s.adaptive_target});
             }
             exec_.profile_mark(kStageDeltaCollide);
-            exec_.for_each(bound_, DeltaOp{s, in.colliders, cell_begin_, pos_[cur_], pred_[cur_], pred_[1 - cur_],
-                                           control});
-            swap_pred();
+            exec_.for_each(bound_, DeltaOp{s, in.colliders, cell_begin_, masks, pos_, pred_, spare_, control});
+            std::swap(pred_, spare_);  // Jacobi: the corrected positions are next iteration's input
         }
+        const NeighborMasks masks{masks_, sorted_keys_, config_.capacity};
+        if (in.iterations == 0) exec_.for_each(bound_, RecordNeighborsOp{s, cell_begin_, masks, pred_});
+        masks_valid_ = true;  // recorded by the first λ pass (or just now)
         // 5. v = (x* - x)/Δt, x = x*; vorticity confinement and XSPH.
         exec_.profile_mark(kStageVelocity);
-        exec_.for_each(bound_, VelocityUpdateOp{s, pred_[cur_], density_, pos_[cur_], vel_[cur_]});
+        exec_.for_each(bound_, VelocityUpdateOp{s, pred_, density_, pos_, vel_});
         if (s.vorticity_epsilon > 0.0f || s.xsph_c > 0.0f) {
-            Vec4* omega = pred_[1 - cur_];  // free until the next substep
+            // x* now lives in x: pred_ and spare_ are free until the next substep.
+            Vec4* omega = spare_;
             exec_.profile_mark(kStageVorticity);
-            exec_.for_each(bound_, VorticityOp{s, cell_begin_, pos_[cur_], vel_[cur_], omega});
+            exec_.for_each(bound_, VorticityOp{s, cell_begin_, masks, pos_, vel_, omega});
             exec_.profile_mark(kStageVorticityXsph);
-            exec_.for_each(bound_, VorticityXsphOp{s, cell_begin_, pos_[cur_], vel_[cur_], omega, vel_[1 - cur_],
-                                                   density_});
-            swap_velocities();
+            exec_.for_each(bound_, VorticityXsphOp{s, cell_begin_, masks, pos_, vel_, omega, pred_, density_});
+            std::swap(vel_, pred_);
             density_valid_ = true;  // that pass also summed ρ at the final positions
         } else {
             density_valid_ = false;
@@ -259,7 +268,7 @@ private:
         // With LDC the next substep needs ρ(x); computing it now also serves the stats.
         if (s.ldc_enabled && !density_valid_) {
             exec_.profile_mark(kStageDensityEnd);
-            exec_.for_each(bound_, DensityOp{s, cell_begin_, pos_[cur_], density_});
+            exec_.for_each(bound_, DensityOp{s, cell_begin_, pos_, density_, masks});
             density_valid_ = true;
         }
     }
@@ -268,16 +277,30 @@ private:
     // that order and rebuilds cell_begin; drops dead particles from the count.
     void build_grid(const SimConstants& s, bool by_predicted) {
         const uint32_t n = bound_;
-        const Vec4* binned = by_predicted ? pred_[cur_] : pos_[cur_];
-        exec_.for_each(n, CellKeyOp{binned, ids_[cur_], &counters_->count, s.grid, keys_[0], order_[0]});
+        const Vec4* binned = by_predicted ? pred_ : pos_;
+        exec_.for_each(n, CellKeyOp{binned, ids_, &counters_->count, s.grid, keys_[0], order_[0]});
         int key_sel = 0, order_sel = 0;
         exec_.sort_pairs(keys_, order_, n, s.grid.num_cells, &key_sel, &order_sel);
         exec_.for_each(n + 1, CellBeginOp{keys_[key_sel], n, s.grid.num_cells, cell_begin_, &counters_->count});
-        const int o = 1 - cur_;
-        exec_.for_each(n, GatherOp{order_[order_sel], pos_[cur_], vel_[cur_], by_predicted ? pred_[cur_] : nullptr,
-                                   ids_[cur_], pos_[o], vel_[o], pred_[o], ids_[o]});
-        cur_ = o;
+        sorted_keys_ = keys_[key_sel];
+        masks_valid_ = false;
+        // Gather x into spare_ and the second stream (v; or x* when binning x*, as v is dead
+        // then until the velocity update) into the array free besides: x* when binning x, v when
+        // binning x*. The ids go to the sort's free value buffer.
+        Vec4*& second = by_predicted ? pred_ : vel_;
+        Vec4*& free_slot = by_predicted ? vel_ : pred_;
+        uint32_t*& id_out = order_[1 - order_sel];
+        exec_.for_each(n, GatherOp{order_[order_sel], pos_, second, ids_, spare_, free_slot, id_out});
+        std::swap(pos_, spare_);
+        std::swap(second, free_slot);
+        std::swap(ids_, id_out);
         grid_valid_ = true;
+    }
+
+    // The last substep's neighbour masks while the particle order they index is unchanged (no
+    // grid build since); null rows otherwise, and the passes walk the grid.
+    NeighborMasks valid_masks() const {
+        return masks_valid_ && grid_valid_ ? NeighborMasks{masks_, sorted_keys_, config_.capacity} : NeighborMasks{};
     }
 
     void commit_emission(uint32_t requested) {
@@ -285,11 +308,6 @@ private:
                                            config_.capacity, requested});
         grid_valid_ = density_valid_ = false;
     }
-
-    // pos, vel, ids and pred share one "current" index after a gather; the Jacobi swap and the
-    // XSPH output swap only one array, so they exchange the buffers themselves.
-    void swap_pred() { std::swap(pred_[0], pred_[1]); }
-    void swap_velocities() { std::swap(vel_[0], vel_[1]); }
 
     Status read_count(uint32_t* count) {
         exec_.download(count, &counters_->count, sizeof(uint32_t));
@@ -299,14 +317,14 @@ private:
     }
 
     void release() {
+        // The role pointers (pos_, ids_, ...) alias the arrays: release each array once.
+        for (Vec4* b : vec4_) exec_.release(b);
+        exec_.release(ids_);
         for (int b = 0; b < 2; ++b) {
-            exec_.release(pos_[b]);
-            exec_.release(vel_[b]);
-            exec_.release(pred_[b]);
-            exec_.release(ids_[b]);
             exec_.release(keys_[b]);
             exec_.release(order_[b]);
         }
+        exec_.release(masks_);
         exec_.release(density_);
         exec_.release(cell_begin_);
         exec_.release(counters_);
@@ -314,19 +332,23 @@ private:
 
     Exec exec_;
     BackendConfig config_{};
-    Vec4* pos_[2] = {};
-    Vec4* vel_[2] = {};
-    Vec4* pred_[2] = {};
-    uint32_t* ids_[2] = {};
+    Vec4* vec4_[4] = {};  // the allocations; the roles below point into them and rotate
+    Vec4* pos_ = nullptr;
+    Vec4* vel_ = nullptr;
+    Vec4* pred_ = nullptr;
+    Vec4* spare_ = nullptr;
+    uint32_t* ids_ = nullptr;  // rotates with the sort's value buffers
     uint32_t* keys_[2] = {};
     uint32_t* order_[2] = {};
+    const uint32_t* sorted_keys_ = nullptr;  // the cell of each particle at the last grid build
+    uint32_t* masks_ = nullptr;             // kMaskRows x capacity neighbour masks
     float* density_ = nullptr;
     uint32_t* cell_begin_ = nullptr;
     DeviceCounters* counters_ = nullptr;
-    int cur_ = 0;
     uint32_t bound_ = 0;  // upper bound of the live count known on the host (launch size)
     bool grid_valid_ = true;
     bool density_valid_ = false;
+    bool masks_valid_ = false;
 };
 
 }  // namespace pbf
