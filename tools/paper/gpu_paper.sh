@@ -18,7 +18,16 @@
 #      PBF 1..6 iterations, LDC 1..3 iterations, 14 substeps per 1/60 s frame (the CFL-like rule);
 #   3. the K sweep at 1 and 2 iterations, same scenes;
 #   4. Martin & Moyce at 64, 96, 128 particles across a (up to 1.4M particles), sampled every
-#      substep.
+#      substep;
+#   5. adaptive iterations (README §9): the 1M column of 1., PBF and LDC (gain 0.3) stepped
+#      alternately, iterating until the mean compressive error is below η = 1 %, 0.5 %, 0.1 %
+#      (cap 30 per step, as on the CPU) -> gpu_timing_adaptive.csv (iterations per step, mean
+#      and max; achieved error; ms per step). About a minute.
+#
+# ADAPTIVE_ONLY=1 runs part 5 alone (the rest is in docs/paper/data/gpu already):
+#
+#   ADAPTIVE_ONLY=1 OUT=/some/dir tools/paper/gpu_paper.sh BUILD_DIR
+#   cp /some/dir/gpu_timing_adaptive.csv docs/paper/data/gpu/ && tools/paper/run_report.sh --plots-only
 set -uo pipefail
 BUILD=${1:?usage: OUT=dir tools/paper/gpu_paper.sh BUILD_DIR}
 OUT=${OUT:-/tmp/out}
@@ -37,6 +46,22 @@ run() {  # run NAME ARGS...
     echo "$name: FAILED (see $name.log)"; tail -3 "$OUT/$name.log"; failures=$((failures + 1))
   fi
 }
+
+# 5. Adaptive iterations on the 1M column (PBF and LDC 0.3 alternated; one substep per step).
+adaptive() {
+  if "$BIN" timing --backend cuda --particles 1000000 --iterations 30 --adaptive-target 0.01,0.005,0.001 \
+       --ldc 0,1 --gain 0.3 --steps 100 --warmup 20 --csv "$OUT/gpu_timing_adaptive.csv" \
+       > "$OUT/gpu_timing_adaptive.log" 2>&1; then
+    cat "$OUT/gpu_timing_adaptive.log"
+  else
+    echo "gpu_timing_adaptive: FAILED"; tail -3 "$OUT/gpu_timing_adaptive.log"; failures=$((failures + 1))
+  fi
+}
+if [[ "${ADAPTIVE_ONLY:-0}" == 1 ]]; then
+  adaptive
+  echo "gpu_paper.sh: done (adaptive only), $failures failure(s); CSVs in $OUT"
+  exit $((failures > 0))
+fi
 
 # 1. Time per step against iterations (one substep per step, median of 100 after 20 warm-up).
 for spec in "1000000 gpu_timing" "262144 gpu_timing_262k"; do
@@ -76,6 +101,8 @@ for res in "64 21" "96 32" "128 43"; do
   run mm_ldc4_na$1  --scene dam --a 0.4 --na $1 --nz $2 --length 5 --iterations 4 --ldc 1 --frames 40 --per-substep 1
   run mm_conv4_na$1 --scene dam --a 0.4 --na $1 --nz $2 --length 5 --iterations 4 --ldc 0 --frames 40 --per-substep 1
 done
+
+adaptive
 
 echo "gpu_paper.sh: done, $failures failure(s); CSVs in $OUT"
 exit $((failures > 0))

@@ -5,25 +5,34 @@
 //       One simulation. Writes one CSV row per 1/60 s frame (or per substep with --per-substep 1,
 //       which drives the world with dt = frame/S and one substep per call: the same physics):
 //       time, compressive density error (mean, max), kinetic and potential energy, the
-//       dam-break front, the step time. --snap-times writes x,y,z,w (w = ρ/ρ0) of every
+//       dam-break front, the step time (the backend's, and the host's wall time of the step
+//       call plus the stats read that waits for it), the constraint iterations the step ran
+//       (all its substeps) and per substep. --snap-times writes x,y,z,w (w = ρ/ρ0) of every
 //       particle at those times (seconds) to PATH_t<time>.csv for the splat renders.
 //   pbf_paper timing [scene options] --iterations 1,2,...,6 --ldc 0,1 [--gain 0.1]
-//                    [--steps 100 --warmup 20] --csv FILE
+//                    [--adaptive-target 0,0.01,...] [--steps 100 --warmup 20] --csv FILE
 //       Time per step against iterations, on a 3D column a × 2a × a/2 (as pbf_bench's dam):
 //       --particles N picks na = cbrt(N). One substep per step, dt keeps the front under 0.4 h.
-//       The LDC-off and LDC-on worlds of one iteration count are stepped alternately.
+//       The LDC-off and LDC-on worlds of one iteration count are stepped alternately. With
+//       --adaptive-target, every listed target (0: fixed iterations) is timed with every
+//       iteration count as the cap; the CSV adds the iterations run per step (mean, max).
 //
 // Scene options: --scene dam|tank  --a METRES (0.4)  --na N (32, particles across a)
 //                --nz N (6, layers in z)  --length L (5, dam tank length in a)
 //                --backend cpu|cuda (cpu)  --particles N (timing only)
-// Solver options: --iterations N (4)  --ldc 0|1 (1)  --gain G (0.1, K·Δt²)  --substeps S
-//                (0: the CFL-like rule of samples/dam_break.c)  --frame-dt DT (1/60)
+// Solver options: --iterations N (4)  --ldc 0|1 (1)  --gain G (K·Δt²; default 0.1, the library's
+//                default when the report's runs were made, kept so they rerun alike; the
+//                library's is 0.3 now)  --substeps S (0: the CFL-like rule of
+//                samples/dam_break.c)  --frame-dt DT (1/60)
+//                --adaptive-target ETA (0: off; > 0: iterate until the mean compressive
+//                density error is below ETA, with --iterations as the cap)
 //                Diagnostics (library defaults otherwise): --relaxation E --scorr-k K --xsph C
 //                --vorticity EPS
 //
 // Exit status: 0 ok, 1 a libpbf error, 2 bad arguments. A run that diverges (non-finite
 // energy) still writes its rows and exits 0 with "diverged" on stdout: divergence is a result.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -100,6 +109,7 @@ int cmd_run(const Args& args) {
     d.solver.scorr_k = float(args.num("--scorr-k", d.solver.scorr_k));
     d.solver.xsph_c = float(args.num("--xsph", d.solver.xsph_c));
     d.solver.vorticity_epsilon = float(args.num("--vorticity", d.solver.vorticity_epsilon));
+    d.solver.adaptive_error_target = float(args.num("--adaptive-target", 0.0));
     uint32_t substeps = uint32_t(args.num("--substeps", 0));
     if (substeps == 0) substeps = paper::cfl_substeps(sc, frame_dt, !per_substep);
     if (!per_substep && substeps > 16) {
@@ -135,29 +145,39 @@ int cmd_run(const Args& args) {
     const double time_scale = std::sqrt(2.0 * paper::kGravity / sc.a);  // T = t·sqrt(2g/a)
     std::fprintf(csv,
                  "scene,na,nz,a,particles,substeps,iterations,ldc,gain,step,t,T,density_error_mean,"
-                 "density_error_max,kinetic_energy,ke_norm,pe_norm,front,Z,max_speed,step_ms\n");
+                 "density_error_max,kinetic_energy,ke_norm,pe_norm,front,Z,max_speed,step_ms,adaptive_target,"
+                 "iterations_used,iterations_per_substep,wall_ms\n");
     std::printf("run: %s na=%u nz=%u a=%.3f m, %u particles, spacing %.5f m, h %.5f m, %u substeps of %.5f s, "
-                "%u iterations, LDC %s gain %.3f, %s\n",
+                "%u iterations%s, LDC %s gain %.3f, adaptive target %g, %s\n",
                 sc.dam ? "dam" : "tank", sc.na, sc.nz, sc.a, n, info.rest_spacing, info.kernel_radius, substeps,
-                frame_dt / substeps, d.solver.iterations, d.solver.ldc_enabled ? "on" : "off", d.solver.ldc_gain,
+                frame_dt / substeps, d.solver.iterations, d.solver.adaptive_error_target > 0.0f ? " (cap)" : "",
+                d.solver.ldc_enabled ? "on" : "off", d.solver.ldc_gain, double(d.solver.adaptive_error_target),
                 info.device_name);
 
     std::vector<float> xyzw(size_t(d.max_particles) * 4), vel(size_t(d.max_particles) * 4);
     double pe0 = 0.0;
     bool diverged = false;
-    double total_ms = 0.0, max_ke_norm = 0.0;
+    double total_ms = 0.0, max_ke_norm = 0.0, total_iterations = 0.0;
     size_t next_snap = 0;
     const int total_calls = frames * calls_per_frame;
     for (int k = 0; k <= total_calls; ++k) {
-        double step_ms = 0.0;
+        double step_ms = 0.0, wall_ms = 0.0;
+        const auto t0 = std::chrono::steady_clock::now();
         if (k > 0) {
             if (!check(pbf_world_step(w, call_dt), "pbf_world_step")) return 1;
         }
         bool ok = true;
         const pbf_step_stats st = read_stats(w, &ok);  // first: the density pass also sets w
         if (!ok) return 1;
-        if (k > 0) step_ms = st.step_time_ms;
+        if (k > 0) {
+            step_ms = st.step_time_ms;
+            wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        }
         total_ms += step_ms;
+        // Iterations the call ran, over its substeps (all zero before the first step).
+        const uint32_t iterations_used = k > 0 ? st.iterations : 0u;
+        const double substeps_per_call = per_substep ? 1.0 : double(substeps);
+        total_iterations += iterations_used;
         uint32_t count = 0, written = 0;
         if (!check(pbf_world_get_particle_count(w, &count), "count")) return 1;
         if (!check(pbf_world_copy_positions(w, xyzw.data(), count, &written), "copy positions")) return 1;
@@ -175,11 +195,14 @@ int cmd_run(const Args& args) {
         const double ke_norm = st.kinetic_energy / energy_scale;
         max_ke_norm = std::max(max_ke_norm, ke_norm);
         const bool finite = std::isfinite(st.kinetic_energy) && std::isfinite(pe);
-        std::fprintf(csv, "%s,%u,%u,%.4f,%u,%u,%u,%u,%.4f,%d,%.6f,%.5f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.5f,%.5g,%.4f\n",
+        std::fprintf(csv,
+                     "%s,%u,%u,%.4f,%u,%u,%u,%u,%.4f,%d,%.6f,%.5f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.5f,%.5g,%.4f,%g,%u,"
+                     "%.4g,%.4f\n",
                      sc.dam ? "dam" : "tank", sc.na, sc.nz, sc.a, count, substeps, d.solver.iterations,
                      d.solver.ldc_enabled, d.solver.ldc_gain, k, t, t * time_scale, st.density_error_mean,
                      st.density_error_max, st.kinetic_energy, ke_norm, (pe - pe0) / energy_scale, front,
-                     front / sc.a, vmax, step_ms);
+                     front / sc.a, vmax, step_ms, double(d.solver.adaptive_error_target), iterations_used,
+                     double(iterations_used) / substeps_per_call, wall_ms);
         // Snapshots at whole frames, the first frame at or after each requested time.
         while (next_snap < snap_times.size() && k % calls_per_frame == 0 &&
                t + 0.25 * frame_dt >= snap_times[next_snap]) {
@@ -203,8 +226,9 @@ int cmd_run(const Args& args) {
         }
     }
     if (csv != stdout) std::fclose(csv);
-    std::printf("  %s; max KE/(M g a) %.3f; mean step %.2f ms\n", diverged ? "diverged" : "finished", max_ke_norm,
-                total_ms / std::max(1, total_calls));
+    std::printf("  %s; max KE/(M g a) %.3f; mean step %.2f ms; %.2f iterations per substep\n",
+                diverged ? "diverged" : "finished", max_ke_norm, total_ms / std::max(1, total_calls),
+                total_iterations / (double(std::max(1, total_calls)) * (per_substep ? 1.0 : double(substeps))));
     return check(pbf_world_destroy(w), "pbf_world_destroy") ? 0 : 1;
 }
 
@@ -224,60 +248,77 @@ int cmd_timing(const Args& args) {
     FILE* csv = csv_path.empty() ? stdout : std::fopen(csv_path.c_str(), "w");
     if (!csv) return 1;
     std::fprintf(csv, "backend,device,particles,iterations,ldc,gain,dt,steps,ms_median,ms_p10,ms_p90,ms_mean,"
-                      "density_error_mean\n");
+                      "density_error_mean,adaptive_target,iterations_mean,iterations_max,wall_ms_median\n");
     // For each iteration count, one world per LDC setting, stepped alternately (A B A B ...): on a
     // shared machine, load from other jobs then hits both methods alike and their difference
     // (LDC's cost) stays meaningful.
+    // With --adaptive-target, each target (0: fixed) is timed with each iteration count as the cap.
     const std::vector<std::string> ldcs = split(args.get("--ldc", "0,1"));
-    for (const std::string& it : split(args.get("--iterations", "1,2,3,4,5,6"))) {
-        struct Entry {
-            pbf_world_desc d;
-            pbf_world_id w;
-            pbf_world_info info;
-            uint32_t n = 0;
-            std::vector<double> ms;
-            double err = 0.0;
-        };
-        std::vector<Entry> worlds(ldcs.size());
-        for (size_t k = 0; k < ldcs.size(); ++k) {
-            Entry& e = worlds[k];
-            e.d = paper::make_desc(sc);
-            e.d.solver.iterations = uint32_t(std::atoi(it.c_str()));
-            e.d.solver.ldc_enabled = uint32_t(std::atoi(ldcs[k].c_str()));
-            e.d.solver.ldc_gain = float(args.num("--gain", 0.1));
-            e.d.solver.substeps = 1;
-            if (!check(pbf_world_create(&e.d, &e.w), "pbf_world_create")) return 1;
-            std::memset(&e.info, 0, sizeof e.info);
-            e.info.struct_size = sizeof e.info;
-            if (!check(pbf_world_get_info(e.w, &e.info), "info")) return 1;
-            if (!check(paper::emit_fluid(e.w, sc, &e.n), "emit")) return 1;
-        }
-        for (int k = 0; k < warmup + steps; ++k)
-            for (Entry& e : worlds) {
-                if (!check(pbf_world_step(e.w, dt), "pbf_world_step")) return 1;
-                bool ok = true;
-                const pbf_step_stats st = read_stats(e.w, &ok);
-                if (!ok) return 1;
-                if (k < warmup) continue;
-                e.ms.push_back(st.step_time_ms);
-                e.err += st.density_error_mean;
+    for (const std::string& target : split(args.get("--adaptive-target", "0"))) {
+        for (const std::string& it : split(args.get("--iterations", "1,2,3,4,5,6"))) {
+            struct Entry {
+                pbf_world_desc d;
+                pbf_world_id w;
+                pbf_world_info info;
+                uint32_t n = 0;
+                std::vector<double> ms, wall;
+                double err = 0.0, iters = 0.0;
+                uint32_t iters_max = 0;
+            };
+            std::vector<Entry> worlds(ldcs.size());
+            for (size_t k = 0; k < ldcs.size(); ++k) {
+                Entry& e = worlds[k];
+                e.d = paper::make_desc(sc);
+                e.d.solver.iterations = uint32_t(std::atoi(it.c_str()));
+                e.d.solver.ldc_enabled = uint32_t(std::atoi(ldcs[k].c_str()));
+                e.d.solver.ldc_gain = float(args.num("--gain", 0.1));
+                e.d.solver.substeps = 1;
+                e.d.solver.adaptive_error_target = float(std::atof(target.c_str()));
+                if (!check(pbf_world_create(&e.d, &e.w), "pbf_world_create")) return 1;
+                std::memset(&e.info, 0, sizeof e.info);
+                e.info.struct_size = sizeof e.info;
+                if (!check(pbf_world_get_info(e.w, &e.info), "info")) return 1;
+                if (!check(paper::emit_fluid(e.w, sc, &e.n), "emit")) return 1;
             }
-        for (Entry& e : worlds) {
-            std::vector<double> sorted = e.ms;
-            std::sort(sorted.begin(), sorted.end());
-            double mean = 0.0;
-            for (double v : e.ms) mean += v;
-            mean /= double(e.ms.size());
-            auto q = [&](double f) { return sorted[size_t(f * double(sorted.size() - 1))]; };
-            std::fprintf(csv, "%s,%s,%u,%u,%u,%.3f,%.6f,%d,%.4f,%.4f,%.4f,%.4f,%.6f\n",
-                         e.info.backend == PBF_BACKEND_CUDA ? "cuda" : "cpu", e.info.device_name, e.n,
-                         e.d.solver.iterations, e.d.solver.ldc_enabled, e.d.solver.ldc_gain, dt, steps, q(0.5), q(0.1),
-                         q(0.9), mean, e.err / double(steps));
-            std::fflush(csv);
-            std::printf("timing: %u particles, %u iterations, LDC %u: median %.3f ms/step\n", e.n,
-                        e.d.solver.iterations, e.d.solver.ldc_enabled, q(0.5));
-            std::fflush(stdout);
-            if (!check(pbf_world_destroy(e.w), "pbf_world_destroy")) return 1;
+            for (int k = 0; k < warmup + steps; ++k)
+                for (Entry& e : worlds) {
+                    const auto t0 = std::chrono::steady_clock::now();
+                    if (!check(pbf_world_step(e.w, dt), "pbf_world_step")) return 1;
+                    bool ok = true;
+                    const pbf_step_stats st = read_stats(e.w, &ok);  // waits for the step
+                    if (!ok) return 1;
+                    const double wall =
+                        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+                    if (k < warmup) continue;
+                    e.ms.push_back(st.step_time_ms);
+                    e.wall.push_back(wall);
+                    e.err += st.density_error_mean;
+                    e.iters += st.iterations;  // one substep per step: iterations per substep
+                    e.iters_max = std::max(e.iters_max, st.iterations);
+                }
+            for (Entry& e : worlds) {
+                std::vector<double> sorted = e.ms;
+                std::sort(sorted.begin(), sorted.end());
+                double mean = 0.0;
+                for (double v : e.ms) mean += v;
+                mean /= double(e.ms.size());
+                auto q = [&](double f) { return sorted[size_t(f * double(sorted.size() - 1))]; };
+                std::vector<double> wall = e.wall;
+                std::sort(wall.begin(), wall.end());
+                std::fprintf(csv, "%s,%s,%u,%u,%u,%.3f,%.6f,%d,%.4f,%.4f,%.4f,%.4f,%.6f,%g,%.4f,%u,%.4f\n",
+                             e.info.backend == PBF_BACKEND_CUDA ? "cuda" : "cpu", e.info.device_name, e.n,
+                             e.d.solver.iterations, e.d.solver.ldc_enabled, e.d.solver.ldc_gain, dt, steps, q(0.5),
+                             q(0.1), q(0.9), mean, e.err / double(steps), double(e.d.solver.adaptive_error_target),
+                             e.iters / double(steps), e.iters_max, wall[wall.size() / 2]);
+                std::fflush(csv);
+                std::printf("timing: %u particles, %u iterations%s, LDC %u, adaptive target %g: median %.3f ms/step, "
+                            "%.2f iterations/step, mean error %.4f\n",
+                            e.n, e.d.solver.iterations, e.d.solver.adaptive_error_target > 0.0f ? " (cap)" : "",
+                            e.d.solver.ldc_enabled, double(e.d.solver.adaptive_error_target), q(0.5),
+                            e.iters / double(steps), e.err / double(steps));
+                std::fflush(stdout);
+                if (!check(pbf_world_destroy(e.w), "pbf_world_destroy")) return 1;
+            }
         }
     }
     if (csv != stdout) std::fclose(csv);
