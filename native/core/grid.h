@@ -133,8 +133,18 @@ PBF_HD void for_each_neighbor_recording(const GridDims& g, const uint32_t* cell_
 
 // Calls visit(j) for every neighbour recorded for particle i (and every candidate of an
 // unlisted row). visit tests the distance itself, as with for_each_neighbor.
-#ifndef PBF_MASK_LOOP_FLAT
-#define PBF_MASK_LOOP_FLAT 0
+// The row loop is unrolled so the 9 mask and row-start loads issue together (H100, 1M: Δp
+// pass 0.174 → 0.166 ms). Measured and dropped (docs/perf.md, version 5): visiting bits in
+// pairs, one loop over all rows' bits (with or without the rows opened first), untrimmed rows
+// when recording.
+#if defined(__CUDA_ARCH__)
+#define PBF_UNROLL _Pragma("unroll")
+#elif defined(__clang__)
+#define PBF_UNROLL _Pragma("unroll")
+#elif defined(__GNUC__)
+#define PBF_UNROLL _Pragma("GCC unroll 9")
+#else
+#define PBF_UNROLL
 #endif
 template <class Visit>
 PBF_HD void for_each_listed_neighbor(const GridDims& g, const uint32_t* cell_begin, const NeighborMasks& masks,
@@ -143,43 +153,25 @@ PBF_HD void for_each_listed_neighbor(const GridDims& g, const uint32_t* cell_beg
     key_cell(g, masks.keys[i], cx, cy, cz);
     const uint32_t xlo = static_cast<uint32_t>(cx > 0 ? cx - 1 : 0);
     const uint32_t xend = static_cast<uint32_t>(cx + 1 < g.nx ? cx + 1 : g.nx - 1) + 1u;
-    // First sorted index of row r's x range; for an unlisted row that really overflows, walks
-    // the whole row and returns false.
-    auto open_row = [&](int r, uint32_t m, uint32_t& begin) {
-        const uint32_t y = static_cast<uint32_t>(cy + r % 3 - 1), z = static_cast<uint32_t>(cz + r / 3 - 1);
-        const uint32_t row = (z * g.ny + y) * g.nx;
-        begin = cell_begin[row + xlo];
-        if (m != kRowUnlisted) return true;
-        const uint32_t end = cell_begin[row + xend];
-        if (end - begin <= 32u) return true;
-        for (uint32_t j = begin; j < end; ++j) visit(j);
-        return false;
-    };
-#if PBF_MASK_LOOP_FLAT
-    // One loop over all recorded bits, so the threads of a warp stay in step across rows.
-    int r = 0;
-    uint32_t m = 0u, begin = 0u;
-    for (;;) {
-        while (m == 0u) {
-            if (r == kMaskRows) return;
-            m = masks.rows[r * masks.stride + i];
-            if (m != 0u && !open_row(r, m, begin)) m = 0u;
-            ++r;
-        }
-        visit(begin + lowest_bit(m));
-        m &= m - 1u;
-    }
-#else
+    PBF_UNROLL
     for (int r = 0; r < kMaskRows; ++r) {
         uint32_t m = masks.rows[r * masks.stride + i];
-        uint32_t begin;
-        if (m == 0u || !open_row(r, m, begin)) continue;  // empty rows include all outside the grid
+        if (m == 0u) continue;  // also every row outside the grid
+        const uint32_t y = static_cast<uint32_t>(cy + r % 3 - 1), z = static_cast<uint32_t>(cz + r / 3 - 1);
+        const uint32_t row = (z * g.ny + y) * g.nx;
+        const uint32_t begin = cell_begin[row + xlo];
+        if (m == kRowUnlisted) {
+            const uint32_t end = cell_begin[row + xend];
+            if (end - begin > 32u) {
+                for (uint32_t j = begin; j < end; ++j) visit(j);
+                continue;
+            }
+        }
         do {
             visit(begin + lowest_bit(m));
             m &= m - 1u;
         } while (m != 0u);
     }
-#endif
 }
 
 // Replays the masks when there are any (rows non-null), else walks the grid around xi.

@@ -257,7 +257,9 @@ PBF_HD float scorr_power(float ratio, float n) {
 }
 
 // Δp_i = (1/ρ0) Σ_j (λ_i + λ_j + s_corr) ∇W(x_i - x_j), s_corr = -k (W(r)/W(Δq))^n; Jacobi:
-// reads predicted, writes the corrected, collided position to corrected.
+// reads predicted, writes the corrected, collided position to corrected. The substep's last
+// iteration does the velocity update in the same pass (finish_positions set): v = (x* - x)/Δt
+// and x = x*, each particle writing only its own x and v, which no other thread reads here.
 struct DeltaOp {
     SimConstants s;
     ColliderSet colliders;
@@ -267,32 +269,42 @@ struct DeltaOp {
     const Vec4* predicted;
     Vec4* corrected;
     const IterationControl* control;  // null: fixed iteration count
+    Vec4* finish_positions = nullptr;   // = positions, on the last iteration
+    Vec4* finish_velocities = nullptr;
+    const float* density = nullptr;     // ρ of the last λ pass, for x's w (ρ/ρ0)
     PBF_HD void operator()(uint32_t i) const {
-        if (control && control->converged) {  // converged: carry x* over unchanged
-            corrected[i] = predicted[i];
-            return;
-        }
         const Vec4 pi = predicted[i];
         const Vec3 xi = xyz(pi);
         const float lambda_i = pi.w;
-        Vec3 dp{0.0f, 0.0f, 0.0f};
-        for_each_listed_neighbor(s.grid, cell_begin, masks, i, [&](uint32_t j) {
-            if (j == i) return;
-            const Vec4 pj = predicted[j];
-            const Vec3 d = xi - xyz(pj);
-            const float r2 = length_sq(d);
-            if (r2 >= s.h2) return;
-            const float ratio = poly6(r2, s.h2, s.poly6_coef) * s.scorr_inv_w_dq;
-            const float scorr = -s.scorr_k * scorr_power(ratio, s.scorr_n);
-            dp += spiky_gradient_r2(d, r2, s.h, s.spiky_coef) * (lambda_i + pj.w + scorr);
-        });
-        dp = dp * (s.mass * s.inv_rest_density);
-        corrected[i] = make_vec4(collide(s, colliders, xi + dp, xyz(positions[i])), lambda_i);
+        Vec3 c = xi;
+        if (!(control && control->converged)) {  // converged: x* carries over unchanged
+            Vec3 dp{0.0f, 0.0f, 0.0f};
+            for_each_listed_neighbor(s.grid, cell_begin, masks, i, [&](uint32_t j) {
+                if (j == i) return;
+                const Vec4 pj = predicted[j];
+                const Vec3 d = xi - xyz(pj);
+                const float r2 = length_sq(d);
+                if (r2 >= s.h2) return;
+                const float ratio = poly6(r2, s.h2, s.poly6_coef) * s.scorr_inv_w_dq;
+                const float scorr = -s.scorr_k * scorr_power(ratio, s.scorr_n);
+                dp += spiky_gradient_r2(d, r2, s.h, s.spiky_coef) * (lambda_i + pj.w + scorr);
+            });
+            dp = dp * (s.mass * s.inv_rest_density);
+            c = collide(s, colliders, xi + dp, xyz(positions[i]));
+        }
+        if (finish_positions) {
+            const Vec3 v = clamp_speed((c - xyz(positions[i])) * s.inv_dt, s.max_speed);
+            finish_velocities[i] = make_vec4(v, 0.0f);
+            finish_positions[i] = make_vec4(c, density[i] * s.inv_rest_density);
+        } else {
+            corrected[i] = make_vec4(c, lambda_i);
+        }
     }
 };
 
 // ---- velocity update, vorticity confinement, XSPH ---------------------------------------------
-// v = (x* - x)/Δt ; x = x* (w of positions carries ρ/ρ0 from the last λ pass).
+// v = (x* - x)/Δt ; x = x* (w of positions carries ρ/ρ0 from the last λ pass). Only for a
+// substep without iterations; otherwise the last Δp pass does it (DeltaOp::finish_positions).
 struct VelocityUpdateOp {
     SimConstants s;
     const Vec4* predicted;

@@ -243,15 +243,21 @@ private:
                 exec_.for_each(1, ConvergenceOp{control, &counters_->count, s.adaptive_target});
             }
             exec_.profile_mark(kStageDeltaCollide);
-            exec_.for_each(bound_, DeltaOp{s, in.colliders, cell_begin_, masks, pos_, pred_, spare_, control});
-            std::swap(pred_, spare_);  // Jacobi: the corrected positions are next iteration's input
+            // The last iteration also updates v and x (no separate velocity pass).
+            const bool last = it + 1 == in.iterations;
+            exec_.for_each(bound_, DeltaOp{s, in.colliders, cell_begin_, masks, pos_, pred_, spare_, control,
+                                           last ? pos_ : nullptr, last ? vel_ : nullptr, density_});
+            if (!last) std::swap(pred_, spare_);  // Jacobi: the corrected positions are the next input
         }
         const NeighborMasks masks{masks_, sorted_keys_, config_.capacity};
-        if (in.iterations == 0) exec_.for_each(bound_, RecordNeighborsOp{s, cell_begin_, masks, pred_});
+        if (in.iterations == 0) {
+            exec_.for_each(bound_, RecordNeighborsOp{s, cell_begin_, masks, pred_});
+            // 5. v = (x* - x)/Δt, x = x* (done by the last Δp pass when there are iterations).
+            exec_.profile_mark(kStageVelocity);
+            exec_.for_each(bound_, VelocityUpdateOp{s, pred_, density_, pos_, vel_});
+        }
         masks_valid_ = true;  // recorded by the first λ pass (or just now)
-        // 5. v = (x* - x)/Δt, x = x*; vorticity confinement and XSPH.
-        exec_.profile_mark(kStageVelocity);
-        exec_.for_each(bound_, VelocityUpdateOp{s, pred_, density_, pos_, vel_});
+        // Vorticity confinement and XSPH.
         if (s.vorticity_epsilon > 0.0f || s.xsph_c > 0.0f) {
             // x* now lives in x: pred_ and spare_ are free until the next substep.
             Vec4* omega = spare_;
