@@ -319,71 +319,73 @@ struct VelocityUpdateOp {
     }
 };
 
-// ω_i = Σ_j (m/ρ_j) v_ij × ∇_j W_ij, v_ij = v_j - v_i (Macklin & Müller Eq. 15).
-struct VorticityOp {
-    SimConstants s;
-    const uint32_t* cell_begin;
-    NeighborMasks masks;
-    const Vec4* positions;
-    const Vec4* velocities;
-    Vec4* omega;
-    PBF_HD void operator()(uint32_t i) const {
-        const Vec3 xi = xyz(positions[i]);
-        const Vec3 vi = xyz(velocities[i]);
-        Vec3 w{0.0f, 0.0f, 0.0f};
-        for_each_listed_neighbor(s.grid, cell_begin, masks, i, [&](uint32_t j) {
-            if (j == i) return;
-            const Vec4 pj = positions[j];
-            const Vec3 d = xi - xyz(pj);
-            const float r2 = length_sq(d);
-            if (r2 >= s.h2) return;
-            const float vol = fast_div(s.mass, fmaxf(pj.w, 1e-6f) * s.rest_density);
-            // ∇_j W(x_i - x_j) = -∇_i W(x_i - x_j)
-            const Vec3 grad_j = -spiky_gradient_r2(d, r2, s.h, s.spiky_coef);
-            w += cross(xyz(velocities[j]) - vi, grad_j) * vol;
-        });
-        omega[i] = make_vec4(w, length(w));
-    }
-};
-
-// f_vort = ε (N × ω), N = η/|η|, η = ∇|ω| (Eq. 16); then XSPH: v += c Σ_j (m/ρ_j) v_ij W_ij (Eq. 17).
-// The same walk sums ρ at the final positions (a poly6 it computes anyway): the next step's LDC
-// and the stats read it, so no separate density pass runs at the end of a step.
+// Pass 1 after the iterations: ω_i = Σ_j (m/ρ_j) v_ij × ∇_j W_ij (Macklin & Müller Eq. 15) and
+// XSPH, v_i + c Σ_j (m/ρ_j) v_ij W_ij (Eq. 17), v_ij = v_j - v_i; both read the velocities of the
+// velocity update, so one walk serves both. The smoothed velocity goes to velocities_out.
 struct VorticityXsphOp {
     SimConstants s;
     const uint32_t* cell_begin;
     NeighborMasks masks;
     const Vec4* positions;
     const Vec4* velocities;
-    const Vec4* omega;
+    Vec4* omega;
     Vec4* velocities_out;
-    float* density;
     PBF_HD void operator()(uint32_t i) const {
         const Vec3 xi = xyz(positions[i]);
         const Vec3 vi = xyz(velocities[i]);
+        Vec3 w{0.0f, 0.0f, 0.0f}, xsph{0.0f, 0.0f, 0.0f};
+        for_each_listed_neighbor(s.grid, cell_begin, masks, i, [&](uint32_t j) {
+            if (j == i) return;
+            const Vec4 pj = positions[j];
+            const Vec3 d = xi - xyz(pj);
+            const float r2 = length_sq(d);
+            if (r2 >= s.h2) return;
+            const float vol = fast_div(s.mass, fmaxf(pj.w, 1e-6f) * s.rest_density);
+            const Vec3 vij = xyz(velocities[j]) - vi;
+            // ∇_j W(x_i - x_j) = -∇_i W(x_i - x_j)
+            w += cross(vij, -spiky_gradient_r2(d, r2, s.h, s.spiky_coef)) * vol;
+            xsph += vij * (poly6(r2, s.h2, s.poly6_coef) * vol);
+        });
+        omega[i] = make_vec4(w, length(w));
+        velocities_out[i] = make_vec4(vi + xsph * s.xsph_c, 0.0f);
+    }
+};
+
+// Pass 2: f_vort = ε (N × ω), N = η/|η|, η = ∇|ω| (Eq. 16), added to each particle's own
+// smoothed velocity in place (no thread reads another's velocity in this pass). The same walk
+// sums ρ at the final positions (a poly6 it computes anyway): the next step's LDC and the stats
+// read it, so no separate density pass runs at the end of a step.
+struct VorticityForceOp {
+    SimConstants s;
+    const uint32_t* cell_begin;
+    NeighborMasks masks;
+    const Vec4* positions;
+    const Vec4* omega;
+    Vec4* velocities;
+    float* density;
+    PBF_HD void operator()(uint32_t i) const {
+        const Vec3 xi = xyz(positions[i]);
         const float wi = omega[i].w;
-        Vec3 eta{0.0f, 0.0f, 0.0f}, xsph{0.0f, 0.0f, 0.0f};
+        Vec3 eta{0.0f, 0.0f, 0.0f};
         float rho = 0.0f;
         for_each_listed_neighbor(s.grid, cell_begin, masks, i, [&](uint32_t j) {
             const Vec4 pj = positions[j];
             const Vec3 d = xi - xyz(pj);
             const float r2 = length_sq(d);
             if (r2 >= s.h2) return;
-            const float w = poly6(r2, s.h2, s.poly6_coef);
-            rho += w;
+            rho += poly6(r2, s.h2, s.poly6_coef);
             if (j == i) return;
             const float vol = fast_div(s.mass, fmaxf(pj.w, 1e-6f) * s.rest_density);
             eta += spiky_gradient_r2(d, r2, s.h, s.spiky_coef) * ((omega[j].w - wi) * vol);
-            xsph += (xyz(velocities[j]) - vi) * (w * vol);
         });
         density[i] = rho * s.mass;
-        Vec3 v = vi + xsph * s.xsph_c;
+        Vec3 v = xyz(velocities[i]);
         const float eta_len = length(eta);
         if (s.vorticity_epsilon > 0.0f && eta_len > 1e-9f) {
             const Vec3 n = eta * (1.0f / eta_len);
             v += cross(n, xyz(omega[i])) * (s.vorticity_epsilon * s.dt);
         }
-        velocities_out[i] = make_vec4(clamp_speed(v, s.max_speed), 0.0f);
+        velocities[i] = make_vec4(clamp_speed(v, s.max_speed), 0.0f);
     }
 };
 

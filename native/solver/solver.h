@@ -262,9 +262,9 @@ private:
             // x* now lives in x: pred_ and spare_ are free until the next substep.
             Vec4* omega = spare_;
             exec_.profile_mark(kStageVorticity);
-            exec_.for_each(bound_, VorticityOp{s, cell_begin_, masks, pos_, vel_, omega});
+            exec_.for_each(bound_, VorticityXsphOp{s, cell_begin_, masks, pos_, vel_, omega, pred_});
             exec_.profile_mark(kStageVorticityXsph);
-            exec_.for_each(bound_, VorticityXsphOp{s, cell_begin_, masks, pos_, vel_, omega, pred_, density_});
+            exec_.for_each(bound_, VorticityForceOp{s, cell_begin_, masks, pos_, omega, pred_, density_});
             std::swap(vel_, pred_);
             density_valid_ = true;  // that pass also summed ρ at the final positions
         } else {
