@@ -194,7 +194,10 @@ struct PredictOp {
 // (C clamped at 0): particles at the free surface are not pulled together, which with few
 // iterations otherwise causes clumping. λ is stored in predicted[i].w for the Δp pass.
 // The substep's first λ pass walks the grid and records the neighbour masks (record = 1);
-// every later neighbour pass of the substep replays them.
+// every later neighbour pass of the substep replays them. The first pass also stores the
+// denominator Σ_k |∇_k C_i|² + ε; later λ passes reuse it and sum only ρ (the constraint value
+// C_i stays exact each iteration; its gradient norm, the step's scaling, is frozen within the
+// substep, where positions move by a small fraction of h).
 struct LambdaOp {
     SimConstants s;
     const uint32_t* cell_begin;
@@ -203,29 +206,40 @@ struct LambdaOp {
     Vec4* predicted;
     float* density;
     const IterationControl* control;  // null: fixed iteration count
+    float* denominator = nullptr;     // null: every pass computes its own
     PBF_HD void operator()(uint32_t i) const {
         if (control && control->converged) return;
         const Vec3 xi = xyz(predicted[i]);
-        float rho = 0.0f, sum_grad2 = 0.0f;
-        Vec3 grad_i{0.0f, 0.0f, 0.0f};
-        const float scale = s.mass * s.inv_rest_density;
-        auto visit = [&](uint32_t j) {
-            const Vec3 d = xi - xyz(predicted[j]);
-            const float r2 = length_sq(d);
-            if (r2 >= s.h2) return;
-            rho += poly6(r2, s.h2, s.poly6_coef);
-            if (j == i) return;
-            const Vec3 g = spiky_gradient_r2(d, r2, s.h, s.spiky_coef) * scale;
-            grad_i += g;
-            sum_grad2 += length_sq(g);
-        };
-        if (record) for_each_neighbor_recording(s.grid, cell_begin, predicted, s.h2, masks, i, xi, visit);
-        else for_each_listed_neighbor(s.grid, cell_begin, masks, i, visit);
+        float rho = 0.0f, denom;
+        if (record || !denominator) {
+            float sum_grad2 = 0.0f;
+            Vec3 grad_i{0.0f, 0.0f, 0.0f};
+            const float scale = s.mass * s.inv_rest_density;
+            auto visit = [&](uint32_t j) {
+                const Vec3 d = xi - xyz(predicted[j]);
+                const float r2 = length_sq(d);
+                if (r2 >= s.h2) return;
+                rho += poly6(r2, s.h2, s.poly6_coef);
+                if (j == i) return;
+                const Vec3 g = spiky_gradient_r2(d, r2, s.h, s.spiky_coef) * scale;
+                grad_i += g;
+                sum_grad2 += length_sq(g);
+            };
+            if (record) for_each_neighbor_recording(s.grid, cell_begin, predicted, s.h2, masks, i, xi, visit);
+            else for_each_listed_neighbor(s.grid, cell_begin, masks, i, visit);
+            denom = sum_grad2 + length_sq(grad_i) + s.lambda_epsilon;
+            if (denominator) denominator[i] = denom;
+        } else {
+            for_each_listed_neighbor(s.grid, cell_begin, masks, i, [&](uint32_t j) {
+                const float r2 = length_sq(xi - xyz(predicted[j]));
+                if (r2 < s.h2) rho += poly6(r2, s.h2, s.poly6_coef);
+            });
+            denom = denominator[i];
+        }
         rho *= s.mass;
         density[i] = rho;
         const float c = fmaxf(rho * s.inv_rest_density - 1.0f, 0.0f);
-        sum_grad2 += length_sq(grad_i);
-        predicted[i].w = -c / (sum_grad2 + s.lambda_epsilon);
+        predicted[i].w = -c / denom;
     }
 };
 

@@ -237,7 +237,8 @@ private:
         for (uint32_t it = 0; it < in.iterations; ++it) {
             exec_.profile_mark(kStageLambda);
             const NeighborMasks masks{masks_, sorted_keys_, config_.capacity};
-            exec_.for_each(bound_, LambdaOp{s, cell_begin_, masks, it == 0 ? 1u : 0u, pred_, density_, control});
+            exec_.for_each(bound_, LambdaOp{s, cell_begin_, masks, it == 0 ? 1u : 0u, pred_, density_, control,
+                                            denominator_});
             if (adaptive) {
                 exec_.sum_compressive_error(s, density_, &counters_->count, bound_, &control->error_sum);
                 exec_.for_each(1, ConvergenceOp{control, &counters_->count, s.adaptive_target});
@@ -289,6 +290,8 @@ private:
         exec_.sort_pairs(keys_, order_, n, s.grid.num_cells, &key_sel, &order_sel);
         exec_.for_each(n + 1, CellBeginOp{keys_[key_sel], n, s.grid.num_cells, cell_begin_, &counters_->count});
         sorted_keys_ = keys_[key_sel];
+        // The sort's other key buffer is free until the next build: λ's denominators live there.
+        denominator_ = reinterpret_cast<float*>(keys_[1 - key_sel]);
         masks_valid_ = false;
         // Gather x into spare_ and the second stream (v; or x* when binning x*, as v is dead
         // then until the velocity update) into the array free besides: x* when binning x, v when
@@ -348,6 +351,7 @@ private:
     uint32_t* order_[2] = {};
     const uint32_t* sorted_keys_ = nullptr;  // the cell of each particle at the last grid build
     uint32_t* masks_ = nullptr;             // kMaskRows x capacity neighbour masks
+    float* denominator_ = nullptr;          // λ's Σ|∇C|² + ε per particle (aliases a sort buffer)
     float* density_ = nullptr;
     uint32_t* cell_begin_ = nullptr;
     DeviceCounters* counters_ = nullptr;
