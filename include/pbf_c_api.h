@@ -127,8 +127,9 @@ typedef struct pbf_solver_params {
     float adaptive_error_target;/* 0 (default): run exactly `iterations` per substep. > 0: stop a
                                    substep's iterations once the mean compressive density error
                                    max(ρ/ρ0 - 1, 0), measured by the λ pass, is below this (e.g.
-                                   0.01 = 1 %), with `iterations` as the cap; 0..1. Decided on the
-                                   device: the step still never waits. Stats report iterations run. */
+                                   0.01 = 1 %), with `iterations` as the cap; 0..1. A substep runs at
+                                   least one iteration. Decided on the device: the step still never
+                                   waits. Stats report iterations run. */
 } pbf_solver_params;
 
 /* Fills the library's defaults. Prefer pbf_solver_params_default(). */

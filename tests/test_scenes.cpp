@@ -289,4 +289,8 @@ TEST_CASE("adaptive iterations stop at the error target and report the iteration
     CHECK(tight_iterations <= fixed_iterations);
     CHECK(loose_error < 0.03);                     // measured after the step: near the target
     CHECK(tight_error <= loose_error);
+    // A target met before any correction still runs one iteration per substep (2 substeps).
+    double easy_error, easy_iterations;
+    run(0.5f, 8, 1, &easy_error, &easy_iterations);
+    CHECK(easy_iterations == Approx(2.0));
 }

@@ -5,9 +5,11 @@
 #
 #   1. the [gpu] suite once, plainly (baseline: results and time);
 #   2. compute-sanitizer over the [gpu] suite:
-#        memcheck  (--leak-check full)        all [gpu] tests but [memory]
-#        memcheck  (--report-api-errors no)   the [memory] test: it provokes cudaMalloc
-#                                             failures on purpose, which memcheck would count
+#        memcheck  (--leak-check full)        all [gpu] tests but [memory] and [interop]
+#        memcheck  (--report-api-errors no)   the [memory] and [interop] tests: they provoke
+#                                             cudaMalloc failures and invalid-handle errors
+#                                             (GL, external memory) on purpose, which memcheck
+#                                             would count; memory errors are still reported
 #        initcheck, synccheck                 all [gpu] tests but [memory] (it fills the device)
 #        racecheck                            the [quick] test: every kernel path a few times
 #                                             (racecheck is ~100x slower; over the whole suite
@@ -33,6 +35,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.." || exit 1
 export PATH="$PATH:/usr/local/cuda/bin"
 tests=${PBF_GPU_TESTS:-build-gpu/tests/pbf_gpu_tests}
 filter=${PBF_GPU_FILTER:-"[gpu]~[memory]"}
+memcheck_filter="$filter~[interop]"
 race_filter=${PBF_RACECHECK_FILTER:-"[gpu][quick]"}
 tools=${PBF_SANITIZER_TOOLS:-"memcheck racecheck initcheck synccheck"}
 limit=${PBF_SANITIZER_TIMEOUT:-150}
@@ -67,7 +70,9 @@ run_one() {  # name, log, command...
   timeout "$limit" "$@" >"$log" 2>&1
   local rc=$? secs=$(( $(date +%s) - t0 ))
   local errs
-  errs=$(grep -E "ERROR SUMMARY" "$log" | tail -1 | sed 's/^=* *//')
+  # racecheck prints "RACECHECK SUMMARY: N hazards displayed (E errors, W warnings)"
+  errs=$(grep -E "ERROR SUMMARY|RACECHECK SUMMARY" "$log" | tail -1 | sed 's/^=* *//' |
+         sed -E 's/RACECHECK SUMMARY: .*\(([0-9]+) errors.*/ERROR SUMMARY: \1 errors/')
   [ -z "$errs" ] && errs="no ERROR SUMMARY"
   local line
   line=$(printf '%-24s %s | %s | rc %d | %d s' "$name:" "$errs" "$(catch_line "$log")" "$rc" "$secs")
@@ -92,9 +97,11 @@ else
     case "$tool" in
       memcheck)
         run_one "memcheck" "$OUT/rel_memcheck.log" "$sanitizer" --tool memcheck --leak-check full \
-          --error-exitcode 2 "$tests" "$filter"
+          --error-exitcode 2 "$tests" "$memcheck_filter"
         run_one "memcheck [memory]" "$OUT/rel_memcheck_oom.log" "$sanitizer" --tool memcheck --leak-check full \
           --report-api-errors no --error-exitcode 2 "$tests" "[gpu][memory]"
+        run_one "memcheck [interop]" "$OUT/rel_memcheck_interop.log" "$sanitizer" --tool memcheck --leak-check full \
+          --report-api-errors no --error-exitcode 2 "$tests" "[gpu][interop]"
         ;;
       racecheck)
         run_one "racecheck" "$OUT/rel_racecheck.log" "$sanitizer" --tool racecheck --racecheck-report all \

@@ -86,15 +86,18 @@ struct ResetControlOp {
     }
 };
 
-// One thread, after the λ pass's error sum: stop once the mean error is below target.
+// One thread, after the λ pass's error sum: stop once the mean error is below target. The
+// first iteration of a substep always runs (first = 1): with LDC as the warm start, substeps
+// without any correction let LDC alone push the fluid and gained energy (docs/paper §9).
 struct ConvergenceOp {
     IterationControl* control;
     const uint32_t* count;
     float target;
+    uint32_t first;
     PBF_HD void operator()(uint32_t) const {
         if (control->converged) return;
         const float mean = *count ? control->error_sum / static_cast<float>(*count) : 0.0f;
-        if (mean < target) control->converged = 1;
+        if (mean < target && !first) control->converged = 1;
         else ++control->iterations_used;
         control->error_sum = 0.0f;
     }

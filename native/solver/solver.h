@@ -241,7 +241,7 @@ private:
                                             denominator_});
             if (adaptive) {
                 exec_.sum_compressive_error(s, density_, &counters_->count, bound_, &control->error_sum);
-                exec_.for_each(1, ConvergenceOp{control, &counters_->count, s.adaptive_target});
+                exec_.for_each(1, ConvergenceOp{control, &counters_->count, s.adaptive_target, it == 0 ? 1u : 0u});
             }
             exec_.profile_mark(kStageDeltaCollide);
             // The last iteration also updates v and x (no separate velocity pass).

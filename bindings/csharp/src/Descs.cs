@@ -61,7 +61,7 @@ namespace Pbf
         public float LdcGain { get { return _raw.ldc_gain; } set { _raw.ldc_gain = value; } }
         /// <summary>Particle speed clamp in m/s, &gt; 0 (default 100).</summary>
         public float MaxSpeed { get { return _raw.max_speed; } set { _raw.max_speed = value; } }
-        /// <summary>0: fixed iterations. &gt; 0: stop a substep's iterations once the mean compressive density error is below this (iterations is the cap).</summary>
+        /// <summary>0: fixed iterations. &gt; 0: stop a substep's iterations once the mean compressive density error is below this (iterations is the cap; at least one runs).</summary>
         public float AdaptiveErrorTarget { get { return _raw.adaptive_error_target; } set { _raw.adaptive_error_target = value; } }
     }
 
