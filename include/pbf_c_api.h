@@ -329,7 +329,9 @@ PBF_API pbf_result PBF_CALL pbf_world_copy_positions(pbf_world_id world, float* 
 /* 4 floats per particle: vx, vy, vz, 0. */
 PBF_API pbf_result PBF_CALL pbf_world_copy_velocities(pbf_world_id world, float* out_xyzw,
                                                       uint32_t max_count, uint32_t* out_written);
-/* Stable ids: assigned at emission (0, 1, 2, ... per world), kept for the particle's life. */
+/* Stable ids: assigned at emission (0, 1, 2, ... per world), kept for the particle's life. After
+ * 0xFFFFFFFE they wrap to 0 (0xFFFFFFFF is never an id), so ids are unique among the last
+ * 2^32 - 1 particles emitted. */
 PBF_API pbf_result PBF_CALL pbf_world_copy_ids(pbf_world_id world, uint32_t* out_ids,
                                                uint32_t max_count, uint32_t* out_written);
 

@@ -8,6 +8,12 @@ namespace pbf {
 // A dead particle (or an unused slot) sorts after every cell: its key is the cell count.
 constexpr uint32_t kDeadId = 0xFFFFFFFFu;
 
+// The id of the k-th particle after next_id: ids count 0, 1, ..., 0xFFFFFFFE and wrap to 0, never
+// reaching kDeadId (a live particle with that id would be dropped as drained).
+PBF_HD uint32_t particle_id(uint32_t next_id, uint64_t k) {
+    return static_cast<uint32_t>((uint64_t(next_id) + k) % uint64_t(kDeadId));
+}
+
 struct GridDims {
     Vec3 origin;      // lower corner of cell (0,0,0)
     float inv_cell;   // 1 / cell size (cell size = h)

@@ -425,7 +425,7 @@ struct EmitBlockOp {
         const uint32_t ix = k % nx, iy = (k / nx) % ny, iz = static_cast<uint32_t>(k / (uint64_t(nx) * ny));
         positions[slot] = make_vec4(origin + Vec3{ix * spacing, iy * spacing, iz * spacing}, 1.0f);
         velocities[slot] = make_vec4(velocity, 0.0f);
-        ids[slot] = *next_id + k;
+        ids[slot] = particle_id(*next_id, k);
     }
 };
 
@@ -452,7 +452,7 @@ struct EmitNozzleOp {
         const Vec3 p = center + tangent * (r * cosf(angle)) + bitangent * (r * sinf(angle)) + direction * travelled;
         positions[slot] = make_vec4(p, 1.0f);
         velocities[slot] = make_vec4(direction * speed, 0.0f);
-        ids[slot] = *next_id + k;
+        ids[slot] = particle_id(*next_id, k);
     }
 };
 
@@ -467,7 +467,7 @@ struct CommitEmissionOp {
         const uint32_t room = capacity - *count;
         const uint32_t added = requested < room ? requested : room;
         *count += added;
-        *next_id += added;
+        *next_id = particle_id(*next_id, added);
         *emitted_total += added;
     }
 };
