@@ -65,7 +65,7 @@ enum Stage : int {
     kStageGridPredicted,
     kStageLambda,
     kStageDeltaCollide,
-    kStageVelocity,
+    kStageVelocity,  // folded into the last Δp pass (version 5): reads 0
     kStageVorticity,
     kStageVorticityXsph,
     kStageDensityEnd,

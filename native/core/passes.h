@@ -246,18 +246,6 @@ struct LambdaOp {
     }
 };
 
-// Records the neighbour masks alone, for a substep without constraint iterations.
-struct RecordNeighborsOp {
-    SimConstants s;
-    const uint32_t* cell_begin;
-    NeighborMasks masks;
-    const Vec4* predicted;
-    PBF_HD void operator()(uint32_t i) const {
-        for_each_neighbor_recording(s.grid, cell_begin, predicted, s.h2, masks, i, xyz(predicted[i]),
-                                    [](uint32_t) {});
-    }
-};
-
 // ratio^n; the default n = 4 (and any whole n) by multiplication, since powf costs a log and
 // an exp per neighbour in the hottest loop.
 PBF_HD float scorr_power(float ratio, float n) {
@@ -320,22 +308,6 @@ struct DeltaOp {
 };
 
 // ---- velocity update, vorticity confinement, XSPH ---------------------------------------------
-// v = (x* - x)/Δt ; x = x* (w of positions carries ρ/ρ0 from the last λ pass). Only for a
-// substep without iterations; otherwise the last Δp pass does it (DeltaOp::finish_positions).
-struct VelocityUpdateOp {
-    SimConstants s;
-    const Vec4* predicted;
-    const float* density;
-    Vec4* positions;
-    Vec4* velocities;
-    PBF_HD void operator()(uint32_t i) const {
-        const Vec3 x_new = xyz(predicted[i]);
-        const Vec3 v = clamp_speed((x_new - xyz(positions[i])) * s.inv_dt, s.max_speed);
-        velocities[i] = make_vec4(v, 0.0f);
-        positions[i] = make_vec4(x_new, density[i] * s.inv_rest_density);
-    }
-};
-
 // Pass 1 after the iterations: ω_i = Σ_j (m/ρ_j) v_ij × ∇_j W_ij (Macklin & Müller Eq. 15) and
 // XSPH, v_i + c Σ_j (m/ρ_j) v_ij W_ij (Eq. 17), v_ij = v_j - v_i; both read the velocities of the
 // velocity update, so one walk serves both. The smoothed velocity goes to velocities_out.

@@ -234,9 +234,11 @@ private:
         const bool adaptive = s.adaptive_target > 0.0f;
         IterationControl* control = adaptive ? &counters_->control : nullptr;
         if (adaptive) exec_.for_each(1, ResetControlOp{control, 0u});
+        // iterations >= 1 (the API refuses 0): the first λ pass records the neighbour masks and
+        // the last Δp pass updates v and x.
+        const NeighborMasks masks{masks_, sorted_keys_, config_.capacity};
         for (uint32_t it = 0; it < in.iterations; ++it) {
             exec_.profile_mark(kStageLambda);
-            const NeighborMasks masks{masks_, sorted_keys_, config_.capacity};
             exec_.for_each(bound_, LambdaOp{s, cell_begin_, masks, it == 0 ? 1u : 0u, pred_, density_, control,
                                             denominator_});
             if (adaptive) {
@@ -250,15 +252,8 @@ private:
                                            last ? pos_ : nullptr, last ? vel_ : nullptr, density_});
             if (!last) std::swap(pred_, spare_);  // Jacobi: the corrected positions are the next input
         }
-        const NeighborMasks masks{masks_, sorted_keys_, config_.capacity};
-        if (in.iterations == 0) {
-            exec_.for_each(bound_, RecordNeighborsOp{s, cell_begin_, masks, pred_});
-            // 5. v = (x* - x)/Δt, x = x* (done by the last Δp pass when there are iterations).
-            exec_.profile_mark(kStageVelocity);
-            exec_.for_each(bound_, VelocityUpdateOp{s, pred_, density_, pos_, vel_});
-        }
-        masks_valid_ = true;  // recorded by the first λ pass (or just now)
-        // Vorticity confinement and XSPH.
+        masks_valid_ = true;  // recorded by the first λ pass
+        // 5. vorticity confinement and XSPH.
         if (s.vorticity_epsilon > 0.0f || s.xsph_c > 0.0f) {
             // x* now lives in x: pred_ and spare_ are free until the next substep.
             Vec4* omega = spare_;
