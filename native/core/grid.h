@@ -136,8 +136,8 @@ PBF_HD void for_each_neighbor_recording(const GridDims& g, const uint32_t* cell_
 // The row loop is unrolled so the 9 mask and row-start loads issue together (H100, 1M: Δp
 // pass 0.174 → 0.166 ms). Measured and dropped (docs/perf.md, version 5): visiting bits in
 // pairs, one loop over all rows' bits (with or without the rows opened first), untrimmed rows
-// when recording.
-#if defined(__CUDA_ARCH__)
+// when recording, masks anchored at each row's chord (fewer unlisted rows in a compressed tank).
+#if defined(__CUDACC__)  // nvcc, both its device and host passes
 #define PBF_UNROLL _Pragma("unroll")
 #elif defined(__clang__)
 #define PBF_UNROLL _Pragma("unroll")
