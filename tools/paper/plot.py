@@ -577,7 +577,7 @@ class Report:
         sets = []
         for sub, tag in (("", "CPU"), ("gpu", "GPU")):
             for f in sorted(glob.glob(os.path.join(self.data, sub, "mm_*_na*.csv"))):
-                # mm_ldc4_na*: gain 0.1 (the default when they were run); mm_ldc4g0.3_na*: the default now
+                # mm_ldc4_na*: gain 0.1 (the old default, set explicitly); mm_ldc4g0.3_na*: the default now
                 mt = re.match(r"mm_(ldc4|conv4)(?:g([0-9.]+))?_na(\d+)\.csv", os.path.basename(f))
                 if not mt:
                     continue

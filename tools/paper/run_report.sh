@@ -7,9 +7,9 @@
 #                                          #  docs/paper/data/gpu/)
 #
 # Environment: BUILD (default build-paper: a CPU build, -DPBF_WITH_CUDA=OFF), RESUME=1 keeps
-# every run whose CSV already exists, NICE (default 5). The full CPU set takes about two and a
-# half hours on 2 busy cores (the adaptive runs of section 7 about 30 min of it); every run is
-# at most ~41k particles.
+# every run whose CSV already exists, NICE (default 5). The full CPU set takes about 35 minutes
+# on one core of a lightly loaded machine (the adaptive runs of section 7 about 8 of them), about
+# two and a half hours on 2 cores busy with other jobs; every run is at most ~41k particles.
 #
 # Outputs: docs/paper/data/*.csv (one time series per run, the timing table), provenance.txt
 # (appended: which commit made which run),
@@ -59,8 +59,8 @@ BASE="--a 0.4 --na 32 --nz 6 --length 5"
 DAM_SNAPS="--snap-times 0.2,0.4,0.6,1.0"
 TANK_SNAPS="--snap-times 1.0"
 
-# 1. Methods: conventional PBF 1..6 iterations, LDC (gain 0.1, the library default when these
-#    runs were made; it is 0.3 now) 1..3 iterations.
+# 1. Methods: conventional PBF 1..6 iterations, LDC (gain 0.1, the library's old default, set
+#    explicitly; it is 0.3 now) 1..3 iterations.
 for it in 1 2 3 4 5 6; do
   run dam_conv$it  --scene dam  $BASE --iterations $it --ldc 0 --frames 90 $DAM_SNAPS --snap-prefix "$SNAP/dam_conv$it"
   run tank_conv$it --scene tank $BASE --iterations $it --ldc 0 --frames 60 $TANK_SNAPS --snap-prefix "$SNAP/tank_conv$it"
@@ -101,7 +101,7 @@ for it in 1 2 3; do
 done
 
 # 4. Martin & Moyce: the front sampled every substep up to T ≈ 3.3, at four resolutions with
-#    the thickness a/3 (nz = na/3), LDC (gain 0.1, the default when these runs were made) + 4
+#    the thickness a/3 (nz = na/3), LDC (gain 0.1, the old default, set explicitly) + 4
 #    iterations and conventional; and the CI test's resolution at the library's default now
 #    (gain 0.3), which tests/test_validation.cpp runs.
 for res in "16 5" "24 8" "32 11" "40 13"; do
