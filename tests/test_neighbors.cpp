@@ -122,6 +122,9 @@ TEST_CASE("after particles move, the replay is the recorded set within h of the 
 TEST_CASE("a dead slot (key = num_cells) records and replays no neighbours", "[neighbors]") {
     SortedCloud c(jittered_lattice(0.05f, 6, 6, 6, 0.0f, 1u), Vec3{0, 0, 0}, 3, 3, 3);
     c.keys.back() = c.g.num_cells;
+    // Where a slot without the guard would find neighbours: key num_cells decodes to cell
+    // (0, 0, nz), whose lower rows lie in the top layer next to this position.
+    c.pos.back() = Vec4{0.025f, 0.025f, 0.275f, 0.0f};
     CHECK(c.recorded(c.n() - 1).empty());
     CHECK(c.replayed(c.n() - 1).empty());
 }

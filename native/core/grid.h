@@ -94,7 +94,7 @@ PBF_HD void for_each_neighbor_recording(const GridDims& g, const uint32_t* cell_
                                         const NeighborMasks& masks, uint32_t i, Vec3 p, Visit&& visit) {
     const uint32_t key = masks.keys[i];
     if (key >= g.num_cells) {  // a dead slot past the live count: no neighbours
-        for (int r = 0; r < kMaskRows; ++r) masks.rows[r * masks.stride + i] = 0u;
+        for (int r = 0; r < kMaskRows; ++r) masks.rows[size_t(r) * masks.stride + i] = 0u;
         return;
     }
     int32_t cx, cy, cz;
@@ -126,7 +126,7 @@ PBF_HD void for_each_neighbor_recording(const GridDims& g, const uint32_t* cell_
                 }
                 if (!listed) mask = kRowUnlisted;
             }
-            masks.rows[((dz + 1) * 3 + (dy + 1)) * masks.stride + i] = mask;
+            masks.rows[size_t((dz + 1) * 3 + (dy + 1)) * masks.stride + i] = mask;
         }
     }
 }
@@ -155,7 +155,7 @@ PBF_HD void for_each_listed_neighbor(const GridDims& g, const uint32_t* cell_beg
     const uint32_t xend = static_cast<uint32_t>(cx + 1 < g.nx ? cx + 1 : g.nx - 1) + 1u;
     PBF_UNROLL
     for (int r = 0; r < kMaskRows; ++r) {
-        uint32_t m = masks.rows[r * masks.stride + i];
+        uint32_t m = masks.rows[size_t(r) * masks.stride + i];
         if (m == 0u) continue;  // also every row outside the grid
         const uint32_t y = static_cast<uint32_t>(cy + r % 3 - 1), z = static_cast<uint32_t>(cz + r / 3 - 1);
         const uint32_t row = (z * g.ny + y) * g.nx;
