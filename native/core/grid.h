@@ -29,6 +29,22 @@ PBF_HD uint32_t cell_key(const GridDims& g, Vec3 p) {
                static_cast<uint32_t>(g.nx) + static_cast<uint32_t>(cx);
 }
 
+// Distance from coordinate l (in cell units) to the cell [c, c + 1]: 0 inside it.
+PBF_HD float cell_gap(float l, int32_t c) { return fmaxf(0.0f, fmaxf(float(c) - l, l - float(c + 1))); }
+
+// The cells x0..x1 of row (y, z) that the cutoff sphere around (lx, ly, lz) (cell units, radius
+// 1) cuts; false when the whole row lies beyond the cutoff.
+PBF_HD bool row_chord(const GridDims& g, float lx, float ly, float lz, int32_t y, int32_t z, int32_t& x0,
+                      int32_t& x1) {
+    const float ey = cell_gap(ly, y), ez = cell_gap(lz, z);
+    const float chord2 = 1.0f - ey * ey - ez * ez;
+    if (chord2 <= 0.0f) return false;
+    const float rx = sqrtf(chord2);
+    x0 = cell_of(lx - rx, g.nx);
+    x1 = cell_of(lx + rx, g.nx);
+    return true;
+}
+
 // Calls visit(j) for every particle j that can lie within the cutoff h of p (p's own particle
 // included). Cell size is h, so that is at most the 3x3x3 cells around p; rows (y, z) whose
 // cells lie farther than h from p are skipped, and each row's x range is trimmed to the chord
@@ -45,14 +61,9 @@ PBF_HD void for_each_neighbor(const GridDims& g, const uint32_t* cell_begin, Vec
     const int32_t y0 = cy > 0 ? cy - 1 : 0, y1 = cy + 1 < g.ny ? cy + 1 : g.ny - 1;
     const int32_t z0 = cz > 0 ? cz - 1 : 0, z1 = cz + 1 < g.nz ? cz + 1 : g.nz - 1;
     for (int32_t z = z0; z <= z1; ++z) {
-        const float ez = fmaxf(0.0f, fmaxf(float(z) - lz, lz - float(z + 1)));
         for (int32_t y = y0; y <= y1; ++y) {
-            const float ey = fmaxf(0.0f, fmaxf(float(y) - ly, ly - float(y + 1)));
-            const float chord2 = 1.0f - ey * ey - ez * ez;
-            if (chord2 <= 0.0f) continue;  // the whole row is beyond the cutoff
-            const float rx = sqrtf(chord2);
-            const int32_t x0 = cell_of(lx - rx, g.nx);
-            const int32_t x1 = cell_of(lx + rx, g.nx);
+            int32_t x0, x1;
+            if (!row_chord(g, lx, ly, lz, y, z, x0, x1)) continue;  // the whole row is beyond the cutoff
             const uint32_t row = (static_cast<uint32_t>(z) * g.ny + static_cast<uint32_t>(y)) * g.nx;
             const uint32_t begin = cell_begin[row + x0];
             const uint32_t end = cell_begin[row + x1 + 1];
@@ -107,16 +118,12 @@ PBF_HD void for_each_neighbor_recording(const GridDims& g, const uint32_t* cell_
         for (int32_t dy = -1; dy <= 1; ++dy) {
             const int32_t y = cy + dy, z = cz + dz;
             uint32_t mask = 0u;
-            const float ez = fmaxf(0.0f, fmaxf(float(z) - lz, lz - float(z + 1)));
-            const float ey = fmaxf(0.0f, fmaxf(float(y) - ly, ly - float(y + 1)));
-            const float chord2 = 1.0f - ey * ey - ez * ez;
-            if (y >= 0 && y < g.ny && z >= 0 && z < g.nz && chord2 > 0.0f) {
+            int32_t c0, c1;
+            if (y >= 0 && y < g.ny && z >= 0 && z < g.nz && row_chord(g, lx, ly, lz, y, z, c0, c1)) {
                 const uint32_t row = (static_cast<uint32_t>(z) * g.ny + static_cast<uint32_t>(y)) * g.nx;
                 const uint32_t row_begin = cell_begin[row + xlo];
                 const bool listed = cell_begin[row + xhi + 1] - row_begin <= 32u;
                 // Only the chord of the cutoff sphere can hold neighbours; it lies within [xlo, xhi].
-                const float rx = sqrtf(chord2);
-                const int32_t c0 = cell_of(lx - rx, g.nx), c1 = cell_of(lx + rx, g.nx);
                 const int32_t x0 = c0 > xlo ? c0 : xlo, x1 = c1 < xhi ? c1 : xhi;
                 const uint32_t end = x0 <= x1 ? cell_begin[row + x1 + 1] : 0u;
                 for (uint32_t j = x0 <= x1 ? cell_begin[row + x0] : 0u; j < end; ++j) {
