@@ -32,11 +32,9 @@ PBF_HD uint32_t cell_key(const GridDims& g, Vec3 p) {
 // Distance from coordinate l (in cell units) to the cell [c, c + 1]: 0 inside it.
 PBF_HD float cell_gap(float l, int32_t c) { return fmaxf(0.0f, fmaxf(float(c) - l, l - float(c + 1))); }
 
-// The cells x0..x1 of row (y, z) that the cutoff sphere around (lx, ly, lz) (cell units, radius
-// 1) cuts; false when the whole row lies beyond the cutoff.
-PBF_HD bool row_chord(const GridDims& g, float lx, float ly, float lz, int32_t y, int32_t z, int32_t& x0,
-                      int32_t& x1) {
-    const float ey = cell_gap(ly, y), ez = cell_gap(lz, z);
+// The cells x0..x1 of a row that the cutoff sphere around lx (cell units, radius 1) cuts, the
+// row lying ey and ez (cell_gap) away in y and z; false when the whole row is beyond the cutoff.
+PBF_HD bool row_chord(const GridDims& g, float lx, float ey, float ez, int32_t& x0, int32_t& x1) {
     const float chord2 = 1.0f - ey * ey - ez * ez;
     if (chord2 <= 0.0f) return false;
     const float rx = sqrtf(chord2);
@@ -61,9 +59,10 @@ PBF_HD void for_each_neighbor(const GridDims& g, const uint32_t* cell_begin, Vec
     const int32_t y0 = cy > 0 ? cy - 1 : 0, y1 = cy + 1 < g.ny ? cy + 1 : g.ny - 1;
     const int32_t z0 = cz > 0 ? cz - 1 : 0, z1 = cz + 1 < g.nz ? cz + 1 : g.nz - 1;
     for (int32_t z = z0; z <= z1; ++z) {
+        const float ez = cell_gap(lz, z);
         for (int32_t y = y0; y <= y1; ++y) {
             int32_t x0, x1;
-            if (!row_chord(g, lx, ly, lz, y, z, x0, x1)) continue;  // the whole row is beyond the cutoff
+            if (!row_chord(g, lx, cell_gap(ly, y), ez, x0, x1)) continue;  // the whole row is beyond the cutoff
             const uint32_t row = (static_cast<uint32_t>(z) * g.ny + static_cast<uint32_t>(y)) * g.nx;
             const uint32_t begin = cell_begin[row + x0];
             const uint32_t end = cell_begin[row + x1 + 1];
@@ -85,9 +84,15 @@ constexpr int kMaskRows = 9;
 constexpr uint32_t kRowUnlisted = 0xFFFFFFFFu;
 
 struct NeighborMasks {
-    uint32_t* rows;         // rows[r * stride + i], r = (dz + 1) * 3 + (dy + 1)
-    const uint32_t* keys;   // sorted cell keys: the cell of x* each particle was binned in
-    uint32_t stride;        // capacity
+    // row[r][i]: particle i's mask for row r = (dz + 1) * 3 + (dy + 1). One base pointer per row
+    // (rows lie capacity entries apart in one allocation) keeps the per-particle index 32-bit at
+    // any capacity: computing r * capacity + i in 64 bits cost 2 % of a 1M step on an H100.
+    uint32_t* row[kMaskRows] = {};
+    const uint32_t* keys = nullptr;  // sorted cell keys: the cell of x* each particle was binned in
+    NeighborMasks() = default;
+    PBF_HD NeighborMasks(uint32_t* storage, const uint32_t* sorted_keys, uint32_t capacity) : keys(sorted_keys) {
+        for (int r = 0; r < kMaskRows; ++r) row[r] = storage ? storage + size_t(r) * capacity : nullptr;
+    }
 };
 
 // Cell coordinates of a sorted key (keys of live particles are < num_cells).
@@ -105,7 +110,7 @@ PBF_HD void for_each_neighbor_recording(const GridDims& g, const uint32_t* cell_
                                         const NeighborMasks& masks, uint32_t i, Vec3 p, Visit&& visit) {
     const uint32_t key = masks.keys[i];
     if (key >= g.num_cells) {  // a dead slot past the live count: no neighbours
-        for (int r = 0; r < kMaskRows; ++r) masks.rows[size_t(r) * masks.stride + i] = 0u;
+        for (int r = 0; r < kMaskRows; ++r) masks.row[r][i] = 0u;
         return;
     }
     int32_t cx, cy, cz;
@@ -115,11 +120,13 @@ PBF_HD void for_each_neighbor_recording(const GridDims& g, const uint32_t* cell_
     const float lz = (p.z - g.origin.z) * g.inv_cell;
     const int32_t xlo = cx > 0 ? cx - 1 : 0, xhi = cx + 1 < g.nx ? cx + 1 : g.nx - 1;
     for (int32_t dz = -1; dz <= 1; ++dz) {
+        const int32_t z = cz + dz;
+        const float ez = cell_gap(lz, z);
         for (int32_t dy = -1; dy <= 1; ++dy) {
-            const int32_t y = cy + dy, z = cz + dz;
+            const int32_t y = cy + dy;
             uint32_t mask = 0u;
             int32_t c0, c1;
-            if (y >= 0 && y < g.ny && z >= 0 && z < g.nz && row_chord(g, lx, ly, lz, y, z, c0, c1)) {
+            if (y >= 0 && y < g.ny && z >= 0 && z < g.nz && row_chord(g, lx, cell_gap(ly, y), ez, c0, c1)) {
                 const uint32_t row = (static_cast<uint32_t>(z) * g.ny + static_cast<uint32_t>(y)) * g.nx;
                 const uint32_t row_begin = cell_begin[row + xlo];
                 const bool listed = cell_begin[row + xhi + 1] - row_begin <= 32u;
@@ -133,7 +140,7 @@ PBF_HD void for_each_neighbor_recording(const GridDims& g, const uint32_t* cell_
                 }
                 if (!listed) mask = kRowUnlisted;
             }
-            masks.rows[size_t((dz + 1) * 3 + (dy + 1)) * masks.stride + i] = mask;
+            masks.row[(dz + 1) * 3 + (dy + 1)][i] = mask;
         }
     }
 }
@@ -162,7 +169,7 @@ PBF_HD void for_each_listed_neighbor(const GridDims& g, const uint32_t* cell_beg
     const uint32_t xend = static_cast<uint32_t>(cx + 1 < g.nx ? cx + 1 : g.nx - 1) + 1u;
     PBF_UNROLL
     for (int r = 0; r < kMaskRows; ++r) {
-        uint32_t m = masks.rows[size_t(r) * masks.stride + i];
+        uint32_t m = masks.row[r][i];
         if (m == 0u) continue;  // also every row outside the grid
         const uint32_t y = static_cast<uint32_t>(cy + r % 3 - 1), z = static_cast<uint32_t>(cz + r / 3 - 1);
         const uint32_t row = (z * g.ny + y) * g.nx;
@@ -181,11 +188,11 @@ PBF_HD void for_each_listed_neighbor(const GridDims& g, const uint32_t* cell_beg
     }
 }
 
-// Replays the masks when there are any (rows non-null), else walks the grid around xi.
+// Replays the masks when there are any (row pointers non-null), else walks the grid around xi.
 template <class Visit>
 PBF_HD void for_each_neighbor_of(const GridDims& g, const uint32_t* cell_begin, const NeighborMasks& masks,
                                  uint32_t i, Vec3 xi, Visit&& visit) {
-    if (masks.rows) for_each_listed_neighbor(g, cell_begin, masks, i, visit);
+    if (masks.row[0]) for_each_listed_neighbor(g, cell_begin, masks, i, visit);
     else for_each_neighbor(g, cell_begin, xi, visit);
 }
 
