@@ -87,7 +87,11 @@ pbf_result check_solver_params(const char* fn, const pbf_solver_params* params) 
     PBF_CHECK_STRUCT(pbf_solver_params, params);
     const pbf_solver_params& p = *params;
     PBF_REQUIRE_ARG(p.iterations >= 1 && p.iterations <= 64, "solver.iterations must be 1..64");
-    PBF_REQUIRE_ARG(p.substeps >= 1 && p.substeps <= 16, "solver.substeps must be 1..16");
+    PBF_REQUIRE_ARG(p.substeps <= 64, "solver.substeps must be 0 (automatic) or 1..64");
+    PBF_REQUIRE_ARG(p.max_substeps >= 1 && p.max_substeps <= 64, "solver.max_substeps must be 1..64");
+    PBF_REQUIRE_ARG(std::isfinite(p.substep_travel) && p.substep_travel >= 0.05f && p.substep_travel <= 1.0f,
+                    "solver.substep_travel must be 0.05..1 (a fraction of h)");
+    PBF_REQUIRE_ARG(std::isfinite(p.sound_speed) && p.sound_speed > 0.0f, "solver.sound_speed must be finite and > 0");
     PBF_REQUIRE_ARG(std::isfinite(p.relaxation) && p.relaxation > 0.0f, "solver.relaxation must be finite and > 0");
     PBF_REQUIRE_ARG(std::isfinite(p.scorr_k) && p.scorr_k >= 0.0f && p.scorr_k <= 1.0f, "solver.scorr_k must be 0..1");
     PBF_REQUIRE_ARG(std::isfinite(p.scorr_n) && p.scorr_n >= 1.0f && p.scorr_n <= 8.0f, "solver.scorr_n must be 1..8");
@@ -158,7 +162,10 @@ PBF_API pbf_result PBF_CALL pbf_solver_params_init(pbf_solver_params* p, uint32_
     std::memset(p, 0, sizeof *p);
     p->struct_size = sizeof *p;
     p->iterations = 4;
-    p->substeps = 1;
+    p->substeps = 0;
+    p->max_substeps = 16;
+    p->substep_travel = 0.5f;
+    p->sound_speed = 5.0f;
     p->relaxation = 1.0f;
     p->scorr_k = 0.1f;
     p->scorr_n = 4.0f;
