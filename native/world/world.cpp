@@ -79,7 +79,7 @@ std::unique_ptr<World> World::create(const pbf_world_desc& desc, Status* status)
     // |∇_k C|² of a rest particle, with ∇C = (m/ρ0) ∇W.
     const double m_over_rho = 1.0 / cal.kernel_sum;
     w->gradient_norm2_ = static_cast<float>(cal.gradient_norm2 * m_over_rho * m_over_rho);
-    w->boundary_scale_ = getenv("PBF_DBG_NOB") ? 0.0f : boundary_lattice_scale(spacing, w->h_);
+    w->boundary_scale_ = boundary_lattice_scale(spacing, w->h_);
     // Every constant the kernels use must be a normal float: a radius or rest density so extreme
     // that one over- or underflows (a denormal rest density, a radius of 1e20 m) would make every
     // density and velocity NaN.
