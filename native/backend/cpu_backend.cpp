@@ -78,12 +78,20 @@ void CpuExec::reduce_stats(const SimConstants& s, const float* density, const Ve
     double error_sum = 0.0, ke = 0.0;
     float error_max = 0.0f;
     const int64_t count = n;
-#pragma omp parallel for reduction(+ : error_sum, ke) reduction(max : error_max) if (count > 2048)
-    for (int64_t i = 0; i < count; ++i) {
-        const ParticleStats ps = particle_stats(s, density[i], velocities[i]);
-        error_sum += ps.compressive_error;
-        ke += ps.kinetic_energy;
-        error_max = fmaxf(error_max, ps.compressive_error);
+    // The maximum is taken per thread and merged in a critical section rather than with
+    // reduction(max:), which needs OpenMP 3.1 (MSVC's /openmp is 2.0); the result is the same.
+#pragma omp parallel if (count > 2048)
+    {
+        float thread_max = 0.0f;
+#pragma omp for reduction(+ : error_sum, ke)
+        for (int64_t i = 0; i < count; ++i) {
+            const ParticleStats ps = particle_stats(s, density[i], velocities[i]);
+            error_sum += ps.compressive_error;
+            ke += ps.kinetic_energy;
+            thread_max = fmaxf(thread_max, ps.compressive_error);
+        }
+#pragma omp critical(pbf_reduce_stats_max)
+        error_max = fmaxf(error_max, thread_max);
     }
     out->error_sum = error_sum;
     out->kinetic_energy = ke;
