@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # The Windows build, checked on Linux: cross-builds the CPU-backend pbf.dll with MinGW-w64
 # (scripts/build_windows_dll.sh: only pbf_* exported, no MinGW runtime DLLs needed), builds the
-# Catch2 suites that use only the public C API for Windows, and runs them under Wine:
+# Catch2 suites that run on the CPU backend for Windows, and runs them under Wine:
 #
 #   bash scripts/check_windows.sh [BUILD_DIR=build-mingw]
 #
 #   pbf_api_tests          the C ABI: versions, struct layout (tests/header_c99.c), validation,
 #                          handles, capacity, mapping, logging, thread-local errors
 #   pbf_reliability_tests  fuzz-finding regressions, out of memory, capacity, threads
+#   pbf_unit_tests         white-box: SPH kernels, LDC, neighbour masks, colliders and the CPU
+#                          scenes (resting tank, dam break, nozzles, drains), on the static core
 #
 # Test cases that cannot work under Windows would be excluded by Catch2 tag here (none are).
 # The Wine prefix lives in BUILD_DIR/wine (created on the first run, which is the slow one);
@@ -22,9 +24,9 @@ set -uo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root" || exit 1
 build="${1:-build-mingw}"
-suites=(pbf_api_tests pbf_reliability_tests)
+suites=(pbf_api_tests pbf_reliability_tests pbf_unit_tests)
 # Catch2 test spec per suite (empty: every test case), e.g. "~[posix-only]".
-declare -A spec=([pbf_api_tests]="" [pbf_reliability_tests]="")
+declare -A spec=([pbf_api_tests]="" [pbf_reliability_tests]="" [pbf_unit_tests]="")
 
 skip() { echo "check_windows.sh: skipped: $1"; exit 0; }
 fail() { echo "check_windows.sh: FAILED: $1"; exit 1; }
