@@ -5,7 +5,7 @@
 #
 #   include/pbf_c_api.h                PBF_VERSION_MAJOR/MINOR/PATCH        (required)
 #   CMakeLists.txt                     project(libpbf VERSION x.y.z)        (required)
-#   bindings/csharp/src/Native.cs      PBF_VERSION_MAJOR/MINOR/PATCH        (if present)
+#   bindings/csharp/**/*.cs            PBF_VERSION_MAJOR/MINOR/PATCH = n    (C# files defining them)
 #   bindings/csharp/unity/package.json "version"                            (if present)
 #   bindings/csharp/Pbf.csproj         <Version>                            (if present)
 #   bindings/csharp/nuget/Pbf.nuspec   <version>                            (if present)
@@ -56,8 +56,11 @@ cmake_version=""
   cmake_version="$(tr '\n' ' ' <CMakeLists.txt | grep -oE 'project\([[:space:]]*libpbf[^)]*\)' | grep -oE 'VERSION[[:space:]]+[0-9]+\.[0-9]+\.[0-9]+' | semver)"
 record CMakeLists.txt "$cmake_version" 1
 
-f=bindings/csharp/src/Native.cs
-[ -e "$f" ] && record "$f" "$(three_defines "$f")" 0
+# The C# mirror of the header's constants (Native.cs), wherever the bindings keep it.
+while IFS= read -r f; do
+  record "$f" "$(three_defines "$f")" 0
+done < <(grep -rl --include='*.cs' --exclude-dir=build --exclude-dir=obj --exclude-dir=bin \
+           -E 'PBF_VERSION_MAJOR[[:space:]]*=' bindings/csharp 2>/dev/null | sort)
 
 f=bindings/csharp/unity/package.json
 [ -e "$f" ] && record "$f" "$(grep -m1 -E '^[[:space:]]*"version"[[:space:]]*:' "$f" | semver)" 0
