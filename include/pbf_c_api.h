@@ -51,7 +51,7 @@ extern "C" {
 #endif
 
 /* ---- Version ------------------------------------------------------------------------------ */
-#define PBF_VERSION_MAJOR 1
+#define PBF_VERSION_MAJOR 2
 #define PBF_VERSION_MINOR 0
 #define PBF_VERSION_PATCH 0
 /* major in bits 22..31, minor in 12..21, patch in 0..11 */
