@@ -10,7 +10,8 @@
   pbf_packages.py unity-check DIR                validate a Unity package the way Unity's importer reads it
   pbf_packages.py unity-selftest DIR             break copies of DIR one way at a time: each must fail
   pbf_packages.py unity-provenance DIR           rewrite the plugins' provenance table (update script)
-  pbf_packages.py nupkg NUSPEC BASEDIR OUT       assemble a .nupkg from a .nuspec and its <files>
+  pbf_packages.py nupkg NUSPEC BASEDIR OUT [--optional TARGET]...
+                                                 assemble a .nupkg from a .nuspec and its <files>
   pbf_packages.py nupkg-check NUPKG              validate a .nupkg's layout and nuspec
 
 Exit status 0 when everything checked holds, 1 otherwise.
@@ -820,7 +821,7 @@ def _baseline_failures(package):
 NUSPEC_NS = "http://schemas.microsoft.com/packaging/2013/05/nuspec.xsd"
 
 
-def nupkg(nuspec, basedir, outdir):
+def nupkg(nuspec, basedir, outdir, optional=()):
     """Assemble a .nupkg: a zip in the Open Packaging Conventions layout that 'nuget pack' writes
     ([Content_Types].xml, _rels/.rels, the nuspec without <files>, a core-properties part) plus the
     files the nuspec's <files> lists. For nuget 2.8, which cannot read <license> (NuGet 4.9+)."""
@@ -834,6 +835,9 @@ def nupkg(nuspec, basedir, outdir):
     entries = []
     for f in (files if files is not None else []):
         src = os.path.join(basedir, f.get("src"))
+        if not os.path.isfile(src) and f.get("target") in optional:
+            print("nupkg: WARNING: %s is missing: the package goes without %s" % (src, f.get("target")), file=sys.stderr)
+            continue
         if not os.path.isfile(src):
             print("nupkg: %s (from %s) does not exist" % (src, nuspec), file=sys.stderr)
             return 1
@@ -882,7 +886,7 @@ def _xml(s):
 
 
 def nupkg_check(path):
-    report = Report("nuget package")
+    report = Report("nuget package contents")
     print("== NuGet package %s" % os.path.relpath(os.path.abspath(path), ROOT))
     with zipfile.ZipFile(path) as z:
         names = set(z.namelist())
@@ -969,7 +973,8 @@ def main(argv):
     elif cmd == "unity-provenance":
         return unity_provenance(os.path.abspath(args[0]))
     elif cmd == "nupkg":
-        return nupkg(args[0], args[1], args[2])
+        opt = [args[i + 1] for i in range(3, len(args) - 1) if args[i] == "--optional"]
+        return nupkg(args[0], args[1], args[2], opt)
     elif cmd == "nupkg-check":
         return nupkg_check(args[0])
     else:
