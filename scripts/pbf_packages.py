@@ -640,6 +640,25 @@ def unity_check(package):
         else:
             report.ok("%s: every .meta well-formed, importer matches the file type, GUIDs unique" % label)
 
+    # A git-URL install gets what git has: nothing Unity imports may be ignored by git, and all of
+    # it should be committed.
+    try:
+        def git_list(*extra):
+            out = subprocess.check_output(["git", "-C", package, "ls-files", "--others", "--exclude-standard"]
+                                          + list(extra) + ["--", "."], stderr=subprocess.DEVNULL)
+            return [l for l in out.decode().splitlines() if l]
+        ignored = [f for f in git_list("--ignored") if not any(
+            unity_ignored(part) for part in f.split("/")[:-1] + [os.path.basename(f)[:-5] if f.endswith(".meta") else os.path.basename(f)])]
+        untracked = git_list()
+        if ignored:
+            report.fail("git ignores files of the package, so a git-URL install lacks them: %s" % ", ".join(ignored[:6]))
+        else:
+            report.ok("git ignores none of the package's files")
+        if untracked:
+            report.warn("not committed yet: %s" % ", ".join(untracked[:6]))
+    except (subprocess.CalledProcessError, OSError):
+        report.note("not in a git work tree: git's view of the package not checked")
+
     # Scenes and materials refer to assets by GUID: each must be one the package ships, or Unity's.
     for root in asset_roots(package):
         for rel, is_dir in unity_assets(root)[0]:
