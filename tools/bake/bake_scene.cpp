@@ -514,8 +514,11 @@ Scene parse_scene(const std::string& text, const std::string& file, bool toml) {
                 if (text[i] == '\n') ++line, col = 1;
                 else ++col;
             }
+            // "[json.exception.parse_error.101] parse error at line 3, column 29: syntax error ...":
+            // keep what follows the position.
             std::string what = e.what();
-            const size_t p = what.find("; ");
+            const size_t at = what.find("parse error");
+            const size_t p = at == std::string::npos ? std::string::npos : what.find(": ", at);
             if (p != std::string::npos) what = what.substr(p + 2);
             throw Error(file + ":" + std::to_string(line) + ":" + std::to_string(col) + ": not valid JSON: " + what);
         }

@@ -106,6 +106,12 @@ int main(int argc, char** argv) {
                     scene_path.c_str(), r.device.c_str(), r.seconds, r.particles,
                     bake::format_list(scene.output.formats).c_str(), scene.output.directory.c_str(),
                     r.pvd.empty() ? "" : " (ParaView: open ", r.pvd.empty() ? "" : (r.pvd + ")").c_str());
+        if (scene.output.formats & bake::kVdb) {
+            const bake::VdbSettings v = bake::vdb_settings(scene);
+            std::printf("pbf_bake: OpenVDB level sets: voxel %g m, particle spheres of radius %g m, narrow band %g voxels; "
+                        "%llu active voxels in the last frame\n",
+                        v.voxel_size, v.sphere_radius, v.half_width, (unsigned long long)r.vdb_active_voxels);
+        }
     } catch (const bake::Error& e) {
         std::fprintf(stderr, "\npbf_bake: %s\n", e.what());
         return 1;

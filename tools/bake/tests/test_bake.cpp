@@ -432,3 +432,31 @@ TEST_CASE("bake: the .vdb holds a level set grid with active voxels", "[bake]") 
     }
 }
 #endif
+
+TEST_CASE("bake: a TOML scene reads as its JSON twin", "[bake]") {
+    if (!bake::have_toml()) {
+        WARN("pbf_bake was built without toml++: TOML scenes are refused with a message");
+        CHECK_THROWS_WITH(bake::parse_scene("a = 1", "x.toml", true),
+                          Catch::Contains("x.toml: this pbf_bake was built without TOML support"));
+        return;
+    }
+    const bake::Scene j = bake::load_scene(std::string(PBF_BAKE_SCENES_DIR) + "/nozzle_fill.json");
+    const bake::Scene t = bake::load_scene(std::string(PBF_BAKE_TOML_SCENE));
+    CHECK(std::memcmp(&j.world, &t.world, sizeof j.world) == 0);
+    REQUIRE(t.emitters.size() == 2);
+    REQUIRE(t.colliders.size() == 2);
+    for (size_t i = 0; i < 2; ++i) {
+        CHECK(std::memcmp(&j.emitters[i].desc, &t.emitters[i].desc, sizeof j.emitters[i].desc) == 0);
+        CHECK(j.emitters[i].start_frame == t.emitters[i].start_frame);
+        CHECK(j.emitters[i].end_frame == t.emitters[i].end_frame);
+        CHECK(std::memcmp(&j.colliders[i].desc, &t.colliders[i].desc, sizeof j.colliders[i].desc) == 0);
+    }
+    CHECK(j.frame_end == t.frame_end);
+    CHECK(j.frame_rate == t.frame_rate);
+    CHECK(j.output.formats == t.output.formats);
+    CHECK(j.output.directory == t.output.directory);
+    CHECK_THROWS_WITH(bake::parse_scene("[world]\nparticle_radius = \"big\"\n", "s.toml", true),
+                      "s.toml: /world/particle_radius: expected a number, got a string (\"big\")");
+    CHECK_THROWS_WITH(bake::parse_scene("[world]\nparticle_radius = \n", "s.toml", true),
+                      Catch::StartsWith("s.toml:2:") && Catch::Contains("not valid TOML"));
+}
