@@ -222,6 +222,7 @@ TEST_CASE("bake: PLY frames hold the world's particles, byte for byte", "[bake]"
     bake::Scene s = bake::parse_scene(tiny_scene(out, R"(["ply"])"), "tiny.json");
     int frames = 0;
     uint32_t counts_seen_max = 0;
+    std::vector<uint32_t> counts;
     bake::RunOptions o;
     o.progress = false;
     o.on_frame = [&](const bake::Frame& f, pbf_world_id w, const std::vector<std::string>& files) {
@@ -235,12 +236,19 @@ TEST_CASE("bake: PLY frames hold the world's particles, byte for byte", "[bake]"
         for (size_t i = 0; i < world.ids.size(); ++i)
             for (int c = 0; c < 3; ++c) REQUIRE(ply.vel[4 * i + c] == world.vel[4 * i + c]);
         counts_seen_max = std::max<uint32_t>(counts_seen_max, uint32_t(world.ids.size()));
+        counts.push_back(uint32_t(world.ids.size()));
         ++frames;
     };
     const bake::RunResult r = bake::run_bake(s, o);
     CHECK(frames == 6);
     CHECK(r.frames_written == 6);
     CHECK(counts_seen_max > 320);  // the nozzle added particles
+    // The block's 8 x 10 x 4 lattice; the nozzle is on for the steps out of frames 1, 2 and 3 only.
+    REQUIRE(counts.size() == 6);
+    CHECK(counts[0] == 320);
+    CHECK(counts[1] == 320);
+    CHECK(counts[4] > 320);
+    CHECK(counts[5] == counts[4]);
     for (int k = 0; k <= 5; ++k) CHECK(fs::exists(fs::path(out) / bake::frame_file(s, k, "ply")));
     CHECK_FALSE(fs::exists(fs::path(out) / "tiny.pvd"));
 }
@@ -459,4 +467,34 @@ TEST_CASE("bake: a TOML scene reads as its JSON twin", "[bake]") {
                       "s.toml: /world/particle_radius: expected a number, got a string (\"big\")");
     CHECK_THROWS_WITH(bake::parse_scene("[world]\nparticle_radius = \n", "s.toml", true),
                       Catch::StartsWith("s.toml:2:") && Catch::Contains("not valid TOML"));
+}
+
+TEST_CASE("bake: a keyframed kinematic collider moves through the fluid", "[bake]") {
+    const std::string out = work_dir("kinematic");
+    // A resting layer; a sphere keyframed from above the box down into the layer's middle.
+    const bake::Scene s = bake::parse_scene(R"({
+      "world": { "particle_radius": 0.025, "domain_min": [0, 0, 0], "domain_max": [0.6, 0.6, 0.6],
+                 "backend": "cpu", "max_particles": 4000 },
+      "solver": { "iterations": 3, "substeps": 4 },
+      "blocks": [ { "min": [0, 0, 0], "max": [0.6, 0.2, 0.6] } ],
+      "colliders": [ { "shape": "sphere", "radius": 0.1, "motion": "kinematic",
+                       "keyframes": [ { "frame": 0, "position": [0.3, 0.45, 0.3] },
+                                      { "frame": 12, "position": [0.3, 0.1, 0.3] } ] } ],
+      "frames": { "end": 15, "rate": 60 },
+      "output": { "directory": ")" + out + R"(", "formats": ["ply"] } })",
+                                            "kinematic.json");
+    float closest_end = 0.0f;
+    bake::RunOptions o;
+    o.progress = false;
+    o.on_frame = [&](const bake::Frame& f, pbf_world_id, const std::vector<std::string>&) {
+        float closest = 1e9f;
+        for (uint32_t i = 0; i < f.count; ++i) {
+            const float dx = f.xyzw[4 * i] - 0.3f, dy = f.xyzw[4 * i + 1] - 0.1f, dz = f.xyzw[4 * i + 2] - 0.3f;
+            closest = std::min(closest, std::sqrt(dx * dx + dy * dy + dz * dz));
+        }
+        if (f.index == 0) CHECK(closest < 0.05f);  // the sphere's final place starts full of fluid
+        closest_end = closest;
+    };
+    CHECK(bake::run_bake(s, o).frames_written == 16);
+    CHECK(closest_end > 0.09f);  // the sphere (radius 0.1) pushed the fluid out of its way
 }
