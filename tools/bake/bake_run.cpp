@@ -106,6 +106,7 @@ RunResult run_bake(const Scene& s, const RunOptions& o) {
     const std::string pvd_path = (fs::path(dir) / (s.output.name + ".pvd")).string();
     RunResult result;
     result.device = info.device_name;
+    double pvd_written_at = -1.0;
 
     for (int64_t k = 0; k <= s.frame_end; ++k) {
         if (k >= s.frame_start) {
@@ -127,7 +128,13 @@ RunResult run_bake(const Scene& s, const RunOptions& o) {
                 files.push_back((fs::path(dir) / name).string());
                 write_vtp(files.back(), fr);
                 pvd_entries.emplace_back(fr.time, name);
-                write_pvd(pvd_path, pvd_entries);  // rewritten each frame: a stopped bake still opens
+                // Rewritten at least every 2 s and after the last frame, so that a stopped bake
+                // still opens (without rewriting a long list after every frame).
+                const double now = progress.seconds();
+                if (k == s.frame_end || pvd_written_at < 0.0 || now - pvd_written_at >= 2.0) {
+                    write_pvd(pvd_path, pvd_entries);
+                    pvd_written_at = now;
+                }
             }
             if (formats & kVdb) {
                 files.push_back((fs::path(dir) / frame_file(s, k, "vdb")).string());
