@@ -1,6 +1,7 @@
 // The C ABI of zero-copy rendering (the interop section of pbf_c_api.h): validates every
 // argument and handle, refuses what this build or the world's backend lacks, and translates the
-// calls to the world's interop state (native/interop). Nothing else lives here.
+// calls to the world's interop state (native/interop). The descs' defaults are in defaults.cpp,
+// their checks in validate.cpp.
 #include <algorithm>
 #include <cstring>
 #include <exception>
@@ -22,16 +23,6 @@ using pbf::api::raw;
 namespace {
 
 bool is_zero(pbf_semaphore_id id) { return id.index == 0 && id.generation == 0; }
-uint32_t element_bytes(pbf_buffer source) { return raw(source) == PBF_BUFFER_IDS ? 4u : 16u; }
-// Enum fields are read as the 32 bits the caller stored (raw): any int may arrive from C.
-bool valid_source(pbf_buffer source) {
-    const int32_t s = raw(source);
-    return s == PBF_BUFFER_POSITIONS || s == PBF_BUFFER_VELOCITIES || s == PBF_BUFFER_IDS;
-}
-bool valid_mode(pbf_copy_mode mode) {
-    const int32_t m = raw(mode);
-    return m == PBF_COPY_ON_STEP || m == PBF_COPY_ON_RENDER_EVENT || m == PBF_COPY_MANUAL;
-}
 
 // Refuses what this build lacks (PBF_ERROR_BACKEND_UNAVAILABLE).
 pbf_result require_support(const char* fn, uint32_t flag) {
@@ -136,7 +127,7 @@ void PBF_CALL render_event(int event_id) {
 
 pbf_result check_sync(const char* fn, Interop* io, const pbf_external_sync* sync) {
     PBF_CHECK_STRUCT(pbf_external_sync, sync);
-    PBF_REQUIRE_ARG(sync->reserved0 == 0, "sync.reserved0 must be 0");
+    PBF_VALIDATE(pbf::api::validate_external_sync(*sync));
     if (!is_zero(sync->wait_semaphore)) PBF_REQUIRE_HANDLE(io, has_semaphore, sync->wait_semaphore, "sync.wait_semaphore");
     if (!is_zero(sync->signal_semaphore))
         PBF_REQUIRE_HANDLE(io, has_semaphore, sync->signal_semaphore, "sync.signal_semaphore");
@@ -244,18 +235,6 @@ PBF_API pbf_result PBF_CALL pbf_world_map_device_buffers(pbf_world_id id, uint32
 }
 
 // ---- OpenGL ----------------------------------------------------------------------------------
-PBF_API pbf_result PBF_CALL pbf_gl_buffer_desc_init(pbf_gl_buffer_desc* d, uint32_t struct_size) {
-    const char* fn = "pbf_gl_buffer_desc_init";
-    if (pbf_result r = pbf::api::check_struct(fn, "pbf_gl_buffer_desc", d, struct_size, sizeof(pbf_gl_buffer_desc));
-        r != PBF_OK)
-        return r;
-    std::memset(d, 0, sizeof *d);
-    d->struct_size = sizeof *d;
-    d->source = PBF_BUFFER_POSITIONS;
-    d->mode = PBF_COPY_ON_STEP;
-    return PBF_OK;
-}
-
 PBF_API pbf_result PBF_CALL pbf_world_register_gl_buffer(pbf_world_id id, const pbf_gl_buffer_desc* d,
                                                          pbf_gl_buffer_id* out) {
     const char* fn = "pbf_world_register_gl_buffer";
@@ -263,14 +242,7 @@ PBF_API pbf_result PBF_CALL pbf_world_register_gl_buffer(pbf_world_id id, const 
         PBF_REQUIRE_ARG(out != nullptr, "out_buffer is NULL");
         *out = pbf_gl_buffer_id{0, 0};
         PBF_CHECK_STRUCT(pbf_gl_buffer_desc, d);
-        PBF_REQUIRE_ARG(d->buffer != 0, "buffer must be a GL buffer object name (non-zero)");
-        PBF_REQUIRE_ARG(valid_source(d->source), "source must be PBF_BUFFER_POSITIONS, _VELOCITIES or _IDS");
-        PBF_REQUIRE_ARG(valid_mode(d->mode), "mode must be PBF_COPY_ON_STEP, _ON_RENDER_EVENT or _MANUAL");
-        PBF_REQUIRE_ARG(d->capacity > 0, "capacity must be > 0");
-        PBF_REQUIRE_ARG(d->offset_bytes % element_bytes(d->source) == 0,
-                        "offset_bytes must be a multiple of " + std::to_string(element_bytes(d->source)));
-        PBF_REQUIRE_ARG(d->draw_args_offset_bytes % 4 == 0, "draw_args_offset_bytes must be a multiple of 4");
-        PBF_REQUIRE_ARG(d->reserved0 == 0, "reserved0 must be 0");
+        PBF_VALIDATE(pbf::api::validate_gl_buffer_desc(*d));
         if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_OPENGL); r != PBF_OK) return r;
         PBF_LOCK_WORLD(w, id);
         PBF_INTEROP_OF(io, w);
@@ -308,20 +280,6 @@ PBF_API pbf_result PBF_CALL pbf_world_copy_to_gl_buffer(pbf_world_id id, pbf_gl_
 }
 
 // ---- external memory and semaphores ----------------------------------------------------------
-PBF_API pbf_result PBF_CALL pbf_external_buffer_desc_init(pbf_external_buffer_desc* d, uint32_t struct_size) {
-    const char* fn = "pbf_external_buffer_desc_init";
-    if (pbf_result r =
-            pbf::api::check_struct(fn, "pbf_external_buffer_desc", d, struct_size, sizeof(pbf_external_buffer_desc));
-        r != PBF_OK)
-        return r;
-    std::memset(d, 0, sizeof *d);
-    d->struct_size = sizeof *d;
-    d->fd = -1;
-    d->source = PBF_BUFFER_POSITIONS;
-    d->mode = PBF_COPY_MANUAL;
-    return PBF_OK;
-}
-
 PBF_API pbf_result PBF_CALL pbf_world_import_external_buffer(pbf_world_id id, const pbf_external_buffer_desc* d,
                                                              pbf_external_buffer_id* out) {
     const char* fn = "pbf_world_import_external_buffer";
@@ -329,31 +287,8 @@ PBF_API pbf_result PBF_CALL pbf_world_import_external_buffer(pbf_world_id id, co
         PBF_REQUIRE_ARG(out != nullptr, "out_buffer is NULL");
         *out = pbf_external_buffer_id{0, 0};
         PBF_CHECK_STRUCT(pbf_external_buffer_desc, d);
-        PBF_REQUIRE_ARG(raw(d->type) >= PBF_EXTERNAL_MEMORY_OPAQUE_FD && raw(d->type) <= PBF_EXTERNAL_MEMORY_D3D11_RESOURCE_KMT,
-                        "type must be a pbf_external_memory_type");
+        PBF_VALIDATE(pbf::api::validate_external_buffer_desc(*d));
         const bool fd_type = raw(d->type) == PBF_EXTERNAL_MEMORY_OPAQUE_FD;
-        if (fd_type) PBF_REQUIRE_ARG(d->fd >= 0, "fd must be an open file descriptor (>= 0)");
-        else PBF_REQUIRE_ARG(d->win32_handle != nullptr, "win32_handle must be set for this type");
-        PBF_REQUIRE_ARG(d->dedicated <= 1, "dedicated must be 0 or 1");
-        PBF_REQUIRE_ARG(valid_source(d->source), "source must be PBF_BUFFER_POSITIONS, _VELOCITIES or _IDS");
-        PBF_REQUIRE_ARG(valid_mode(d->mode), "mode must be PBF_COPY_ON_STEP, _ON_RENDER_EVENT or _MANUAL");
-        PBF_REQUIRE_ARG(d->size_bytes > 0, "size_bytes must be > 0");
-        PBF_REQUIRE_ARG(d->capacity > 0, "capacity must be > 0");
-        const uint64_t elem = element_bytes(d->source);
-        PBF_REQUIRE_ARG(d->offset_bytes % elem == 0, "offset_bytes must be a multiple of " + std::to_string(elem));
-        const uint64_t bytes = uint64_t(d->capacity) * elem;
-        PBF_REQUIRE_ARG(d->offset_bytes <= d->size_bytes && bytes <= d->size_bytes - d->offset_bytes,
-                        "offset_bytes + capacity * " + std::to_string(elem) + " exceeds size_bytes");
-        PBF_REQUIRE_ARG(d->write_draw_args <= 1, "write_draw_args must be 0 or 1");
-        if (d->write_draw_args) {
-            PBF_REQUIRE_ARG(d->draw_args_offset_bytes % 4 == 0, "draw_args_offset_bytes must be a multiple of 4");
-            PBF_REQUIRE_ARG(d->size_bytes >= 16 && d->draw_args_offset_bytes <= d->size_bytes - 16,
-                            "draw_args_offset_bytes + 16 exceeds size_bytes");
-            const uint64_t a0 = d->draw_args_offset_bytes, a1 = a0 + 16;
-            PBF_REQUIRE_ARG(a1 <= d->offset_bytes || a0 >= d->offset_bytes + bytes,
-                            "the draw arguments overlap the particles");
-        }
-        PBF_REQUIRE_ARG(d->reserved0 == 0, "reserved0 must be 0");
         if (pbf_result r = require_support(fn, fd_type ? PBF_INTEROP_SUPPORT_EXTERNAL_FD : PBF_INTEROP_SUPPORT_EXTERNAL_WIN32);
             r != PBF_OK)
             return r;
@@ -378,17 +313,6 @@ PBF_API pbf_result PBF_CALL pbf_world_release_external_buffer(pbf_world_id id, p
     });
 }
 
-PBF_API pbf_result PBF_CALL pbf_semaphore_desc_init(pbf_semaphore_desc* d, uint32_t struct_size) {
-    const char* fn = "pbf_semaphore_desc_init";
-    if (pbf_result r = pbf::api::check_struct(fn, "pbf_semaphore_desc", d, struct_size, sizeof(pbf_semaphore_desc));
-        r != PBF_OK)
-        return r;
-    std::memset(d, 0, sizeof *d);
-    d->struct_size = sizeof *d;
-    d->fd = -1;
-    return PBF_OK;
-}
-
 PBF_API pbf_result PBF_CALL pbf_world_import_semaphore(pbf_world_id id, const pbf_semaphore_desc* d,
                                                        pbf_semaphore_id* out) {
     const char* fn = "pbf_world_import_semaphore";
@@ -396,13 +320,9 @@ PBF_API pbf_result PBF_CALL pbf_world_import_semaphore(pbf_world_id id, const pb
         PBF_REQUIRE_ARG(out != nullptr, "out_semaphore is NULL");
         *out = pbf_semaphore_id{0, 0};
         PBF_CHECK_STRUCT(pbf_semaphore_desc, d);
-        PBF_REQUIRE_ARG(raw(d->type) >= PBF_SEMAPHORE_VULKAN_BINARY_FD && raw(d->type) <= PBF_SEMAPHORE_D3D12_FENCE,
-                        "type must be a pbf_semaphore_type");
+        PBF_VALIDATE(pbf::api::validate_semaphore_desc(*d));
         const bool fd_type =
             raw(d->type) == PBF_SEMAPHORE_VULKAN_BINARY_FD || raw(d->type) == PBF_SEMAPHORE_VULKAN_TIMELINE_FD;
-        if (fd_type) PBF_REQUIRE_ARG(d->fd >= 0, "fd must be an open file descriptor (>= 0)");
-        else PBF_REQUIRE_ARG(d->win32_handle != nullptr, "win32_handle must be set for this type");
-        PBF_REQUIRE_ARG(d->reserved0 == 0, "reserved0 must be 0");
         if (pbf_result r = require_support(fn, fd_type ? PBF_INTEROP_SUPPORT_EXTERNAL_FD : PBF_INTEROP_SUPPORT_EXTERNAL_WIN32);
             r != PBF_OK)
             return r;
@@ -423,16 +343,6 @@ PBF_API pbf_result PBF_CALL pbf_world_release_semaphore(pbf_world_id id, pbf_sem
         const Status st = io->release_semaphore(semaphore);
         return fail(fn, st);
     });
-}
-
-PBF_API pbf_result PBF_CALL pbf_external_sync_init(pbf_external_sync* s, uint32_t struct_size) {
-    const char* fn = "pbf_external_sync_init";
-    if (pbf_result r = pbf::api::check_struct(fn, "pbf_external_sync", s, struct_size, sizeof(pbf_external_sync));
-        r != PBF_OK)
-        return r;
-    std::memset(s, 0, sizeof *s);
-    s->struct_size = sizeof *s;
-    return PBF_OK;
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_copy_to_external_buffer(pbf_world_id id, pbf_external_buffer_id buffer,
