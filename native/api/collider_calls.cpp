@@ -1,5 +1,4 @@
 // The C ABI's collider calls: create, destroy, and the target pose of kinematic colliders.
-#include <cmath>
 #include <string>
 
 #include "api_common.h"
@@ -36,15 +35,7 @@ PBF_API pbf_result PBF_CALL pbf_collider_set_pose(pbf_world_id id, pbf_collider_
     return guarded(fn, [&]() -> pbf_result {
         PBF_VALIDATE(pbf::api::validate_collider_pose(position, rotation));
         PBF_LOCK_WORLD(w, id);
-        pbf::ColliderEntry* entry = w->find_collider(c);
-        PBF_REQUIRE(entry, PBF_ERROR_INVALID_HANDLE, std::string(fn) + ": collider is not live");
-        PBF_REQUIRE(entry->motion == PBF_MOTION_KINEMATIC, PBF_ERROR_INVALID_STATE,
-                    std::string(fn) + ": only kinematic colliders can be moved");
-        const float n = std::sqrt(rotation[0] * rotation[0] + rotation[1] * rotation[1] + rotation[2] * rotation[2] +
-                                  rotation[3] * rotation[3]);
-        entry->target_position = pbf::Vec3{position[0], position[1], position[2]};
-        for (int k = 0; k < 4; ++k) entry->target_rotation[k] = rotation[k] / n;
-        return PBF_OK;
+        return fail(fn, w->set_collider_target(c, position, rotation));
     });
 }
 

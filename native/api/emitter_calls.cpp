@@ -1,5 +1,4 @@
 // The C ABI's emission calls: block fills, and nozzle and drain emitters.
-#include <cmath>
 #include <string>
 
 #include "api_common.h"
@@ -49,9 +48,8 @@ PBF_API pbf_result PBF_CALL pbf_emitter_set_enabled(pbf_world_id id, pbf_emitter
     return guarded(fn, [&]() -> pbf_result {
         PBF_REQUIRE_ARG(enabled <= 1, "enabled must be 0 or 1");
         PBF_LOCK_WORLD(w, id);
-        pbf::EmitterEntry* entry = w->find_emitter(e);
-        PBF_REQUIRE(entry, PBF_ERROR_INVALID_HANDLE, std::string(fn) + ": emitter is not live");
-        entry->desc.enabled = enabled;
+        PBF_REQUIRE(w->set_emitter_enabled(e, enabled != 0), PBF_ERROR_INVALID_HANDLE,
+                    std::string(fn) + ": emitter is not live");
         return PBF_OK;
     });
 }
@@ -61,22 +59,10 @@ PBF_API pbf_result PBF_CALL pbf_emitter_set_transform(pbf_world_id id, pbf_emitt
     return guarded(fn, [&]() -> pbf_result {
         PBF_VALIDATE(pbf::api::validate_emitter_transform(nullptr, a, b));
         PBF_LOCK_WORLD(w, id);
-        pbf::EmitterEntry* entry = w->find_emitter(e);
+        const pbf::EmitterEntry* entry = w->find_emitter(e);
         PBF_REQUIRE(entry, PBF_ERROR_INVALID_HANDLE, std::string(fn) + ": emitter is not live");
         PBF_VALIDATE(pbf::api::validate_emitter_transform(&entry->desc.type, a, b));
-        if (entry->desc.type == PBF_EMITTER_NOZZLE) {
-            const float len = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
-            for (int k = 0; k < 3; ++k) {
-                entry->desc.position[k] = a[k];
-                entry->desc.direction[k] = b[k] / len;
-            }
-        } else {
-            for (int k = 0; k < 3; ++k) {
-                entry->desc.box_min[k] = a[k];
-                entry->desc.box_max[k] = b[k];
-            }
-        }
-        return PBF_OK;
+        return fail(fn, w->set_emitter_transform(e, a, b));
     });
 }
 

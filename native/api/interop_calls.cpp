@@ -39,27 +39,19 @@ pbf_result require_support(const char* fn, uint32_t flag) {
 
 // The world must run on CUDA (PBF_ERROR_INVALID_STATE otherwise).
 pbf_result require_cuda_world(const char* fn, World& w) {
-    if (w.backend().kind() == PBF_BACKEND_CUDA) return PBF_OK;
+    if (w.backend_kind() == PBF_BACKEND_CUDA) return PBF_OK;
     return fail(PBF_ERROR_INVALID_STATE, std::string(fn) + ": the world runs on the CPU backend; this call needs a CUDA world");
 }
 
 // The world's interop state, created on first use.
 pbf_result interop_of(const char* fn, World& w, Interop** out) {
     if (pbf_result r = require_cuda_world(fn, w); r != PBF_OK) return r;
-    if (auto* a = w.attachment()) {
-        *out = static_cast<Interop*>(a);  // the only attachment a world gets
-        return PBF_OK;
-    }
-    Status st;
-    std::unique_ptr<Interop> interop = Interop::create(w.backend(), &st);
-    if (!interop) return fail(st.code, std::string(fn) + ": " + st.message);
-    *out = interop.get();
-    w.set_attachment(std::move(interop));
-    return PBF_OK;
+    const Status st = Interop::of(w, out);
+    return st.ok() ? PBF_OK : fail(fn, st);
 }
 
 // The interop state if the world has one (no handle of it can be valid otherwise).
-Interop* existing_interop(World& w) { return static_cast<Interop*>(w.attachment()); }
+Interop* existing_interop(World& w) { return Interop::existing(w); }
 
 std::string handle_text(uint32_t index, uint32_t generation) {
     return "{" + std::to_string(index) + ", " + std::to_string(generation) + "}";
@@ -157,7 +149,7 @@ PBF_API pbf_result PBF_CALL pbf_world_get_cuda_stream(pbf_world_id id, void** ou
         if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_CUDA); r != PBF_OK) return r;
         PBF_LOCK_WORLD(w, id);
         if (pbf_result r = require_cuda_world(fn, *w); r != PBF_OK) return r;
-        *out_stream = w->backend().cuda_stream();
+        *out_stream = w->cuda_stream();
         return PBF_OK;
     });
 }
@@ -168,7 +160,7 @@ PBF_API pbf_result PBF_CALL pbf_world_set_cuda_stream(pbf_world_id id, void* str
         if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_CUDA); r != PBF_OK) return r;
         PBF_LOCK_WORLD(w, id);
         if (pbf_result r = require_cuda_world(fn, *w); r != PBF_OK) return r;
-        const Status st = w->backend().set_cuda_stream(stream);
+        const Status st = w->set_cuda_stream(stream);
         return fail(fn, st);
     });
 }
@@ -205,31 +197,25 @@ PBF_API pbf_result PBF_CALL pbf_world_map_device_buffers(pbf_world_id id, uint32
         PBF_CHECK_STRUCT(pbf_device_buffers, out);
         PBF_REQUIRE_ARG((flags & ~PBF_MAP_NO_WAIT) == 0, "flags must be 0 or PBF_MAP_NO_WAIT");
         PBF_LOCK_WORLD(w, id);
-        pbf::Backend& b = w->backend();
-        const bool cuda = b.kind() == PBF_BACKEND_CUDA;
-        uint32_t count = PBF_COUNT_ON_DEVICE;
-        if (!cuda || !(flags & PBF_MAP_NO_WAIT)) {
-            const Status st = b.particle_count(&count);  // on CUDA: waits for the stream
-            if (!st.ok()) return fail(st.code, std::string(fn) + ": " + st.message);
-        }
-        const pbf::LiveBuffers live = b.live_buffers();
+        World::Mapping m;
+        const Status st = w->map_particles(/*wait_for_count=*/!(flags & PBF_MAP_NO_WAIT), &m);
+        if (!st.ok()) return fail(st.code, std::string(fn) + ": " + st.message);
         pbf_device_buffers r;
         std::memset(&r, 0, sizeof r);
         r.struct_size = sizeof r;
-        r.memory = cuda ? PBF_MEMORY_CUDA_DEVICE : PBF_MEMORY_HOST;
-        r.positions = live.positions;
-        r.velocities = live.velocities;
-        r.ids = live.ids;
-        r.density_ratio = static_cast<char*>(live.positions) + 12;
-        r.count_device = live.count;
-        r.cuda_stream = cuda ? b.cuda_stream() : nullptr;
-        r.count = count;
-        r.capacity = live.capacity;
+        r.memory = m.device ? PBF_MEMORY_CUDA_DEVICE : PBF_MEMORY_HOST;
+        r.positions = m.live.positions;
+        r.velocities = m.live.velocities;
+        r.ids = m.live.ids;
+        r.density_ratio = static_cast<char*>(m.live.positions) + 12;
+        r.count_device = m.live.count;
+        r.cuda_stream = m.cuda_stream;
+        r.count = m.count;
+        r.capacity = m.live.capacity;
         r.vec4_stride_bytes = 16;
         r.id_stride_bytes = 4;
-        r.cuda_device = cuda ? live.cuda_device : -1;
+        r.cuda_device = m.device ? m.live.cuda_device : -1;
         *out = r;
-        w->mark_mapped();
         return PBF_OK;
     });
 }
@@ -406,7 +392,7 @@ PBF_API pbf_result PBF_CALL pbf_world_get_interop_info(pbf_world_id id, pbf_inte
         info.struct_size = sizeof info;
         info.cuda_device = -1;
         info.last_render_event_result = PBF_OK;
-        if (w->backend().kind() == PBF_BACKEND_CUDA) {
+        if (w->backend_kind() == PBF_BACKEND_CUDA) {
             PBF_INTEROP_OF(io, w);
             io->get_info(&info);
         }

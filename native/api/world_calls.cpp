@@ -40,7 +40,7 @@ PBF_API pbf_result PBF_CALL pbf_world_create(const pbf_world_desc* d, pbf_world_
         PBF_VALIDATE(pbf::api::validate_world_desc(*d));
         PBF_CHECK_STRUCT(pbf_solver_params, &d->solver);
         PBF_VALIDATE(pbf::api::validate_solver_params(d->solver));
-        if (d->backend == PBF_BACKEND_CUDA && !pbf::cuda_device_available(d->cuda_device))
+        if (d->backend == PBF_BACKEND_CUDA && !World::cuda_available(d->cuda_device))
             return fail(PBF_ERROR_BACKEND_UNAVAILABLE,
                         std::string(fn) + ": PBF_BACKEND_CUDA requested but CUDA device " +
                             std::to_string(d->cuda_device) + " is not available (no device, no driver, or a CPU-only build)");
@@ -156,7 +156,14 @@ PBF_API pbf_result PBF_CALL pbf_world_map_positions(pbf_world_id id, pbf_mapped_
     return guarded(fn, [&]() -> pbf_result {
         PBF_CHECK_STRUCT(pbf_mapped_buffer, out);
         PBF_LOCK_WORLD(w, id);
-        return fail(w->map_positions(out));
+        World::Mapping m;
+        if (pbf_result r = fail(w->map_particles(/*wait_for_count=*/true, &m)); r != PBF_OK) return r;
+        out->memory = m.device ? PBF_MEMORY_CUDA_DEVICE : PBF_MEMORY_HOST;
+        out->data = m.live.positions;
+        out->count = m.count;
+        out->stride_bytes = 16;
+        out->reserved0 = out->reserved1 = 0;
+        return PBF_OK;
     });
 }
 
@@ -177,12 +184,12 @@ namespace pbf {
 pbf_result internal_set_profiling(pbf_world_id id, bool on) {
     const char* fn = "internal_set_profiling";
     PBF_LOCK_WORLD(w, id);
-    w->backend().set_profiling(on);
+    w->set_profiling(on);
     return PBF_OK;
 }
 pbf_result internal_stage_times(pbf_world_id id, StageTimes* out) {
     const char* fn = "internal_stage_times";
     PBF_LOCK_WORLD(w, id);
-    return fail(w->backend().stage_times(out));
+    return fail(w->stage_times(out));
 }
 }  // namespace pbf

@@ -127,7 +127,7 @@ struct Semaphore {
 
 class CudaInterop final : public Interop {
 public:
-    explicit CudaInterop(Backend& backend) : backend_(backend) {}
+    explicit CudaInterop(World& world) : world_(world) {}
     ~CudaInterop() override;
 
     Status init();
@@ -162,7 +162,7 @@ public:
     Status after_step() override;
 
 private:
-    cudaStream_t stream() const { return static_cast<cudaStream_t>(backend_.cuda_stream()); }
+    cudaStream_t stream() const { return static_cast<cudaStream_t>(world_.cuda_stream()); }
     Status activate() { return cuda_status("selecting the world's CUDA device", cudaSetDevice(device_)); }
     Status copy_gl(const std::vector<GlBuffer*>& buffers);
     Status copy_external(ExternalBuffer& b, const pbf_external_sync* sync);
@@ -173,7 +173,7 @@ private:
     void batch_begin();
     void batch_end();
 
-    Backend& backend_;
+    World& world_;
     int device_ = 0;
     cudaDeviceProp prop_{};
     cudaEvent_t user_event_ = nullptr;
@@ -208,7 +208,7 @@ CudaInterop::~CudaInterop() {
 }
 
 Status CudaInterop::init() {
-    device_ = backend_.live_buffers().cuda_device;
+    device_ = world_.live_buffers().cuda_device;
     Status st = activate();
     if (!st.ok()) return st;
     st = cuda_status("reading the device's properties", cudaGetDeviceProperties(&prop_, device_));
@@ -334,7 +334,7 @@ Status CudaInterop::copy_gl(const std::vector<GlBuffer*>& buffers) {
         for (cudaGraphicsResource_t r : {b->resource, b->args_resource})
             if (r && std::find(resources.begin(), resources.end(), r) == resources.end()) resources.push_back(r);
     const cudaStream_t s = stream();
-    const LiveBuffers live = backend_.live_buffers();
+    const LiveBuffers live = world_.live_buffers();
     batch_begin();
     st = cuda_status("mapping the GL buffers", cudaGraphicsMapResources(int(resources.size()), resources.data(), s));
     if (!st.ok()) return st;
@@ -576,7 +576,7 @@ Status CudaInterop::copy_external(ExternalBuffer& b, const pbf_external_sync* sy
     const pbf_external_buffer_desc& d = b.desc;
     char* base = static_cast<char*>(b.base);
     uint32_t* draw_args = d.write_draw_args ? reinterpret_cast<uint32_t*>(base + d.draw_args_offset_bytes) : nullptr;
-    st = cuda_status("copying into the external buffer", launch_copy(backend_.live_buffers(), d.source, base + d.offset_bytes,
+    st = cuda_status("copying into the external buffer", launch_copy(world_.live_buffers(), d.source, base + d.offset_bytes,
                                                                      d.capacity, draw_args, d.draw_args_vertices, s));
     if (!st.ok()) return st;
     ++copies_;
@@ -696,12 +696,12 @@ void CudaInterop::get_info(pbf_interop_info* out) {
 
 }  // namespace
 
-std::unique_ptr<Interop> Interop::create(Backend& backend, Status* status) {
-    if (backend.kind() != PBF_BACKEND_CUDA) {
+std::unique_ptr<Interop> Interop::create(World& world, Status* status) {
+    if (world.backend_kind() != PBF_BACKEND_CUDA) {
         *status = Status::error(PBF_ERROR_INVALID_STATE, "the world runs on the CPU backend; interop needs CUDA");
         return nullptr;
     }
-    auto interop = std::make_unique<CudaInterop>(backend);
+    auto interop = std::make_unique<CudaInterop>(world);
     *status = interop->init();
     if (!status->ok()) return nullptr;
     return interop;
