@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "../common/transfers.h"
 #include "../interop/interop.h"
 #include "api_common.h"
 #include "pbf_c_api.h"

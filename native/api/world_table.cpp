@@ -2,7 +2,7 @@
 #include <mutex>
 #include <string>
 
-#include "../world/slot_table.h"
+#include "../common/slot_table.h"
 #include "api_common.h"
 
 namespace {

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "../backend/backend.h"
-#include "slot_table.h"
+#include "../common/slot_table.h"
 
 namespace pbf {
 
