@@ -116,11 +116,6 @@ struct LiveBuffers {
     int32_t cuda_device = -1;         // -1 on the CPU
 };
 
-// The library's own host<->device copies, process-wide (each copy between host and device
-// memory made by a backend counts once), so tests can show that a path adds none.
-void note_host_device_transfer(uint64_t bytes);
-void host_device_transfers(uint64_t* transfers, uint64_t* bytes);
-
 struct BackendConfig {
     uint32_t capacity;
     GridDims grid;

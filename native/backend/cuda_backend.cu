@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "../common/transfers.h"
 #include "../solver/solver.h"
 #include "cuda_exec.cuh"
 

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "../backend/backend.h"
-#include "slot_table.h"
+#include "../common/slot_table.h"
 
 namespace pbf {
 
@@ -81,6 +81,36 @@ public:
     Backend& backend() { return *backend_; }
     WorldAttachment* attachment() { return attachment_.get(); }
     void set_attachment(std::unique_ptr<WorldAttachment> a) { attachment_ = std::move(a); }
+
+    // ---- doors for the API and interop layers (world_access.cpp) -----------------------------
+    // Everything native/api and native/interop ask of a world goes through these (and the calls
+    // above); neither reaches the backend. Inputs arrive validated; normalisation happens here.
+    static bool cuda_available(int32_t device);  // a usable CUDA device (false in CPU-only builds)
+    pbf_backend backend_kind() const;
+    // Emitters: false / INVALID_HANDLE when the handle is not live. A nozzle takes (position,
+    // direction), the direction normalised here; a drain takes (box_min, box_max).
+    bool set_emitter_enabled(pbf_emitter_id id, bool enabled);
+    Status set_emitter_transform(pbf_emitter_id id, const float a[3], const float b[3]);
+    // The pose a kinematic collider reaches at the end of the next step (rotation normalised
+    // here): INVALID_HANDLE when not live, INVALID_STATE when static.
+    Status set_collider_target(pbf_collider_id id, const float position[3], const float rotation[4]);
+    // The one route to map the particles: the live buffers in backend memory, valid until the
+    // next step or emission, and the live count (read back unless !wait_for_count on CUDA, where
+    // it is PBF_COUNT_ON_DEVICE and only *live.count holds it). Marks the world mapped.
+    struct Mapping {
+        LiveBuffers live;
+        uint32_t count = 0;
+        bool device = false;        // CUDA device memory (else host memory)
+        void* cuda_stream = nullptr;
+    };
+    Status map_particles(bool wait_for_count, Mapping* out);
+    // Interop: the live buffers without mapping, and the world's CUDA stream.
+    LiveBuffers live_buffers();
+    void* cuda_stream() const;
+    Status set_cuda_stream(void* stream);
+    // Per-stage timing (pbf_bench): on or off, and the last step's milliseconds per stage.
+    void set_profiling(bool on);
+    Status stage_times(StageTimes* out);
 
 private:
     World() = default;
