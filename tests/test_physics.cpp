@@ -211,19 +211,19 @@ TEST_CASE("density constraint: λ < 0 only where compressed, and Δp reduces com
         REQUIRE(k > 0);
         return e / k;
     };
-    sc.run(LambdaOp{sc.s, sc.ctx, sc.cell_begin.data(), sc.masks(), 1u, sc.pred.data(), sc.density.data(), nullptr});
+    sc.run(LambdaOp{sc.s, sc.ctx, sc.cell_begin.data(), sc.masks(), 1u, sc.pos.data(), sc.pred.data(), sc.density.data(), nullptr});
     const double error_before = interior_error();
     CHECK(error_before > 0.2);
     const uint32_t centre = (n / 2) * n * n + (n / 2) * n + n / 2;
     CHECK(sc.pred[centre].w < 0.0f);
     CHECK(sc.pred[0].w == 0.0f);  // a corner particle is under-dense: unilateral, no pull
     for (int it = 0; it < 4; ++it) {
-        sc.run(LambdaOp{sc.s, sc.ctx, sc.cell_begin.data(), sc.masks(), 0u, sc.pred.data(), sc.density.data(), nullptr});
+        sc.run(LambdaOp{sc.s, sc.ctx, sc.cell_begin.data(), sc.masks(), 0u, sc.pos.data(), sc.pred.data(), sc.density.data(), nullptr});
         sc.run(DeltaOp{sc.s, sc.ctx, sc.cell_begin.data(), sc.masks(), sc.pos.data(), sc.pred.data(),
                        sc.corrected.data(), nullptr});
         std::swap(sc.pred, sc.corrected);
     }
-    sc.run(LambdaOp{sc.s, sc.ctx, sc.cell_begin.data(), sc.masks(), 0u, sc.pred.data(), sc.density.data(), nullptr});
+    sc.run(LambdaOp{sc.s, sc.ctx, sc.cell_begin.data(), sc.masks(), 0u, sc.pos.data(), sc.pred.data(), sc.density.data(), nullptr});
     const double error_after = interior_error();
     INFO("interior compressive error " << error_before << " -> " << error_after);
     CHECK(error_after < 0.5 * error_before);

@@ -22,7 +22,7 @@ struct DeviceCounters {
     uint32_t speed_clamps;    // particle-substeps a speed limit cut, this step
     uint32_t max_speed_bits;  // the fastest particle's speed at the end of the step (float bits)
     uint32_t steps;           // steps finished
-    float end_error_sum;      // Σ max(ρ/ρ0 - 1, 0) at the end of the step
+    uint32_t pad2;
 };
 
 // One thread at the start of a step: clears the step's counters.
@@ -34,7 +34,6 @@ struct BeginStepOp {
         c->control.iterations_used = 0;
         c->speed_clamps = 0;
         c->max_speed_bits = 0;
-        c->end_error_sum = 0.0f;
     }
 };
 
@@ -48,7 +47,7 @@ struct PublishFeedbackOp {
         f.max_speed = float_from_bits(c->max_speed_bits);
         f.speed_clamps = c->speed_clamps;
         f.steps = c->steps;
-        f.error_mean = c->count ? c->end_error_sum / static_cast<float>(c->count) : 0.0f;
+        f.pad = 0;
         *out = f;
     }
 };
@@ -146,7 +145,6 @@ public:
         rest_colliders_ = ColliderView{collider_shapes_, collider_poses_ + substeps * count,
                                        collider_poses_ + substeps * count, count};
         exec_.max_speed(vel_, &counters_->count, bound_, &counters_->max_speed_bits);
-        if (density_valid_) exec_.sum_compressive_error(s, density_, &counters_->count, bound_, &counters_->end_error_sum);
         exec_.for_each(1, PublishFeedbackOp{counters_, feedback_});
         exec_.feedback_published();
         exec_.profile_mark(kStageCount);

@@ -198,15 +198,6 @@ StepContext World::step_context(float sub_dt) const {
 uint32_t World::substeps_for(float dt) {
     if (params_.substeps > 0) return params_.substeps;
     const StepFeedback fb = backend_->feedback();
-    // Compression: a fluid deeper than the iterations can hold compresses under gravity; the
-    // latest finished step's mean compressive error scales the substeps (error ~ Δt²).
-    if (fb.steps != feedback_steps_) {
-        feedback_steps_ = fb.steps;
-        constexpr float kErrorTarget = 0.01f;
-        const float factor = std::sqrt(std::fmax(fb.error_mean, 1e-6f) / kErrorTarget);
-        substeps_for_error_ = std::clamp(substeps_for_error_ * std::clamp(factor, 0.85f, 4.0f), 1.0f,
-                                         float(params_.max_substeps));
-    }
     float v = std::fmax(fb.max_speed, emitted_speed_);
     emitters_.for_each([&](EmitterEntry& e) {
         if (e.desc.enabled && e.desc.type == PBF_EMITTER_NOZZLE) v = std::fmax(v, e.desc.speed);
@@ -223,8 +214,7 @@ uint32_t World::substeps_for(float dt) {
         v = std::fmax(v, (length(e.target_position - e.position) + angle * reach) / dt);
     });
     v += length(gravity_) * dt;
-    const double n = std::max(std::ceil(double(v) * dt / (double(params_.substep_travel) * h_)),
-                              std::ceil(double(substeps_for_error_) - 1e-3));
+    const double n = std::ceil(double(v) * dt / (double(params_.substep_travel) * h_));
     return static_cast<uint32_t>(std::clamp(n, 1.0, double(params_.max_substeps)));
 }
 

@@ -132,8 +132,6 @@ private:
     uint64_t step_index_ = 0;
     uint32_t last_iterations_ = 0;
     uint32_t last_substeps_ = 0;
-    float substeps_for_error_ = 4.0f;  // the automatic substeps' compression controller
-    uint32_t feedback_steps_ = 0;      // the feedback it last used
     bool mapped_ = false;
     std::unique_ptr<WorldAttachment> attachment_;  // declared after backend_: destroyed before it
 };
