@@ -626,28 +626,8 @@ TEST_CASE("emitter desc: NaN, Inf and out-of-range fields are refused", "[api][n
         }
     }
 
-    struct Case {
-        const char* what;
-        pbf_emitter_desc (*make)();
-        const char* needle;
-    };
-    const Case cases[] = {
-        {"type 0", [] { pbf_emitter_desc e = nozzle_desc(); e.type = static_cast<pbf_emitter_type>(0); return e; }, "type"},
-        {"type 3", [] { pbf_emitter_desc e = nozzle_desc(); e.type = static_cast<pbf_emitter_type>(3); return e; }, "type"},
-        {"unset type", [] { return pbf_emitter_desc_default(); }, "type"},
-        {"enabled 2", [] { pbf_emitter_desc e = nozzle_desc(); e.enabled = 2; return e; }, "enabled"},
-        {"drain enabled 2", [] { pbf_emitter_desc e = drain_desc(); e.enabled = 2; return e; }, "enabled"},
-        {"speed 0", [] { pbf_emitter_desc e = nozzle_desc(); e.speed = 0; return e; }, "speed"},
-        {"radius -1", [] { pbf_emitter_desc e = nozzle_desc(); e.radius = -1; return e; }, "radius"},
-        {"rate 0", [] { pbf_emitter_desc e = nozzle_desc(); e.particles_per_second = 0; return e; }, "particles_per_second"},
-        {"rate 2e9", [] { pbf_emitter_desc e = nozzle_desc(); e.particles_per_second = 2e9f; return e; }, "particles_per_second"},
-        {"zero direction", [] { pbf_emitter_desc e = nozzle_desc(); e.direction[1] = 0; return e; }, "direction"},
-        {"inverted drain", [] { pbf_emitter_desc e = drain_desc(); std::swap(e.box_min[0], e.box_max[0]); return e; }, "box_max"},
-    };
-    for (const Case& c : cases) {
-        INFO(c.what);
-        refuse(c.make(), c.needle);
-    }
+    // Out-of-range fields: test_validate.cpp compares the check that refuses each.
+    refuse([] { pbf_emitter_desc e = nozzle_desc(); e.speed = 0; return e; }(), "speed");
 
     // set_enabled and set_transform validate too.
     pbf_emitter_id nz{}, dr{};

@@ -1,6 +1,6 @@
-// Helpers shared by the C ABI's translation units (c_api.cpp, c_api_interop.cpp): the
-// thread-local error message, the log, exception guarding, struct_size checks and the world
-// lock. Internal: nothing here is exported.
+// Helpers shared by the C ABI's translation units: the thread-local error message, the log,
+// exception guarding, struct_size checks and the world table with its lock. Internal: nothing
+// here is exported.
 #pragma once
 #include <cstring>
 #include <memory>
@@ -11,19 +11,11 @@
 
 #include "../world/world.h"
 #include "pbf_c_api.h"
+#include "validate.h"
 
 namespace pbf::api {
 
-// An enum field as the 32 bits the caller stored: a C caller may store any int, and reading an
-// out-of-range value through the C++ enum type is undefined behaviour.
-template <class E>
-int32_t raw(const E& e) {
-    static_assert(sizeof(E) == sizeof(int32_t), "ABI enums are 32 bits");
-    int32_t v;
-    std::memcpy(&v, &e, sizeof v);
-    return v;
-}
-
+// ---- errors and log (errors.cpp) ------------------------------------------------------------
 // Sends message to the log callback (if any).
 void log_message(pbf_log_level level, const std::string& message);
 
@@ -63,12 +55,19 @@ pbf_result check_struct(const char* fn, const char* type, const void* p, uint32_
             return r_;                                                                       \
     } while (0)
 
+// ---- the world table (world_table.cpp) ------------------------------------------------------
 // shared_ptr entries: a call holding an entry keeps it alive while pbf_world_destroy runs on
 // another thread; the entry's mutex serialises calls on one world.
 struct WorldEntry {
     std::mutex mutex;
     std::unique_ptr<World> world;  // null once destroyed
 };
+
+// Adds a world to the table and returns its handle.
+pbf_world_id insert_world(std::unique_ptr<World> world);
+// Takes the world out of the table (null if the handle is not live); the caller destroys it
+// under the entry's mutex.
+std::shared_ptr<WorldEntry> remove_world(pbf_world_id id);
 
 // Locks the world for the duration of a call, or explains why the handle is not valid (quiet:
 // without setting the thread's error or logging, for callers that expect stale handles).

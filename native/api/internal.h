@@ -1,7 +1,7 @@
 // Internal hooks for pbf_bench (linked against the static core): not part of the C ABI and not
 // exported from the shared library.
 #pragma once
-#include "../backend/backend.h"
+#include "../world/world.h"
 #include "pbf_c_api.h"
 
 namespace pbf {

@@ -77,6 +77,16 @@ void CpuExec::release(void* p) {
 }
 
 void CpuExec::zero(void* p, size_t bytes) { std::memset(p, 0, bytes); }
+void CpuExec::upload(void* dst, const void* src, size_t bytes) {
+    if (bytes) std::memcpy(dst, src, bytes);
+}
+
+void CpuExec::max_speed(const Vec4* velocities, const uint32_t* count, uint32_t n, uint32_t* out_bits) {
+    const uint32_t live = std::min(n, *count);
+    float v2max = 0.0f;
+    for (uint32_t i = 0; i < live; ++i) v2max = fmaxf(v2max, length_sq(xyz(velocities[i])));
+    *out_bits = bits_from_float(sqrtf(v2max));
+}
 void CpuExec::download(void* dst, const void* src, size_t bytes) {
     if (bytes) std::memcpy(dst, src, bytes);
 }
@@ -95,7 +105,7 @@ void CpuExec::sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uin
     *key_sel = *value_sel = 1;
 }
 
-void CpuExec::reduce_stats(const SimConstants& s, const float* density, const Vec4* velocities, uint32_t n,
+void CpuExec::reduce_stats(const WorldConstants& s, const float* density, const Vec4* velocities, uint32_t n,
                            StatsReadback* out) {
     double error_sum = 0.0, ke = 0.0;
     float error_max = 0.0f;
@@ -120,7 +130,7 @@ void CpuExec::reduce_stats(const SimConstants& s, const float* density, const Ve
     out->error_max = error_max;
 }
 
-void CpuExec::sum_compressive_error(const SimConstants& s, const float* density, const uint32_t* count, uint32_t n,
+void CpuExec::sum_compressive_error(const WorldConstants& s, const float* density, const uint32_t* count, uint32_t n,
                                     float* out) {
     const int64_t live = std::min(n, *count);
     double sum = 0.0;

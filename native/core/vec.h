@@ -27,7 +27,6 @@ struct alignas(16) Vec4 {
     float x, y, z, w;
 };
 
-PBF_HD Vec3 make_vec3(float x, float y, float z) { return Vec3{x, y, z}; }
 PBF_HD Vec3 xyz(const Vec4& v) { return Vec3{v.x, v.y, v.z}; }
 PBF_HD Vec4 make_vec4(const Vec3& v, float w) { return Vec4{v.x, v.y, v.z, w}; }
 
@@ -67,6 +66,27 @@ PBF_HD float fast_div(float a, float b) {
     return __fdividef(a, b);
 #else
     return a / b;
+#endif
+}
+
+// The float with these bits, and back (non-negative floats order like their bit patterns, so
+// an unsigned atomic max finds the largest).
+PBF_HD float float_from_bits(uint32_t u) {
+#if defined(__CUDA_ARCH__)
+    return __uint_as_float(u);
+#else
+    float f;
+    __builtin_memcpy(&f, &u, sizeof f);
+    return f;
+#endif
+}
+PBF_HD uint32_t bits_from_float(float f) {
+#if defined(__CUDA_ARCH__)
+    return __float_as_uint(f);
+#else
+    uint32_t u;
+    __builtin_memcpy(&u, &f, sizeof u);
+    return u;
 #endif
 }
 

@@ -1,9 +1,9 @@
 // Zero-copy rendering: what a world keeps for copying its particles into graphics API buffers
 // (OpenGL buffer objects through CUDA-GL interop, Vulkan/Direct3D allocations through CUDA
 // external memory and semaphores). The CUDA graphics API is used here and nowhere else: the
-// solver only exposes its live buffers (Backend::live_buffers) and its stream.
+// world only exposes its live buffers (World::live_buffers) and its stream.
 //
-// Inputs arrive validated by the C API layer (native/api/c_api_interop.cpp): descs are
+// Inputs arrive validated by the C API layer (native/api/interop_calls.cpp): descs are
 // complete and consistent, handles have been checked with has_*. What only the device can tell
 // (sizes of GL buffers, handle imports) is checked here and reported as a Status.
 #pragma once
@@ -20,9 +20,13 @@ uint32_t interop_support();
 
 class Interop : public WorldAttachment {
 public:
-    // The world's interop state; its backend must be CUDA (null and *status otherwise, or when
-    // this build has no CUDA).
-    static std::unique_ptr<Interop> create(Backend& backend, Status* status);
+    // The world's interop state, created and attached to the world on first use; the world must
+    // run on CUDA (an error otherwise, or when this build has no CUDA).
+    static Status of(World& world, Interop** out);
+    // The world's interop state if it has one (null otherwise: no interop handle can be valid).
+    static Interop* existing(World& world);
+    // A new interop state for world (null and *status on failure); of() calls it.
+    static std::unique_ptr<Interop> create(World& world, Status* status);
 
     virtual bool has_gl_buffer(pbf_gl_buffer_id id) = 0;
     virtual bool has_external_buffer(pbf_external_buffer_id id) = 0;

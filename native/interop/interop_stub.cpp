@@ -6,7 +6,7 @@ namespace pbf {
 
 uint32_t interop_support() { return 0; }
 
-std::unique_ptr<Interop> Interop::create(Backend&, Status* status) {
+std::unique_ptr<Interop> Interop::create(World&, Status* status) {
     *status = Status::error(PBF_ERROR_BACKEND_UNAVAILABLE, "this libpbf was built without CUDA: no interop");
     return nullptr;
 }

@@ -1,6 +1,7 @@
 // The C ABI of zero-copy rendering (the interop section of pbf_c_api.h): validates every
 // argument and handle, refuses what this build or the world's backend lacks, and translates the
-// calls to the world's interop state (native/interop). Nothing else lives here.
+// calls to the world's interop state (native/interop). The descs' defaults are in defaults.cpp,
+// their checks in validate.cpp.
 #include <algorithm>
 #include <cstring>
 #include <exception>
@@ -8,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "../common/transfers.h"
 #include "../interop/interop.h"
 #include "api_common.h"
 #include "pbf_c_api.h"
@@ -22,16 +24,6 @@ using pbf::api::raw;
 namespace {
 
 bool is_zero(pbf_semaphore_id id) { return id.index == 0 && id.generation == 0; }
-uint32_t element_bytes(pbf_buffer source) { return raw(source) == PBF_BUFFER_IDS ? 4u : 16u; }
-// Enum fields are read as the 32 bits the caller stored (raw): any int may arrive from C.
-bool valid_source(pbf_buffer source) {
-    const int32_t s = raw(source);
-    return s == PBF_BUFFER_POSITIONS || s == PBF_BUFFER_VELOCITIES || s == PBF_BUFFER_IDS;
-}
-bool valid_mode(pbf_copy_mode mode) {
-    const int32_t m = raw(mode);
-    return m == PBF_COPY_ON_STEP || m == PBF_COPY_ON_RENDER_EVENT || m == PBF_COPY_MANUAL;
-}
 
 // Refuses what this build lacks (PBF_ERROR_BACKEND_UNAVAILABLE).
 pbf_result require_support(const char* fn, uint32_t flag) {
@@ -48,27 +40,19 @@ pbf_result require_support(const char* fn, uint32_t flag) {
 
 // The world must run on CUDA (PBF_ERROR_INVALID_STATE otherwise).
 pbf_result require_cuda_world(const char* fn, World& w) {
-    if (w.backend().kind() == PBF_BACKEND_CUDA) return PBF_OK;
+    if (w.backend_kind() == PBF_BACKEND_CUDA) return PBF_OK;
     return fail(PBF_ERROR_INVALID_STATE, std::string(fn) + ": the world runs on the CPU backend; this call needs a CUDA world");
 }
 
 // The world's interop state, created on first use.
 pbf_result interop_of(const char* fn, World& w, Interop** out) {
     if (pbf_result r = require_cuda_world(fn, w); r != PBF_OK) return r;
-    if (auto* a = w.attachment()) {
-        *out = static_cast<Interop*>(a);  // the only attachment a world gets
-        return PBF_OK;
-    }
-    Status st;
-    std::unique_ptr<Interop> interop = Interop::create(w.backend(), &st);
-    if (!interop) return fail(st.code, std::string(fn) + ": " + st.message);
-    *out = interop.get();
-    w.set_attachment(std::move(interop));
-    return PBF_OK;
+    const Status st = Interop::of(w, out);
+    return st.ok() ? PBF_OK : fail(fn, st);
 }
 
 // The interop state if the world has one (no handle of it can be valid otherwise).
-Interop* existing_interop(World& w) { return static_cast<Interop*>(w.attachment()); }
+Interop* existing_interop(World& w) { return Interop::existing(w); }
 
 std::string handle_text(uint32_t index, uint32_t generation) {
     return "{" + std::to_string(index) + ", " + std::to_string(generation) + "}";
@@ -136,7 +120,7 @@ void PBF_CALL render_event(int event_id) {
 
 pbf_result check_sync(const char* fn, Interop* io, const pbf_external_sync* sync) {
     PBF_CHECK_STRUCT(pbf_external_sync, sync);
-    PBF_REQUIRE_ARG(sync->reserved0 == 0, "sync.reserved0 must be 0");
+    PBF_VALIDATE(pbf::api::validate_external_sync(*sync));
     if (!is_zero(sync->wait_semaphore)) PBF_REQUIRE_HANDLE(io, has_semaphore, sync->wait_semaphore, "sync.wait_semaphore");
     if (!is_zero(sync->signal_semaphore))
         PBF_REQUIRE_HANDLE(io, has_semaphore, sync->signal_semaphore, "sync.signal_semaphore");
@@ -166,7 +150,7 @@ PBF_API pbf_result PBF_CALL pbf_world_get_cuda_stream(pbf_world_id id, void** ou
         if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_CUDA); r != PBF_OK) return r;
         PBF_LOCK_WORLD(w, id);
         if (pbf_result r = require_cuda_world(fn, *w); r != PBF_OK) return r;
-        *out_stream = w->backend().cuda_stream();
+        *out_stream = w->cuda_stream();
         return PBF_OK;
     });
 }
@@ -177,7 +161,7 @@ PBF_API pbf_result PBF_CALL pbf_world_set_cuda_stream(pbf_world_id id, void* str
         if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_CUDA); r != PBF_OK) return r;
         PBF_LOCK_WORLD(w, id);
         if (pbf_result r = require_cuda_world(fn, *w); r != PBF_OK) return r;
-        const Status st = w->backend().set_cuda_stream(stream);
+        const Status st = w->set_cuda_stream(stream);
         return fail(fn, st);
     });
 }
@@ -214,48 +198,30 @@ PBF_API pbf_result PBF_CALL pbf_world_map_device_buffers(pbf_world_id id, uint32
         PBF_CHECK_STRUCT(pbf_device_buffers, out);
         PBF_REQUIRE_ARG((flags & ~PBF_MAP_NO_WAIT) == 0, "flags must be 0 or PBF_MAP_NO_WAIT");
         PBF_LOCK_WORLD(w, id);
-        pbf::Backend& b = w->backend();
-        const bool cuda = b.kind() == PBF_BACKEND_CUDA;
-        uint32_t count = PBF_COUNT_ON_DEVICE;
-        if (!cuda || !(flags & PBF_MAP_NO_WAIT)) {
-            const Status st = b.particle_count(&count);  // on CUDA: waits for the stream
-            if (!st.ok()) return fail(st.code, std::string(fn) + ": " + st.message);
-        }
-        const pbf::LiveBuffers live = b.live_buffers();
+        World::Mapping m;
+        const Status st = w->map_particles(/*wait_for_count=*/!(flags & PBF_MAP_NO_WAIT), &m);
+        if (!st.ok()) return fail(st.code, std::string(fn) + ": " + st.message);
         pbf_device_buffers r;
         std::memset(&r, 0, sizeof r);
         r.struct_size = sizeof r;
-        r.memory = cuda ? PBF_MEMORY_CUDA_DEVICE : PBF_MEMORY_HOST;
-        r.positions = live.positions;
-        r.velocities = live.velocities;
-        r.ids = live.ids;
-        r.density_ratio = static_cast<char*>(live.positions) + 12;
-        r.count_device = live.count;
-        r.cuda_stream = cuda ? b.cuda_stream() : nullptr;
-        r.count = count;
-        r.capacity = live.capacity;
+        r.memory = m.device ? PBF_MEMORY_CUDA_DEVICE : PBF_MEMORY_HOST;
+        r.positions = m.live.positions;
+        r.velocities = m.live.velocities;
+        r.ids = m.live.ids;
+        r.density_ratio = static_cast<char*>(m.live.positions) + 12;
+        r.count_device = m.live.count;
+        r.cuda_stream = m.cuda_stream;
+        r.count = m.count;
+        r.capacity = m.live.capacity;
         r.vec4_stride_bytes = 16;
         r.id_stride_bytes = 4;
-        r.cuda_device = cuda ? live.cuda_device : -1;
+        r.cuda_device = m.device ? m.live.cuda_device : -1;
         *out = r;
-        w->mark_mapped();
         return PBF_OK;
     });
 }
 
 // ---- OpenGL ----------------------------------------------------------------------------------
-PBF_API pbf_result PBF_CALL pbf_gl_buffer_desc_init(pbf_gl_buffer_desc* d, uint32_t struct_size) {
-    const char* fn = "pbf_gl_buffer_desc_init";
-    if (pbf_result r = pbf::api::check_struct(fn, "pbf_gl_buffer_desc", d, struct_size, sizeof(pbf_gl_buffer_desc));
-        r != PBF_OK)
-        return r;
-    std::memset(d, 0, sizeof *d);
-    d->struct_size = sizeof *d;
-    d->source = PBF_BUFFER_POSITIONS;
-    d->mode = PBF_COPY_ON_STEP;
-    return PBF_OK;
-}
-
 PBF_API pbf_result PBF_CALL pbf_world_register_gl_buffer(pbf_world_id id, const pbf_gl_buffer_desc* d,
                                                          pbf_gl_buffer_id* out) {
     const char* fn = "pbf_world_register_gl_buffer";
@@ -263,14 +229,7 @@ PBF_API pbf_result PBF_CALL pbf_world_register_gl_buffer(pbf_world_id id, const 
         PBF_REQUIRE_ARG(out != nullptr, "out_buffer is NULL");
         *out = pbf_gl_buffer_id{0, 0};
         PBF_CHECK_STRUCT(pbf_gl_buffer_desc, d);
-        PBF_REQUIRE_ARG(d->buffer != 0, "buffer must be a GL buffer object name (non-zero)");
-        PBF_REQUIRE_ARG(valid_source(d->source), "source must be PBF_BUFFER_POSITIONS, _VELOCITIES or _IDS");
-        PBF_REQUIRE_ARG(valid_mode(d->mode), "mode must be PBF_COPY_ON_STEP, _ON_RENDER_EVENT or _MANUAL");
-        PBF_REQUIRE_ARG(d->capacity > 0, "capacity must be > 0");
-        PBF_REQUIRE_ARG(d->offset_bytes % element_bytes(d->source) == 0,
-                        "offset_bytes must be a multiple of " + std::to_string(element_bytes(d->source)));
-        PBF_REQUIRE_ARG(d->draw_args_offset_bytes % 4 == 0, "draw_args_offset_bytes must be a multiple of 4");
-        PBF_REQUIRE_ARG(d->reserved0 == 0, "reserved0 must be 0");
+        PBF_VALIDATE(pbf::api::validate_gl_buffer_desc(*d));
         if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_OPENGL); r != PBF_OK) return r;
         PBF_LOCK_WORLD(w, id);
         PBF_INTEROP_OF(io, w);
@@ -308,20 +267,6 @@ PBF_API pbf_result PBF_CALL pbf_world_copy_to_gl_buffer(pbf_world_id id, pbf_gl_
 }
 
 // ---- external memory and semaphores ----------------------------------------------------------
-PBF_API pbf_result PBF_CALL pbf_external_buffer_desc_init(pbf_external_buffer_desc* d, uint32_t struct_size) {
-    const char* fn = "pbf_external_buffer_desc_init";
-    if (pbf_result r =
-            pbf::api::check_struct(fn, "pbf_external_buffer_desc", d, struct_size, sizeof(pbf_external_buffer_desc));
-        r != PBF_OK)
-        return r;
-    std::memset(d, 0, sizeof *d);
-    d->struct_size = sizeof *d;
-    d->fd = -1;
-    d->source = PBF_BUFFER_POSITIONS;
-    d->mode = PBF_COPY_MANUAL;
-    return PBF_OK;
-}
-
 PBF_API pbf_result PBF_CALL pbf_world_import_external_buffer(pbf_world_id id, const pbf_external_buffer_desc* d,
                                                              pbf_external_buffer_id* out) {
     const char* fn = "pbf_world_import_external_buffer";
@@ -329,31 +274,8 @@ PBF_API pbf_result PBF_CALL pbf_world_import_external_buffer(pbf_world_id id, co
         PBF_REQUIRE_ARG(out != nullptr, "out_buffer is NULL");
         *out = pbf_external_buffer_id{0, 0};
         PBF_CHECK_STRUCT(pbf_external_buffer_desc, d);
-        PBF_REQUIRE_ARG(raw(d->type) >= PBF_EXTERNAL_MEMORY_OPAQUE_FD && raw(d->type) <= PBF_EXTERNAL_MEMORY_D3D11_RESOURCE_KMT,
-                        "type must be a pbf_external_memory_type");
+        PBF_VALIDATE(pbf::api::validate_external_buffer_desc(*d));
         const bool fd_type = raw(d->type) == PBF_EXTERNAL_MEMORY_OPAQUE_FD;
-        if (fd_type) PBF_REQUIRE_ARG(d->fd >= 0, "fd must be an open file descriptor (>= 0)");
-        else PBF_REQUIRE_ARG(d->win32_handle != nullptr, "win32_handle must be set for this type");
-        PBF_REQUIRE_ARG(d->dedicated <= 1, "dedicated must be 0 or 1");
-        PBF_REQUIRE_ARG(valid_source(d->source), "source must be PBF_BUFFER_POSITIONS, _VELOCITIES or _IDS");
-        PBF_REQUIRE_ARG(valid_mode(d->mode), "mode must be PBF_COPY_ON_STEP, _ON_RENDER_EVENT or _MANUAL");
-        PBF_REQUIRE_ARG(d->size_bytes > 0, "size_bytes must be > 0");
-        PBF_REQUIRE_ARG(d->capacity > 0, "capacity must be > 0");
-        const uint64_t elem = element_bytes(d->source);
-        PBF_REQUIRE_ARG(d->offset_bytes % elem == 0, "offset_bytes must be a multiple of " + std::to_string(elem));
-        const uint64_t bytes = uint64_t(d->capacity) * elem;
-        PBF_REQUIRE_ARG(d->offset_bytes <= d->size_bytes && bytes <= d->size_bytes - d->offset_bytes,
-                        "offset_bytes + capacity * " + std::to_string(elem) + " exceeds size_bytes");
-        PBF_REQUIRE_ARG(d->write_draw_args <= 1, "write_draw_args must be 0 or 1");
-        if (d->write_draw_args) {
-            PBF_REQUIRE_ARG(d->draw_args_offset_bytes % 4 == 0, "draw_args_offset_bytes must be a multiple of 4");
-            PBF_REQUIRE_ARG(d->size_bytes >= 16 && d->draw_args_offset_bytes <= d->size_bytes - 16,
-                            "draw_args_offset_bytes + 16 exceeds size_bytes");
-            const uint64_t a0 = d->draw_args_offset_bytes, a1 = a0 + 16;
-            PBF_REQUIRE_ARG(a1 <= d->offset_bytes || a0 >= d->offset_bytes + bytes,
-                            "the draw arguments overlap the particles");
-        }
-        PBF_REQUIRE_ARG(d->reserved0 == 0, "reserved0 must be 0");
         if (pbf_result r = require_support(fn, fd_type ? PBF_INTEROP_SUPPORT_EXTERNAL_FD : PBF_INTEROP_SUPPORT_EXTERNAL_WIN32);
             r != PBF_OK)
             return r;
@@ -378,17 +300,6 @@ PBF_API pbf_result PBF_CALL pbf_world_release_external_buffer(pbf_world_id id, p
     });
 }
 
-PBF_API pbf_result PBF_CALL pbf_semaphore_desc_init(pbf_semaphore_desc* d, uint32_t struct_size) {
-    const char* fn = "pbf_semaphore_desc_init";
-    if (pbf_result r = pbf::api::check_struct(fn, "pbf_semaphore_desc", d, struct_size, sizeof(pbf_semaphore_desc));
-        r != PBF_OK)
-        return r;
-    std::memset(d, 0, sizeof *d);
-    d->struct_size = sizeof *d;
-    d->fd = -1;
-    return PBF_OK;
-}
-
 PBF_API pbf_result PBF_CALL pbf_world_import_semaphore(pbf_world_id id, const pbf_semaphore_desc* d,
                                                        pbf_semaphore_id* out) {
     const char* fn = "pbf_world_import_semaphore";
@@ -396,13 +307,9 @@ PBF_API pbf_result PBF_CALL pbf_world_import_semaphore(pbf_world_id id, const pb
         PBF_REQUIRE_ARG(out != nullptr, "out_semaphore is NULL");
         *out = pbf_semaphore_id{0, 0};
         PBF_CHECK_STRUCT(pbf_semaphore_desc, d);
-        PBF_REQUIRE_ARG(raw(d->type) >= PBF_SEMAPHORE_VULKAN_BINARY_FD && raw(d->type) <= PBF_SEMAPHORE_D3D12_FENCE,
-                        "type must be a pbf_semaphore_type");
+        PBF_VALIDATE(pbf::api::validate_semaphore_desc(*d));
         const bool fd_type =
             raw(d->type) == PBF_SEMAPHORE_VULKAN_BINARY_FD || raw(d->type) == PBF_SEMAPHORE_VULKAN_TIMELINE_FD;
-        if (fd_type) PBF_REQUIRE_ARG(d->fd >= 0, "fd must be an open file descriptor (>= 0)");
-        else PBF_REQUIRE_ARG(d->win32_handle != nullptr, "win32_handle must be set for this type");
-        PBF_REQUIRE_ARG(d->reserved0 == 0, "reserved0 must be 0");
         if (pbf_result r = require_support(fn, fd_type ? PBF_INTEROP_SUPPORT_EXTERNAL_FD : PBF_INTEROP_SUPPORT_EXTERNAL_WIN32);
             r != PBF_OK)
             return r;
@@ -423,16 +330,6 @@ PBF_API pbf_result PBF_CALL pbf_world_release_semaphore(pbf_world_id id, pbf_sem
         const Status st = io->release_semaphore(semaphore);
         return fail(fn, st);
     });
-}
-
-PBF_API pbf_result PBF_CALL pbf_external_sync_init(pbf_external_sync* s, uint32_t struct_size) {
-    const char* fn = "pbf_external_sync_init";
-    if (pbf_result r = pbf::api::check_struct(fn, "pbf_external_sync", s, struct_size, sizeof(pbf_external_sync));
-        r != PBF_OK)
-        return r;
-    std::memset(s, 0, sizeof *s);
-    s->struct_size = sizeof *s;
-    return PBF_OK;
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_copy_to_external_buffer(pbf_world_id id, pbf_external_buffer_id buffer,
@@ -496,7 +393,7 @@ PBF_API pbf_result PBF_CALL pbf_world_get_interop_info(pbf_world_id id, pbf_inte
         info.struct_size = sizeof info;
         info.cuda_device = -1;
         info.last_render_event_result = PBF_OK;
-        if (w->backend().kind() == PBF_BACKEND_CUDA) {
+        if (w->backend_kind() == PBF_BACKEND_CUDA) {
             PBF_INTEROP_OF(io, w);
             io->get_info(&info);
         }

@@ -1,8 +1,7 @@
-// The library's count of its own host<->device copies (backend.h), read by
-// pbf_debug_get_transfer_count so tests can show that the render path adds none.
-#include <atomic>
+// The library's count of its own host<->device copies (transfers.h).
+#include "transfers.h"
 
-#include "../backend/backend.h"
+#include <atomic>
 
 namespace pbf {
 namespace {

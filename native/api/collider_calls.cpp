@@ -1,0 +1,42 @@
+// The C ABI's collider calls: create, destroy, and the target pose of kinematic colliders.
+#include <string>
+
+#include "api_common.h"
+
+using pbf::api::fail;
+using pbf::api::guarded;
+
+extern "C" {
+
+PBF_API pbf_result PBF_CALL pbf_world_create_collider(pbf_world_id id, const pbf_collider_desc* d, pbf_collider_id* out) {
+    const char* fn = "pbf_world_create_collider";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_REQUIRE_ARG(out != nullptr, "out_collider is NULL");
+        *out = pbf_collider_id{0, 0};
+        PBF_CHECK_STRUCT(pbf_collider_desc, d);
+        PBF_VALIDATE(pbf::api::validate_collider_desc(*d));
+        PBF_LOCK_WORLD(w, id);
+        return fail(w->create_collider(*d, out));
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_destroy_collider(pbf_world_id id, pbf_collider_id c) {
+    const char* fn = "pbf_world_destroy_collider";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_LOCK_WORLD(w, id);
+        PBF_REQUIRE(w->destroy_collider(c), PBF_ERROR_INVALID_HANDLE, std::string(fn) + ": collider is not live");
+        return PBF_OK;
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_collider_set_pose(pbf_world_id id, pbf_collider_id c, const float position[3],
+                                                 const float rotation[4]) {
+    const char* fn = "pbf_collider_set_pose";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_VALIDATE(pbf::api::validate_collider_pose(position, rotation));
+        PBF_LOCK_WORLD(w, id);
+        return fail(fn, w->set_collider_target(c, position, rotation));
+    });
+}
+
+}  // extern "C"

@@ -1,0 +1,133 @@
+// Every default of the C ABI in one place (after Box2D's src/types.c): the *_init functions
+// that fill descs and parameters, which the header's *_default() inlines call.
+#include <cstring>
+
+#include "api_common.h"
+
+using pbf::api::check_struct;
+
+extern "C" {
+
+PBF_API pbf_result PBF_CALL pbf_solver_params_init(pbf_solver_params* p, uint32_t struct_size) {
+    const char* fn = "pbf_solver_params_init";
+    if (pbf_result r = check_struct(fn, "pbf_solver_params", p, struct_size, sizeof(pbf_solver_params)); r != PBF_OK)
+        return r;
+    std::memset(p, 0, sizeof *p);
+    p->struct_size = sizeof *p;
+    p->iterations = 4;
+    p->substeps = 0;
+    p->max_substeps = 16;
+    p->substep_travel = 0.5f;
+    p->sound_speed = 5.0f;
+    p->relaxation = 1.0f;
+    p->scorr_k = 0.1f;
+    p->scorr_n = 4.0f;
+    p->scorr_dq = 0.2f;
+    p->xsph_c = 0.01f;
+    p->vorticity_epsilon = 0.0005f;
+    p->ldc_enabled = 1;
+    p->ldc_gain = 0.3f;
+    p->max_speed = 100.0f;
+    return PBF_OK;
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_desc_init(pbf_world_desc* d, uint32_t struct_size, uint32_t header_version) {
+    const char* fn = "pbf_world_desc_init";
+    if (pbf_result r = check_struct(fn, "pbf_world_desc", d, struct_size, sizeof(pbf_world_desc)); r != PBF_OK)
+        return r;
+    std::memset(d, 0, sizeof *d);
+    d->struct_size = sizeof *d;
+    d->header_version = header_version;
+    d->backend = PBF_BACKEND_AUTO;
+    d->cuda_device = 0;
+    d->max_particles = 65536;
+    d->particle_radius = 0.025f;
+    d->rest_density = 1000.0f;
+    d->gravity[1] = -9.81f;
+    const float lo[3] = {-1.0f, 0.0f, -1.0f}, hi[3] = {1.0f, 2.0f, 1.0f};
+    std::memcpy(d->domain_min, lo, sizeof lo);
+    std::memcpy(d->domain_max, hi, sizeof hi);
+    d->solver.struct_size = sizeof d->solver;
+    return pbf_solver_params_init(&d->solver, d->solver.struct_size);
+}
+
+PBF_API pbf_result PBF_CALL pbf_block_desc_init(pbf_block_desc* d, uint32_t struct_size) {
+    const char* fn = "pbf_block_desc_init";
+    if (pbf_result r = check_struct(fn, "pbf_block_desc", d, struct_size, sizeof(pbf_block_desc)); r != PBF_OK)
+        return r;
+    std::memset(d, 0, sizeof *d);
+    d->struct_size = sizeof *d;
+    return PBF_OK;
+}
+
+PBF_API pbf_result PBF_CALL pbf_emitter_desc_init(pbf_emitter_desc* d, uint32_t struct_size) {
+    const char* fn = "pbf_emitter_desc_init";
+    if (pbf_result r = check_struct(fn, "pbf_emitter_desc", d, struct_size, sizeof(pbf_emitter_desc)); r != PBF_OK)
+        return r;
+    std::memset(d, 0, sizeof *d);
+    d->struct_size = sizeof *d;
+    d->enabled = 1;
+    d->direction[1] = -1.0f;
+    return PBF_OK;
+}
+
+PBF_API pbf_result PBF_CALL pbf_collider_desc_init(pbf_collider_desc* d, uint32_t struct_size) {
+    const char* fn = "pbf_collider_desc_init";
+    if (pbf_result r = check_struct(fn, "pbf_collider_desc", d, struct_size, sizeof(pbf_collider_desc)); r != PBF_OK)
+        return r;
+    std::memset(d, 0, sizeof *d);
+    d->struct_size = sizeof *d;
+    d->motion = PBF_MOTION_STATIC;
+    d->rotation[3] = 1.0f;
+    return PBF_OK;
+}
+
+// ---- interop descs ----------------------------------------------------------------------------
+PBF_API pbf_result PBF_CALL pbf_gl_buffer_desc_init(pbf_gl_buffer_desc* d, uint32_t struct_size) {
+    const char* fn = "pbf_gl_buffer_desc_init";
+    if (pbf_result r = check_struct(fn, "pbf_gl_buffer_desc", d, struct_size, sizeof(pbf_gl_buffer_desc));
+        r != PBF_OK)
+        return r;
+    std::memset(d, 0, sizeof *d);
+    d->struct_size = sizeof *d;
+    d->source = PBF_BUFFER_POSITIONS;
+    d->mode = PBF_COPY_ON_STEP;
+    return PBF_OK;
+}
+
+PBF_API pbf_result PBF_CALL pbf_external_buffer_desc_init(pbf_external_buffer_desc* d, uint32_t struct_size) {
+    const char* fn = "pbf_external_buffer_desc_init";
+    if (pbf_result r =
+            check_struct(fn, "pbf_external_buffer_desc", d, struct_size, sizeof(pbf_external_buffer_desc));
+        r != PBF_OK)
+        return r;
+    std::memset(d, 0, sizeof *d);
+    d->struct_size = sizeof *d;
+    d->fd = -1;
+    d->source = PBF_BUFFER_POSITIONS;
+    d->mode = PBF_COPY_MANUAL;
+    return PBF_OK;
+}
+
+PBF_API pbf_result PBF_CALL pbf_semaphore_desc_init(pbf_semaphore_desc* d, uint32_t struct_size) {
+    const char* fn = "pbf_semaphore_desc_init";
+    if (pbf_result r = check_struct(fn, "pbf_semaphore_desc", d, struct_size, sizeof(pbf_semaphore_desc));
+        r != PBF_OK)
+        return r;
+    std::memset(d, 0, sizeof *d);
+    d->struct_size = sizeof *d;
+    d->fd = -1;
+    return PBF_OK;
+}
+
+PBF_API pbf_result PBF_CALL pbf_external_sync_init(pbf_external_sync* s, uint32_t struct_size) {
+    const char* fn = "pbf_external_sync_init";
+    if (pbf_result r = check_struct(fn, "pbf_external_sync", s, struct_size, sizeof(pbf_external_sync));
+        r != PBF_OK)
+        return r;
+    std::memset(s, 0, sizeof *s);
+    s->struct_size = sizeof *s;
+    return PBF_OK;
+}
+
+}  // extern "C"

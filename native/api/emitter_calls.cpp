@@ -1,0 +1,69 @@
+// The C ABI's emission calls: block fills, and nozzle and drain emitters.
+#include <string>
+
+#include "api_common.h"
+
+using pbf::api::fail;
+using pbf::api::guarded;
+
+extern "C" {
+
+PBF_API pbf_result PBF_CALL pbf_world_emit_block(pbf_world_id id, const pbf_block_desc* d, uint32_t* out_emitted) {
+    const char* fn = "pbf_world_emit_block";
+    return guarded(fn, [&]() -> pbf_result {
+        if (out_emitted) *out_emitted = 0;
+        PBF_CHECK_STRUCT(pbf_block_desc, d);
+        PBF_VALIDATE(pbf::api::validate_block_desc(*d));
+        PBF_LOCK_WORLD(w, id);
+        uint32_t emitted = 0;
+        const pbf_result r = fail(w->emit_block(*d, &emitted));
+        if (out_emitted) *out_emitted = emitted;
+        return r;
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_create_emitter(pbf_world_id id, const pbf_emitter_desc* d, pbf_emitter_id* out) {
+    const char* fn = "pbf_world_create_emitter";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_REQUIRE_ARG(out != nullptr, "out_emitter is NULL");
+        *out = pbf_emitter_id{0, 0};
+        PBF_CHECK_STRUCT(pbf_emitter_desc, d);
+        PBF_VALIDATE(pbf::api::validate_emitter_desc(*d));
+        PBF_LOCK_WORLD(w, id);
+        return fail(w->create_emitter(*d, out));
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_destroy_emitter(pbf_world_id id, pbf_emitter_id e) {
+    const char* fn = "pbf_world_destroy_emitter";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_LOCK_WORLD(w, id);
+        PBF_REQUIRE(w->destroy_emitter(e), PBF_ERROR_INVALID_HANDLE, std::string(fn) + ": emitter is not live");
+        return PBF_OK;
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_emitter_set_enabled(pbf_world_id id, pbf_emitter_id e, uint32_t enabled) {
+    const char* fn = "pbf_emitter_set_enabled";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_REQUIRE_ARG(enabled <= 1, "enabled must be 0 or 1");
+        PBF_LOCK_WORLD(w, id);
+        PBF_REQUIRE(w->set_emitter_enabled(e, enabled != 0), PBF_ERROR_INVALID_HANDLE,
+                    std::string(fn) + ": emitter is not live");
+        return PBF_OK;
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_emitter_set_transform(pbf_world_id id, pbf_emitter_id e, const float a[3], const float b[3]) {
+    const char* fn = "pbf_emitter_set_transform";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_VALIDATE(pbf::api::validate_emitter_transform(nullptr, a, b));
+        PBF_LOCK_WORLD(w, id);
+        const pbf::EmitterEntry* entry = w->find_emitter(e);
+        PBF_REQUIRE(entry, PBF_ERROR_INVALID_HANDLE, std::string(fn) + ": emitter is not live");
+        PBF_VALIDATE(pbf::api::validate_emitter_transform(&entry->desc.type, a, b));
+        return fail(fn, w->set_emitter_transform(e, a, b));
+    });
+}
+
+}  // extern "C"

@@ -1,0 +1,208 @@
+// The named checks of validate.h: one validator per desc, checks in the order the messages of
+// earlier releases were given, so a desc with several faults is refused for the same one.
+#include "validate.h"
+
+#include <cmath>
+
+namespace pbf::api {
+namespace {
+
+struct CheckInfo {
+    const char* name;
+    pbf_result code;
+    const char* message;
+};
+
+const CheckInfo kChecks[] = {
+    {"OK", PBF_OK, ""},
+#define PBF_CHECK_INFO(id, code, message) {#id, code, message},
+    PBF_VALIDATE_CHECKS(PBF_CHECK_INFO)
+#undef PBF_CHECK_INFO
+};
+static_assert(sizeof kChecks / sizeof kChecks[0] == size_t(Check::count), "one entry per check");
+
+bool finite3(const float v[3]) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
+bool finite_nonzero_quat(const float q[4]) {
+    if (!(std::isfinite(q[0]) && std::isfinite(q[1]) && std::isfinite(q[2]) && std::isfinite(q[3]))) return false;
+    return q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3] > 1e-6f;
+}
+bool in(float v, float lo, float hi) { return std::isfinite(v) && v >= lo && v <= hi; }
+bool valid_source(pbf_buffer source) {
+    const int32_t s = raw(source);
+    return s == PBF_BUFFER_POSITIONS || s == PBF_BUFFER_VELOCITIES || s == PBF_BUFFER_IDS;
+}
+bool valid_mode(pbf_copy_mode mode) {
+    const int32_t m = raw(mode);
+    return m == PBF_COPY_ON_STEP || m == PBF_COPY_ON_RENDER_EVENT || m == PBF_COPY_MANUAL;
+}
+
+// Returns the verdict of the first failed check: V(cond, CHECK) inside a validator.
+#define V(cond, id) \
+    do {            \
+        if (!(cond)) return Verdict{Check::id}; \
+    } while (0)
+
+}  // namespace
+
+const char* check_name(Check c) { return size_t(c) < size_t(Check::count) ? kChecks[size_t(c)].name : "?"; }
+pbf_result check_code(Check c) {
+    return size_t(c) < size_t(Check::count) ? kChecks[size_t(c)].code : PBF_ERROR_INTERNAL;
+}
+
+std::string check_message(const Verdict& v) {
+    std::string m = size_t(v.check) < size_t(Check::count) ? kChecks[size_t(v.check)].message : "?";
+    for (const auto& [key, value] : {std::pair{"{a}", v.a}, std::pair{"{b}", v.b}})
+        if (const size_t at = m.find(key); at != std::string::npos) m.replace(at, 3, std::to_string(value));
+    return m;
+}
+
+Verdict validate_solver_params(const pbf_solver_params& p) {
+    V(p.iterations >= 1 && p.iterations <= 64, SOLVER_ITERATIONS);
+    V(p.substeps <= 64, SOLVER_SUBSTEPS);
+    V(p.max_substeps >= 1 && p.max_substeps <= 64, SOLVER_MAX_SUBSTEPS);
+    V(std::isfinite(p.substep_travel) && p.substep_travel >= 0.05f && p.substep_travel <= 1.0f, SOLVER_SUBSTEP_TRAVEL);
+    V(std::isfinite(p.sound_speed) && p.sound_speed > 0.0f, SOLVER_SOUND_SPEED);
+    V(std::isfinite(p.relaxation) && p.relaxation > 0.0f, SOLVER_RELAXATION);
+    V(in(p.scorr_k, 0.0f, 1.0f), SOLVER_SCORR_K);
+    V(in(p.scorr_n, 1.0f, 8.0f), SOLVER_SCORR_N);
+    V(std::isfinite(p.scorr_dq) && p.scorr_dq > 0.0f && p.scorr_dq < 1.0f, SOLVER_SCORR_DQ);
+    V(in(p.xsph_c, 0.0f, 1.0f), SOLVER_XSPH_C);
+    V(in(p.vorticity_epsilon, 0.0f, 100.0f), SOLVER_VORTICITY);
+    V(p.ldc_enabled <= 1, SOLVER_LDC_ENABLED);
+    V(in(p.ldc_gain, 0.0f, 1.0f), SOLVER_LDC_GAIN);
+    V(std::isfinite(p.max_speed) && p.max_speed > 0.0f, SOLVER_MAX_SPEED);
+    V(std::isfinite(p.adaptive_error_target) && p.adaptive_error_target >= 0.0f && p.adaptive_error_target < 1.0f,
+      SOLVER_ADAPTIVE_TARGET);
+    return {};
+}
+
+Verdict validate_world_desc(const pbf_world_desc& d) {
+    if (PBF_VERSION_GET_MAJOR(d.header_version) != PBF_VERSION_MAJOR)
+        return Verdict{Check::WORLD_HEADER_VERSION, PBF_VERSION_GET_MAJOR(d.header_version), PBF_VERSION_MAJOR};
+    const int32_t backend = raw(d.backend);
+    V(backend == PBF_BACKEND_AUTO || backend == PBF_BACKEND_CPU || backend == PBF_BACKEND_CUDA, WORLD_BACKEND);
+    V(d.cuda_device >= 0, WORLD_CUDA_DEVICE);
+    V(d.max_particles >= 1 && d.max_particles <= (1u << 30), WORLD_MAX_PARTICLES);
+    V(std::isfinite(d.particle_radius) && d.particle_radius > 0.0f, WORLD_PARTICLE_RADIUS);
+    V(std::isfinite(d.rest_density) && d.rest_density > 0.0f, WORLD_REST_DENSITY);
+    V(finite3(d.gravity), WORLD_GRAVITY);
+    V(finite3(d.domain_min) && finite3(d.domain_max), WORLD_DOMAIN_FINITE);
+    for (int a = 0; a < 3; ++a) V(d.domain_max[a] - d.domain_min[a] >= 4.0f * d.particle_radius, WORLD_DOMAIN_SIZE);
+    return {};
+}
+
+Verdict validate_gravity(const float g[3]) {
+    V(g != nullptr && finite3(g), GRAVITY);
+    return {};
+}
+
+Verdict validate_block_desc(const pbf_block_desc& d) {
+    V(finite3(d.box_min) && finite3(d.box_max) && finite3(d.velocity), BLOCK_FINITE);
+    for (int a = 0; a < 3; ++a) V(d.box_max[a] > d.box_min[a], BLOCK_BOX);
+    return {};
+}
+
+Verdict validate_emitter_desc(const pbf_emitter_desc& d) {
+    V(d.enabled <= 1, EMITTER_ENABLED);
+    if (raw(d.type) == PBF_EMITTER_NOZZLE) {
+        V(finite3(d.position) && finite3(d.direction), NOZZLE_FINITE);
+        const float len2 = d.direction[0] * d.direction[0] + d.direction[1] * d.direction[1] + d.direction[2] * d.direction[2];
+        V(len2 > 1e-12f, NOZZLE_DIRECTION);
+        V(std::isfinite(d.speed) && d.speed > 0.0f, NOZZLE_SPEED);
+        V(std::isfinite(d.radius) && d.radius > 0.0f, NOZZLE_RADIUS);
+        V(std::isfinite(d.particles_per_second) && d.particles_per_second > 0.0f && d.particles_per_second <= 1e9f,
+          NOZZLE_RATE);
+    } else if (raw(d.type) == PBF_EMITTER_DRAIN) {
+        V(finite3(d.box_min) && finite3(d.box_max), DRAIN_FINITE);
+        for (int a = 0; a < 3; ++a) V(d.box_max[a] > d.box_min[a], DRAIN_BOX);
+    } else {
+        return Verdict{Check::EMITTER_TYPE};
+    }
+    V(finite3(d.position) && finite3(d.direction) && std::isfinite(d.speed) && std::isfinite(d.radius) &&
+          std::isfinite(d.particles_per_second) && finite3(d.box_min) && finite3(d.box_max),
+      EMITTER_UNUSED_FINITE);
+    return {};
+}
+
+Verdict validate_emitter_transform(const pbf_emitter_type* type, const float a[3], const float b[3]) {
+    V(a && b && finite3(a) && finite3(b), TRANSFORM_FINITE);
+    if (!type) return {};
+    if (*type == PBF_EMITTER_NOZZLE) {
+        V(std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]) > 1e-6f, NOZZLE_DIRECTION);
+    } else {
+        for (int k = 0; k < 3; ++k) V(b[k] > a[k], DRAIN_BOX);
+    }
+    return {};
+}
+
+Verdict validate_collider_desc(const pbf_collider_desc& d) {
+    V(raw(d.shape) >= PBF_SHAPE_PLANE && raw(d.shape) <= PBF_SHAPE_BOX, COLLIDER_SHAPE);
+    V(raw(d.motion) == PBF_MOTION_STATIC || raw(d.motion) == PBF_MOTION_KINEMATIC, COLLIDER_MOTION);
+    V(finite3(d.position) && finite_nonzero_quat(d.rotation), COLLIDER_POSE);
+    V(in(d.friction, 0.0f, 1.0f), COLLIDER_FRICTION);
+    if (d.shape == PBF_SHAPE_SPHERE || d.shape == PBF_SHAPE_CAPSULE)
+        V(std::isfinite(d.radius) && d.radius > 0.0f, COLLIDER_RADIUS);
+    if (d.shape == PBF_SHAPE_CAPSULE) V(std::isfinite(d.half_height) && d.half_height >= 0.0f, COLLIDER_HALF_HEIGHT);
+    if (d.shape == PBF_SHAPE_BOX)
+        V(finite3(d.half_extents) && d.half_extents[0] > 0.0f && d.half_extents[1] > 0.0f && d.half_extents[2] > 0.0f,
+          COLLIDER_HALF_EXTENTS);
+    V(std::isfinite(d.radius) && std::isfinite(d.half_height) && finite3(d.half_extents), COLLIDER_UNUSED_FINITE);
+    return {};
+}
+
+Verdict validate_collider_pose(const float position[3], const float rotation[4]) {
+    V(position && rotation && finite3(position) && finite_nonzero_quat(rotation), COLLIDER_POSE);
+    return {};
+}
+
+Verdict validate_gl_buffer_desc(const pbf_gl_buffer_desc& d) {
+    V(d.buffer != 0, GL_BUFFER_NAME);
+    V(valid_source(d.source), COPY_SOURCE);
+    V(valid_mode(d.mode), COPY_MODE);
+    V(d.capacity > 0, COPY_CAPACITY);
+    if (d.offset_bytes % element_bytes(d.source) != 0) return Verdict{Check::COPY_OFFSET_ALIGN, element_bytes(d.source)};
+    V(d.draw_args_offset_bytes % 4 == 0, DRAW_ARGS_ALIGN);
+    V(d.reserved0 == 0, RESERVED0);
+    return {};
+}
+
+Verdict validate_external_buffer_desc(const pbf_external_buffer_desc& d) {
+    V(raw(d.type) >= PBF_EXTERNAL_MEMORY_OPAQUE_FD && raw(d.type) <= PBF_EXTERNAL_MEMORY_D3D11_RESOURCE_KMT, EXTERNAL_TYPE);
+    if (raw(d.type) == PBF_EXTERNAL_MEMORY_OPAQUE_FD) V(d.fd >= 0, HANDLE_FD);
+    else V(d.win32_handle != nullptr, HANDLE_WIN32);
+    V(d.dedicated <= 1, EXTERNAL_DEDICATED);
+    V(valid_source(d.source), COPY_SOURCE);
+    V(valid_mode(d.mode), COPY_MODE);
+    V(d.size_bytes > 0, EXTERNAL_SIZE);
+    V(d.capacity > 0, COPY_CAPACITY);
+    const uint64_t elem = element_bytes(d.source);
+    if (d.offset_bytes % elem != 0) return Verdict{Check::COPY_OFFSET_ALIGN, elem};
+    const uint64_t bytes = uint64_t(d.capacity) * elem;
+    if (!(d.offset_bytes <= d.size_bytes && bytes <= d.size_bytes - d.offset_bytes))
+        return Verdict{Check::EXTERNAL_RANGE, elem};
+    V(d.write_draw_args <= 1, EXTERNAL_WRITE_DRAW_ARGS);
+    if (d.write_draw_args) {
+        V(d.draw_args_offset_bytes % 4 == 0, DRAW_ARGS_ALIGN);
+        V(d.size_bytes >= 16 && d.draw_args_offset_bytes <= d.size_bytes - 16, DRAW_ARGS_RANGE);
+        const uint64_t a0 = d.draw_args_offset_bytes, a1 = a0 + 16;
+        V(a1 <= d.offset_bytes || a0 >= d.offset_bytes + bytes, DRAW_ARGS_OVERLAP);
+    }
+    V(d.reserved0 == 0, RESERVED0);
+    return {};
+}
+
+Verdict validate_semaphore_desc(const pbf_semaphore_desc& d) {
+    V(raw(d.type) >= PBF_SEMAPHORE_VULKAN_BINARY_FD && raw(d.type) <= PBF_SEMAPHORE_D3D12_FENCE, SEMAPHORE_TYPE);
+    const bool fd_type = raw(d.type) == PBF_SEMAPHORE_VULKAN_BINARY_FD || raw(d.type) == PBF_SEMAPHORE_VULKAN_TIMELINE_FD;
+    if (fd_type) V(d.fd >= 0, HANDLE_FD);
+    else V(d.win32_handle != nullptr, HANDLE_WIN32);
+    V(d.reserved0 == 0, RESERVED0);
+    return {};
+}
+
+Verdict validate_external_sync(const pbf_external_sync& s) {
+    V(s.reserved0 == 0, SYNC_RESERVED0);
+    return {};
+}
+
+}  // namespace pbf::api

@@ -1,0 +1,157 @@
+// Validation of the C ABI's descs, as named checks (after sokol_gfx's _sg_validate_*): each
+// check has an id, the result code it fails with and one message. A validator returns the first
+// check its desc fails, or Check::ok; the entry point refuses the call with that check's message.
+// Internal: nothing here is exported. White-box tests compare last_validation_check() instead of
+// message substrings.
+#pragma once
+#include <cstdint>
+#include <cstring>
+#include <string>
+
+#include "pbf_c_api.h"
+
+namespace pbf::api {
+
+// An enum field as the 32 bits the caller stored: a C caller may store any int, and reading an
+// out-of-range value through the C++ enum type is undefined behaviour.
+template <class E>
+int32_t raw(const E& e) {
+    static_assert(sizeof(E) == sizeof(int32_t), "ABI enums are 32 bits");
+    int32_t v;
+    std::memcpy(&v, &e, sizeof v);
+    return v;
+}
+
+// Bytes per element of a copy source (vec4 positions or velocities, or uint32 ids).
+inline uint32_t element_bytes(pbf_buffer source) { return raw(source) == PBF_BUFFER_IDS ? 4u : 16u; }
+
+// X(id, result code, message). {a} and {b} in a message stand for the verdict's two numbers.
+#define PBF_VALIDATE_CHECKS(X)                                                                                       \
+    /* solver parameters (pbf_solver_params, also inside pbf_world_desc) */                                         \
+    X(SOLVER_ITERATIONS, PBF_ERROR_INVALID_ARGUMENT, "solver.iterations must be 1..64")                              \
+    X(SOLVER_SUBSTEPS, PBF_ERROR_INVALID_ARGUMENT, "solver.substeps must be 0 (automatic) or 1..64")                 \
+    X(SOLVER_MAX_SUBSTEPS, PBF_ERROR_INVALID_ARGUMENT, "solver.max_substeps must be 1..64")                          \
+    X(SOLVER_SUBSTEP_TRAVEL, PBF_ERROR_INVALID_ARGUMENT, "solver.substep_travel must be 0.05..1 (a fraction of h)")  \
+    X(SOLVER_SOUND_SPEED, PBF_ERROR_INVALID_ARGUMENT, "solver.sound_speed must be finite and > 0")                   \
+    X(SOLVER_RELAXATION, PBF_ERROR_INVALID_ARGUMENT, "solver.relaxation must be finite and > 0")                     \
+    X(SOLVER_SCORR_K, PBF_ERROR_INVALID_ARGUMENT, "solver.scorr_k must be 0..1")                                     \
+    X(SOLVER_SCORR_N, PBF_ERROR_INVALID_ARGUMENT, "solver.scorr_n must be 1..8")                                     \
+    X(SOLVER_SCORR_DQ, PBF_ERROR_INVALID_ARGUMENT, "solver.scorr_dq must be in (0, 1) (a fraction of h)")            \
+    X(SOLVER_XSPH_C, PBF_ERROR_INVALID_ARGUMENT, "solver.xsph_c must be 0..1")                                       \
+    X(SOLVER_VORTICITY, PBF_ERROR_INVALID_ARGUMENT, "solver.vorticity_epsilon must be 0..100")                       \
+    X(SOLVER_LDC_ENABLED, PBF_ERROR_INVALID_ARGUMENT, "solver.ldc_enabled must be 0 or 1")                           \
+    X(SOLVER_LDC_GAIN, PBF_ERROR_INVALID_ARGUMENT, "solver.ldc_gain must be 0..1")                                   \
+    X(SOLVER_MAX_SPEED, PBF_ERROR_INVALID_ARGUMENT, "solver.max_speed must be finite and > 0")                       \
+    X(SOLVER_ADAPTIVE_TARGET, PBF_ERROR_INVALID_ARGUMENT, "solver.adaptive_error_target must be in [0, 1)")          \
+    /* pbf_world_desc */                                                                                             \
+    X(WORLD_HEADER_VERSION, PBF_ERROR_VERSION_MISMATCH,                                                              \
+      "header major version {a} does not match the library's {b} (desc.header_version must be PBF_VERSION; use "    \
+      "pbf_world_desc_default())")                                                                                   \
+    X(WORLD_BACKEND, PBF_ERROR_INVALID_ARGUMENT, "backend must be PBF_BACKEND_AUTO, _CPU or _CUDA")                  \
+    X(WORLD_CUDA_DEVICE, PBF_ERROR_INVALID_ARGUMENT, "cuda_device must be >= 0")                                     \
+    X(WORLD_MAX_PARTICLES, PBF_ERROR_INVALID_ARGUMENT, "max_particles must be 1..2^30")                              \
+    X(WORLD_PARTICLE_RADIUS, PBF_ERROR_INVALID_ARGUMENT, "particle_radius must be finite and > 0")                   \
+    X(WORLD_REST_DENSITY, PBF_ERROR_INVALID_ARGUMENT, "rest_density must be finite and > 0")                         \
+    X(WORLD_GRAVITY, PBF_ERROR_INVALID_ARGUMENT, "gravity must be finite")                                           \
+    X(WORLD_DOMAIN_FINITE, PBF_ERROR_INVALID_ARGUMENT, "domain bounds must be finite")                               \
+    X(WORLD_DOMAIN_SIZE, PBF_ERROR_INVALID_ARGUMENT,                                                                 \
+      "domain_max must exceed domain_min by at least 2 particle diameters on every axis")                            \
+    /* pbf_world_set_gravity */                                                                                      \
+    X(GRAVITY, PBF_ERROR_INVALID_ARGUMENT, "gravity must be non-NULL and finite")                                    \
+    /* pbf_block_desc */                                                                                             \
+    X(BLOCK_FINITE, PBF_ERROR_INVALID_ARGUMENT, "box_min, box_max and velocity must be finite")                      \
+    X(BLOCK_BOX, PBF_ERROR_INVALID_ARGUMENT, "box_max must exceed box_min on every axis")                            \
+    /* pbf_emitter_desc, pbf_emitter_set_transform */                                                                \
+    X(EMITTER_ENABLED, PBF_ERROR_INVALID_ARGUMENT, "enabled must be 0 or 1")                                         \
+    X(EMITTER_TYPE, PBF_ERROR_INVALID_ARGUMENT, "type must be PBF_EMITTER_NOZZLE or PBF_EMITTER_DRAIN")              \
+    X(NOZZLE_FINITE, PBF_ERROR_INVALID_ARGUMENT, "nozzle position and direction must be finite")                    \
+    X(NOZZLE_DIRECTION, PBF_ERROR_INVALID_ARGUMENT, "nozzle direction must be non-zero")                             \
+    X(NOZZLE_SPEED, PBF_ERROR_INVALID_ARGUMENT, "nozzle speed must be finite and > 0")                               \
+    X(NOZZLE_RADIUS, PBF_ERROR_INVALID_ARGUMENT, "nozzle radius must be finite and > 0")                             \
+    X(NOZZLE_RATE, PBF_ERROR_INVALID_ARGUMENT, "nozzle particles_per_second must be in (0, 1e9]")                    \
+    X(DRAIN_FINITE, PBF_ERROR_INVALID_ARGUMENT, "drain box must be finite")                                          \
+    X(DRAIN_BOX, PBF_ERROR_INVALID_ARGUMENT, "drain box_max must exceed box_min")                                    \
+    X(EMITTER_UNUSED_FINITE, PBF_ERROR_INVALID_ARGUMENT,                                                             \
+      "position, direction, speed, radius, particles_per_second, box_min and box_max must be finite, also where "    \
+      "the type does not use them")                                                                                  \
+    X(TRANSFORM_FINITE, PBF_ERROR_INVALID_ARGUMENT, "both vectors must be non-NULL and finite")                      \
+    /* pbf_collider_desc, pbf_collider_set_pose */                                                                   \
+    X(COLLIDER_SHAPE, PBF_ERROR_INVALID_ARGUMENT, "shape must be PBF_SHAPE_PLANE, _SPHERE, _CAPSULE or _BOX")        \
+    X(COLLIDER_MOTION, PBF_ERROR_INVALID_ARGUMENT, "motion must be PBF_MOTION_STATIC or PBF_MOTION_KINEMATIC")       \
+    X(COLLIDER_POSE, PBF_ERROR_INVALID_ARGUMENT,                                                                     \
+      "position must be finite and rotation a finite, non-zero quaternion")                                          \
+    X(COLLIDER_FRICTION, PBF_ERROR_INVALID_ARGUMENT, "friction must be 0..1")                                        \
+    X(COLLIDER_RADIUS, PBF_ERROR_INVALID_ARGUMENT, "radius must be finite and > 0")                                  \
+    X(COLLIDER_HALF_HEIGHT, PBF_ERROR_INVALID_ARGUMENT, "half_height must be finite and >= 0")                       \
+    X(COLLIDER_HALF_EXTENTS, PBF_ERROR_INVALID_ARGUMENT, "half_extents must be finite and > 0")                      \
+    X(COLLIDER_UNUSED_FINITE, PBF_ERROR_INVALID_ARGUMENT,                                                            \
+      "radius, half_height and half_extents must be finite, also where the shape does not use them")                 \
+    /* interop: pbf_gl_buffer_desc, pbf_external_buffer_desc, pbf_semaphore_desc, pbf_external_sync */               \
+    X(GL_BUFFER_NAME, PBF_ERROR_INVALID_ARGUMENT, "buffer must be a GL buffer object name (non-zero)")               \
+    X(COPY_SOURCE, PBF_ERROR_INVALID_ARGUMENT, "source must be PBF_BUFFER_POSITIONS, _VELOCITIES or _IDS")           \
+    X(COPY_MODE, PBF_ERROR_INVALID_ARGUMENT, "mode must be PBF_COPY_ON_STEP, _ON_RENDER_EVENT or _MANUAL")           \
+    X(COPY_CAPACITY, PBF_ERROR_INVALID_ARGUMENT, "capacity must be > 0")                                             \
+    X(COPY_OFFSET_ALIGN, PBF_ERROR_INVALID_ARGUMENT, "offset_bytes must be a multiple of {a}")                       \
+    X(DRAW_ARGS_ALIGN, PBF_ERROR_INVALID_ARGUMENT, "draw_args_offset_bytes must be a multiple of 4")                 \
+    X(RESERVED0, PBF_ERROR_INVALID_ARGUMENT, "reserved0 must be 0")                                                  \
+    X(EXTERNAL_TYPE, PBF_ERROR_INVALID_ARGUMENT, "type must be a pbf_external_memory_type")                          \
+    X(HANDLE_FD, PBF_ERROR_INVALID_ARGUMENT, "fd must be an open file descriptor (>= 0)")                            \
+    X(HANDLE_WIN32, PBF_ERROR_INVALID_ARGUMENT, "win32_handle must be set for this type")                            \
+    X(EXTERNAL_DEDICATED, PBF_ERROR_INVALID_ARGUMENT, "dedicated must be 0 or 1")                                    \
+    X(EXTERNAL_SIZE, PBF_ERROR_INVALID_ARGUMENT, "size_bytes must be > 0")                                           \
+    X(EXTERNAL_RANGE, PBF_ERROR_INVALID_ARGUMENT, "offset_bytes + capacity * {a} exceeds size_bytes")                \
+    X(EXTERNAL_WRITE_DRAW_ARGS, PBF_ERROR_INVALID_ARGUMENT, "write_draw_args must be 0 or 1")                        \
+    X(DRAW_ARGS_RANGE, PBF_ERROR_INVALID_ARGUMENT, "draw_args_offset_bytes + 16 exceeds size_bytes")                 \
+    X(DRAW_ARGS_OVERLAP, PBF_ERROR_INVALID_ARGUMENT, "the draw arguments overlap the particles")                     \
+    X(SEMAPHORE_TYPE, PBF_ERROR_INVALID_ARGUMENT, "type must be a pbf_semaphore_type")                               \
+    X(SYNC_RESERVED0, PBF_ERROR_INVALID_ARGUMENT, "sync.reserved0 must be 0")
+
+enum class Check : uint16_t {
+    ok = 0,
+#define PBF_CHECK_ID(id, code, message) id,
+    PBF_VALIDATE_CHECKS(PBF_CHECK_ID)
+#undef PBF_CHECK_ID
+        count
+};
+
+// A validator's answer: the first failed check (Check::ok when none) and the numbers its message
+// names.
+struct Verdict {
+    Check check = Check::ok;
+    uint64_t a = 0, b = 0;
+    bool ok() const { return check == Check::ok; }
+};
+
+const char* check_name(Check c);     // "SOLVER_ITERATIONS"
+pbf_result check_code(Check c);      // the result code a call refused by c returns
+std::string check_message(const Verdict& v);  // the message, {a} and {b} filled in
+
+Verdict validate_solver_params(const pbf_solver_params& p);  // struct_size checked by the caller
+Verdict validate_world_desc(const pbf_world_desc& d);        // all but the nested solver params
+Verdict validate_gravity(const float g[3]);
+Verdict validate_block_desc(const pbf_block_desc& d);
+Verdict validate_emitter_desc(const pbf_emitter_desc& d);
+// pbf_emitter_set_transform: a, b are a nozzle's position and direction or a drain's box (type
+// null: only what holds for both, before the emitter is looked up).
+Verdict validate_emitter_transform(const pbf_emitter_type* type, const float a[3], const float b[3]);
+Verdict validate_collider_desc(const pbf_collider_desc& d);
+Verdict validate_collider_pose(const float position[3], const float rotation[4]);
+Verdict validate_gl_buffer_desc(const pbf_gl_buffer_desc& d);
+Verdict validate_external_buffer_desc(const pbf_external_buffer_desc& d);
+Verdict validate_semaphore_desc(const pbf_semaphore_desc& d);
+Verdict validate_external_sync(const pbf_external_sync& s);  // fields only; handles: the caller
+
+// Refuses the call: sets the thread's last check and error ("fn: message") and returns the
+// check's result code.
+pbf_result refuse(const char* fn, const Verdict& v);
+// The check that refused the calling thread's last failed call (Check::ok when that failure was
+// not a validation check). For white-box tests.
+Check last_validation_check();
+
+}  // namespace pbf::api
+
+// Refuses the call with the verdict of a validator unless it passed.
+#define PBF_VALIDATE(expr)                                                                   \
+    do {                                                                                     \
+        if (const ::pbf::api::Verdict v_ = (expr); !v_.ok()) return ::pbf::api::refuse(fn, v_); \
+    } while (0)

@@ -1,0 +1,195 @@
+// The C ABI's world calls: create and destroy, step, parameters, info and statistics, and the
+// particles (count, copy-out, mapping). Each validates, locks the world and calls World.
+#include <cmath>
+#include <string>
+
+#include "api_common.h"
+#include "internal.h"
+
+using pbf::Status;
+using pbf::World;
+using pbf::api::fail;
+using pbf::api::guarded;
+using pbf::api::log_message;
+
+namespace {
+
+template <class T, class Copy>
+pbf_result copy_out(const char* fn, pbf_world_id id, T* out, uint32_t max_count, uint32_t* written, Copy copy) {
+    return guarded(fn, [&]() -> pbf_result {
+        if (written) *written = 0;
+        PBF_REQUIRE_ARG(out != nullptr || max_count == 0, "output array is NULL");
+        PBF_LOCK_WORLD(w, id);
+        uint32_t n = 0;
+        const pbf_result r = fail(copy(*w, out, max_count, &n));
+        if (written) *written = n;
+        return r;
+    });
+}
+
+}  // namespace
+
+extern "C" {
+
+PBF_API pbf_result PBF_CALL pbf_world_create(const pbf_world_desc* d, pbf_world_id* out) {
+    const char* fn = "pbf_world_create";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_REQUIRE_ARG(out != nullptr, "out_world is NULL");
+        *out = pbf_world_id{0, 0};
+        PBF_CHECK_STRUCT(pbf_world_desc, d);
+        PBF_VALIDATE(pbf::api::validate_world_desc(*d));
+        PBF_CHECK_STRUCT(pbf_solver_params, &d->solver);
+        PBF_VALIDATE(pbf::api::validate_solver_params(d->solver));
+        if (d->backend == PBF_BACKEND_CUDA && !World::cuda_available(d->cuda_device))
+            return fail(PBF_ERROR_BACKEND_UNAVAILABLE,
+                        std::string(fn) + ": PBF_BACKEND_CUDA requested but CUDA device " +
+                            std::to_string(d->cuda_device) + " is not available (no device, no driver, or a CPU-only build)");
+
+        Status st;
+        std::unique_ptr<World> world = World::create(*d, &st);
+        if (!world) return fail(st.code, std::string(fn) + ": " + st.message);
+        pbf_world_info info{};
+        world->get_info(&info);
+        *out = pbf::api::insert_world(std::move(world));
+        log_message(PBF_LOG_INFO, std::string("world created on ") + info.device_name + ", capacity " +
+                                      std::to_string(d->max_particles));
+        return PBF_OK;
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_destroy(pbf_world_id id) {
+    const char* fn = "pbf_world_destroy";
+    return guarded(fn, [&]() -> pbf_result {
+        std::shared_ptr<pbf::api::WorldEntry> entry = pbf::api::remove_world(id);
+        if (!entry) return fail(PBF_ERROR_INVALID_HANDLE, std::string(fn) + ": world is not live (destroyed twice?)");
+        std::lock_guard<std::mutex> lock(entry->mutex);  // waits for a call in flight
+        entry->world.reset();
+        return PBF_OK;
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_step(pbf_world_id id, float dt) {
+    const char* fn = "pbf_world_step";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_REQUIRE_ARG(std::isfinite(dt) && dt > 0.0f && dt <= 1.0f, "dt must be finite and in (0, 1] seconds, got " +
+                                                                          std::to_string(dt));
+        PBF_LOCK_WORLD(w, id);
+        return fail(w->step(dt));
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_get_solver_params(pbf_world_id id, pbf_solver_params* out) {
+    const char* fn = "pbf_world_get_solver_params";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_CHECK_STRUCT(pbf_solver_params, out);
+        PBF_LOCK_WORLD(w, id);
+        *out = w->solver_params();
+        return PBF_OK;
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_set_solver_params(pbf_world_id id, const pbf_solver_params* p) {
+    const char* fn = "pbf_world_set_solver_params";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_CHECK_STRUCT(pbf_solver_params, p);
+        PBF_VALIDATE(pbf::api::validate_solver_params(*p));
+        PBF_LOCK_WORLD(w, id);
+        w->set_solver_params(*p);
+        return PBF_OK;
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_set_gravity(pbf_world_id id, const float g[3]) {
+    const char* fn = "pbf_world_set_gravity";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_VALIDATE(pbf::api::validate_gravity(g));
+        PBF_LOCK_WORLD(w, id);
+        w->set_gravity(pbf::Vec3{g[0], g[1], g[2]});
+        return PBF_OK;
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_get_info(pbf_world_id id, pbf_world_info* out) {
+    const char* fn = "pbf_world_get_info";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_CHECK_STRUCT(pbf_world_info, out);
+        PBF_LOCK_WORLD(w, id);
+        w->get_info(out);
+        return PBF_OK;
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_get_stats(pbf_world_id id, pbf_step_stats* out) {
+    const char* fn = "pbf_world_get_stats";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_CHECK_STRUCT(pbf_step_stats, out);
+        PBF_LOCK_WORLD(w, id);
+        return fail(w->get_stats(out));
+    });
+}
+
+// ---- particles -------------------------------------------------------------------------------
+PBF_API pbf_result PBF_CALL pbf_world_get_particle_count(pbf_world_id id, uint32_t* out) {
+    const char* fn = "pbf_world_get_particle_count";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_REQUIRE_ARG(out != nullptr, "out_count is NULL");
+        PBF_LOCK_WORLD(w, id);
+        return fail(w->particle_count(out));
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_copy_positions(pbf_world_id id, float* out, uint32_t max_count, uint32_t* written) {
+    return copy_out("pbf_world_copy_positions", id, out, max_count, written,
+                    [](World& w, float* o, uint32_t m, uint32_t* n) { return w.copy_positions(o, m, n); });
+}
+PBF_API pbf_result PBF_CALL pbf_world_copy_velocities(pbf_world_id id, float* out, uint32_t max_count, uint32_t* written) {
+    return copy_out("pbf_world_copy_velocities", id, out, max_count, written,
+                    [](World& w, float* o, uint32_t m, uint32_t* n) { return w.copy_velocities(o, m, n); });
+}
+PBF_API pbf_result PBF_CALL pbf_world_copy_ids(pbf_world_id id, uint32_t* out, uint32_t max_count, uint32_t* written) {
+    return copy_out("pbf_world_copy_ids", id, out, max_count, written,
+                    [](World& w, uint32_t* o, uint32_t m, uint32_t* n) { return w.copy_ids(o, m, n); });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_map_positions(pbf_world_id id, pbf_mapped_buffer* out) {
+    const char* fn = "pbf_world_map_positions";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_CHECK_STRUCT(pbf_mapped_buffer, out);
+        PBF_LOCK_WORLD(w, id);
+        World::Mapping m;
+        if (pbf_result r = fail(w->map_particles(/*wait_for_count=*/true, &m)); r != PBF_OK) return r;
+        out->memory = m.device ? PBF_MEMORY_CUDA_DEVICE : PBF_MEMORY_HOST;
+        out->data = m.live.positions;
+        out->count = m.count;
+        out->stride_bytes = 16;
+        out->reserved0 = out->reserved1 = 0;
+        return PBF_OK;
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_unmap(pbf_world_id id) {
+    const char* fn = "pbf_world_unmap";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_LOCK_WORLD(w, id);
+        PBF_REQUIRE(w->mapped(), PBF_ERROR_INVALID_STATE, std::string(fn) + ": no buffer is mapped");
+        w->unmap();
+        return PBF_OK;
+    });
+}
+
+}  // extern "C"
+
+// ---- internal hooks for pbf_bench (internal.h; not exported) ---------------------------------
+namespace pbf {
+pbf_result internal_set_profiling(pbf_world_id id, bool on) {
+    const char* fn = "internal_set_profiling";
+    PBF_LOCK_WORLD(w, id);
+    w->set_profiling(on);
+    return PBF_OK;
+}
+pbf_result internal_stage_times(pbf_world_id id, StageTimes* out) {
+    const char* fn = "internal_stage_times";
+    PBF_LOCK_WORLD(w, id);
+    return fail(w->stage_times(out));
+}
+}  // namespace pbf

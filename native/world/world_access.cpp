@@ -1,0 +1,76 @@
+// The world's doors for the API and interop layers (world.h, the block "doors for the API and
+// interop layers"): small state changes with their normalisation, mapping, the CUDA stream and
+// profiling, so that nothing above the world reaches its backend.
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "world.h"
+
+namespace pbf {
+
+bool World::cuda_available(int32_t device) { return cuda_device_available(device); }
+
+pbf_backend World::backend_kind() const { return backend_->kind(); }
+
+bool World::set_emitter_enabled(pbf_emitter_id id, bool enabled) {
+    EmitterEntry* e = find_emitter(id);
+    if (!e) return false;
+    e->desc.enabled = enabled ? 1u : 0u;
+    return true;
+}
+
+Status World::set_emitter_transform(pbf_emitter_id id, const float a[3], const float b[3]) {
+    EmitterEntry* e = find_emitter(id);
+    if (!e) return Status::error(PBF_ERROR_INVALID_HANDLE, "emitter is not live");
+    if (e->desc.type == PBF_EMITTER_NOZZLE) {
+        const Vec3 dir = Vec3{b[0], b[1], b[2]} * (1.0f / length(Vec3{b[0], b[1], b[2]}));
+        const float unit[3] = {dir.x, dir.y, dir.z};
+        for (int k = 0; k < 3; ++k) {
+            e->desc.position[k] = a[k];
+            e->desc.direction[k] = unit[k];
+        }
+    } else {
+        for (int k = 0; k < 3; ++k) {
+            e->desc.box_min[k] = a[k];
+            e->desc.box_max[k] = b[k];
+        }
+    }
+    return Status{};
+}
+
+Status World::set_collider_target(pbf_collider_id id, const float position[3], const float rotation[4]) {
+    ColliderEntry* e = find_collider(id);
+    if (!e) return Status::error(PBF_ERROR_INVALID_HANDLE, "collider is not live");
+    if (e->motion != PBF_MOTION_KINEMATIC)
+        return Status::error(PBF_ERROR_INVALID_STATE, "only kinematic colliders can be moved");
+    const Eigen::Quaternionf q = Eigen::Quaternionf(rotation[3], rotation[0], rotation[1], rotation[2]).normalized();
+    e->target_position = Vec3{position[0], position[1], position[2]};
+    e->target_rotation[0] = q.x();
+    e->target_rotation[1] = q.y();
+    e->target_rotation[2] = q.z();
+    e->target_rotation[3] = q.w();
+    return Status{};
+}
+
+Status World::map_particles(bool wait_for_count, Mapping* out) {
+    const bool device = backend_->kind() == PBF_BACKEND_CUDA;
+    uint32_t count = PBF_COUNT_ON_DEVICE;
+    if (!device || wait_for_count) {
+        const Status st = backend_->particle_count(&count);  // on CUDA: waits for the stream
+        if (!st.ok()) return st;
+    }
+    out->live = backend_->live_buffers();
+    out->count = count;
+    out->device = device;
+    out->cuda_stream = backend_->cuda_stream();
+    mapped_ = true;
+    return Status{};
+}
+
+LiveBuffers World::live_buffers() { return backend_->live_buffers(); }
+void* World::cuda_stream() const { return backend_->cuda_stream(); }
+Status World::set_cuda_stream(void* stream) { return backend_->set_cuda_stream(stream); }
+void World::set_profiling(bool on) { backend_->set_profiling(on); }
+Status World::stage_times(StageTimes* out) { return backend_->stage_times(out); }
+
+}  // namespace pbf

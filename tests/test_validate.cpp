@@ -1,0 +1,208 @@
+// White-box tests of the C ABI's named checks (native/api/validate.h): calls through the static
+// core, comparing the check that refused a call instead of substrings of its message.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <set>
+#include <string>
+#include <utility>
+
+#include "api/validate.h"
+#include "pbf_c_api.h"
+
+using pbf::api::Check;
+using pbf::api::last_validation_check;
+
+namespace {
+
+// The call fails with the check's code and the thread's last check is `check`.
+#define CHECK_REFUSED_BY(call, check)                                                              \
+    do {                                                                                           \
+        const pbf_result r_ = (call);                                                              \
+        INFO(#call << " -> " << pbf_result_string(r_) << " \"" << pbf_last_error_message() << "\""); \
+        CHECK(r_ == pbf::api::check_code(check));                                                  \
+        CHECK(std::string(pbf::api::check_name(last_validation_check())) == pbf::api::check_name(check)); \
+    } while (0)
+
+pbf_world_desc cpu_desc() {
+    pbf_world_desc d = pbf_world_desc_default();
+    d.backend = PBF_BACKEND_CPU;
+    d.max_particles = 1024;
+    const float lo[3] = {-0.5f, 0.0f, -0.5f}, hi[3] = {0.5f, 1.0f, 0.5f};
+    std::memcpy(d.domain_min, lo, sizeof lo);
+    std::memcpy(d.domain_max, hi, sizeof hi);
+    return d;
+}
+
+pbf_emitter_desc nozzle() {
+    pbf_emitter_desc e = pbf_emitter_desc_default();
+    e.type = PBF_EMITTER_NOZZLE;
+    e.position[1] = 0.7f;
+    e.speed = 1.0f;
+    e.radius = 0.05f;
+    e.particles_per_second = 600.0f;
+    return e;
+}
+
+pbf_emitter_desc drain() {
+    pbf_emitter_desc e = pbf_emitter_desc_default();
+    e.type = PBF_EMITTER_DRAIN;
+    const float lo[3] = {0.4f, 0.0f, 0.4f}, hi[3] = {0.5f, 0.1f, 0.5f};
+    std::memcpy(e.box_min, lo, sizeof lo);
+    std::memcpy(e.box_max, hi, sizeof hi);
+    return e;
+}
+
+struct World {
+    pbf_world_id id{};
+    World() {
+        const pbf_world_desc d = cpu_desc();
+        REQUIRE(pbf_world_create(&d, &id) == PBF_OK);
+    }
+    ~World() { pbf_world_destroy(id); }
+};
+
+}  // namespace
+
+TEST_CASE("validate: every check has a unique name, a failure code and a message", "[api][validate]") {
+    std::set<std::string> names;
+    for (uint16_t c = 1; c < uint16_t(Check::count); ++c) {
+        const Check check = Check(c);
+        INFO(pbf::api::check_name(check));
+        CHECK(names.insert(pbf::api::check_name(check)).second);
+        CHECK(pbf::api::check_code(check) != PBF_OK);
+        const std::string m = pbf::api::check_message(pbf::api::Verdict{check, 16, 2});
+        CHECK(!m.empty());
+        CHECK(m.find('{') == std::string::npos);  // every placeholder filled
+    }
+}
+
+TEST_CASE("validate: a successful call leaves the last check alone, a non-check failure clears it", "[api][validate]") {
+    World w;
+    const float nan3[3] = {NAN, 0, 0};
+    CHECK_REFUSED_BY(pbf_world_set_gravity(w.id, nan3), Check::GRAVITY);
+    const float g[3] = {0, -9.81f, 0};
+    REQUIRE(pbf_world_set_gravity(w.id, g) == PBF_OK);
+    CHECK(last_validation_check() == Check::GRAVITY);
+    CHECK(pbf_world_step(w.id, -1.0f) == PBF_ERROR_INVALID_ARGUMENT);  // dt is no desc check
+    CHECK(last_validation_check() == Check::ok);
+}
+
+TEST_CASE("validate: world desc and solver parameters name the failed check", "[api][validate][world]") {
+    struct Case {
+        const char* what;
+        void (*spoil)(pbf_world_desc&);
+        Check check;
+    };
+    const Case cases[] = {
+        {"header major 2", [](pbf_world_desc& d) { d.header_version = PBF_MAKE_VERSION(2, 0, 0); }, Check::WORLD_HEADER_VERSION},
+        {"backend 7", [](pbf_world_desc& d) { d.backend = static_cast<pbf_backend>(7); }, Check::WORLD_BACKEND},
+        {"cuda_device -1", [](pbf_world_desc& d) { d.cuda_device = -1; }, Check::WORLD_CUDA_DEVICE},
+        {"max_particles 0", [](pbf_world_desc& d) { d.max_particles = 0; }, Check::WORLD_MAX_PARTICLES},
+        {"radius 0", [](pbf_world_desc& d) { d.particle_radius = 0; }, Check::WORLD_PARTICLE_RADIUS},
+        {"rest density NaN", [](pbf_world_desc& d) { d.rest_density = NAN; }, Check::WORLD_REST_DENSITY},
+        {"gravity Inf", [](pbf_world_desc& d) { d.gravity[2] = INFINITY; }, Check::WORLD_GRAVITY},
+        {"domain NaN", [](pbf_world_desc& d) { d.domain_max[0] = NAN; }, Check::WORLD_DOMAIN_FINITE},
+        {"flat domain", [](pbf_world_desc& d) { d.domain_max[1] = d.domain_min[1]; }, Check::WORLD_DOMAIN_SIZE},
+        {"iterations 0", [](pbf_world_desc& d) { d.solver.iterations = 0; }, Check::SOLVER_ITERATIONS},
+        {"substeps 17", [](pbf_world_desc& d) { d.solver.substeps = 17; }, Check::SOLVER_SUBSTEPS},
+        {"scorr_dq 1", [](pbf_world_desc& d) { d.solver.scorr_dq = 1.0f; }, Check::SOLVER_SCORR_DQ},
+        {"ldc_enabled 2", [](pbf_world_desc& d) { d.solver.ldc_enabled = 2; }, Check::SOLVER_LDC_ENABLED},
+        {"adaptive 1", [](pbf_world_desc& d) { d.solver.adaptive_error_target = 1.0f; }, Check::SOLVER_ADAPTIVE_TARGET},
+    };
+    for (const Case& c : cases) {
+        INFO(c.what);
+        pbf_world_desc d = cpu_desc();
+        c.spoil(d);
+        pbf_world_id id{9, 9};
+        CHECK_REFUSED_BY(pbf_world_create(&d, &id), c.check);
+        CHECK(id.generation == 0);
+    }
+    // The version check names both majors.
+    pbf_world_desc d = cpu_desc();
+    d.header_version = PBF_MAKE_VERSION(2, 0, 0);
+    pbf_world_id id{};
+    pbf_world_create(&d, &id);
+    CHECK(std::string(pbf_last_error_message()).find("header major version 2 does not match the library's 1") !=
+          std::string::npos);
+}
+
+// Converted from test_c_api.cpp ("emitter desc: ... out-of-range"), where these compared
+// message substrings.
+TEST_CASE("validate: emitter descs and transforms name the failed check", "[api][validate][emitter]") {
+    World w;
+    struct Case {
+        const char* what;
+        pbf_emitter_desc (*make)();
+        Check check;
+    };
+    const Case cases[] = {
+        {"type 0", [] { pbf_emitter_desc e = nozzle(); e.type = static_cast<pbf_emitter_type>(0); return e; }, Check::EMITTER_TYPE},
+        {"type 3", [] { pbf_emitter_desc e = nozzle(); e.type = static_cast<pbf_emitter_type>(3); return e; }, Check::EMITTER_TYPE},
+        {"unset type", [] { return pbf_emitter_desc_default(); }, Check::EMITTER_TYPE},
+        {"enabled 2", [] { pbf_emitter_desc e = nozzle(); e.enabled = 2; return e; }, Check::EMITTER_ENABLED},
+        {"drain enabled 2", [] { pbf_emitter_desc e = drain(); e.enabled = 2; return e; }, Check::EMITTER_ENABLED},
+        {"speed 0", [] { pbf_emitter_desc e = nozzle(); e.speed = 0; return e; }, Check::NOZZLE_SPEED},
+        {"radius -1", [] { pbf_emitter_desc e = nozzle(); e.radius = -1; return e; }, Check::NOZZLE_RADIUS},
+        {"rate 0", [] { pbf_emitter_desc e = nozzle(); e.particles_per_second = 0; return e; }, Check::NOZZLE_RATE},
+        {"rate 2e9", [] { pbf_emitter_desc e = nozzle(); e.particles_per_second = 2e9f; return e; }, Check::NOZZLE_RATE},
+        {"zero direction", [] { pbf_emitter_desc e = nozzle(); e.direction[1] = 0; return e; }, Check::NOZZLE_DIRECTION},
+        {"nozzle position NaN", [] { pbf_emitter_desc e = nozzle(); e.position[0] = NAN; return e; }, Check::NOZZLE_FINITE},
+        {"inverted drain", [] { pbf_emitter_desc e = drain(); std::swap(e.box_min[0], e.box_max[0]); return e; }, Check::DRAIN_BOX},
+        {"drain box Inf", [] { pbf_emitter_desc e = drain(); e.box_max[2] = INFINITY; return e; }, Check::DRAIN_FINITE},
+        {"drain with NaN speed", [] { pbf_emitter_desc e = drain(); e.speed = NAN; return e; }, Check::EMITTER_UNUSED_FINITE},
+    };
+    for (const Case& c : cases) {
+        INFO(c.what);
+        const pbf_emitter_desc e = c.make();
+        pbf_emitter_id id{9, 9};
+        CHECK_REFUSED_BY(pbf_world_create_emitter(w.id, &e, &id), c.check);
+        CHECK(id.generation == 0);
+    }
+    pbf_emitter_id nz{}, dr{};
+    const pbf_emitter_desc n = nozzle(), d = drain();
+    REQUIRE(pbf_world_create_emitter(w.id, &n, &nz) == PBF_OK);
+    REQUIRE(pbf_world_create_emitter(w.id, &d, &dr) == PBF_OK);
+    const float zero[3] = {0, 0, 0}, pos[3] = {0, 0.7f, 0}, nan3[3] = {NAN, 0, 0};
+    CHECK_REFUSED_BY(pbf_emitter_set_transform(w.id, nz, pos, zero), Check::NOZZLE_DIRECTION);
+    CHECK_REFUSED_BY(pbf_emitter_set_transform(w.id, nz, pos, nan3), Check::TRANSFORM_FINITE);
+    CHECK_REFUSED_BY(pbf_emitter_set_transform(w.id, nz, pos, nullptr), Check::TRANSFORM_FINITE);
+    const float lo[3] = {0.4f, 0, 0.4f}, hi[3] = {0.5f, 0.1f, 0.39f};
+    CHECK_REFUSED_BY(pbf_emitter_set_transform(w.id, dr, lo, hi), Check::DRAIN_BOX);
+}
+
+TEST_CASE("validate: collider descs and poses name the failed check", "[api][validate][collider]") {
+    World w;
+    auto sphere = [] {
+        pbf_collider_desc c = pbf_collider_desc_default();
+        c.shape = PBF_SHAPE_SPHERE;
+        c.position[1] = 0.5f;
+        c.radius = 0.1f;
+        return c;
+    };
+    struct Case {
+        const char* what;
+        void (*spoil)(pbf_collider_desc&);
+        Check check;
+    };
+    const Case cases[] = {
+        {"shape 9", [](pbf_collider_desc& c) { c.shape = static_cast<pbf_collider_shape>(9); }, Check::COLLIDER_SHAPE},
+        {"motion 5", [](pbf_collider_desc& c) { c.motion = static_cast<pbf_collider_motion>(5); }, Check::COLLIDER_MOTION},
+        {"zero quaternion", [](pbf_collider_desc& c) { c.rotation[3] = 0; }, Check::COLLIDER_POSE},
+        {"friction 2", [](pbf_collider_desc& c) { c.friction = 2; }, Check::COLLIDER_FRICTION},
+        {"radius 0", [](pbf_collider_desc& c) { c.radius = 0; }, Check::COLLIDER_RADIUS},
+        {"capsule half_height -1", [](pbf_collider_desc& c) { c.shape = PBF_SHAPE_CAPSULE; c.half_height = -1; }, Check::COLLIDER_HALF_HEIGHT},
+        {"box extents 0", [](pbf_collider_desc& c) { c.shape = PBF_SHAPE_BOX; }, Check::COLLIDER_HALF_EXTENTS},
+        {"sphere with NaN extents", [](pbf_collider_desc& c) { c.half_extents[1] = NAN; }, Check::COLLIDER_UNUSED_FINITE},
+    };
+    for (const Case& k : cases) {
+        INFO(k.what);
+        pbf_collider_desc c = sphere();
+        k.spoil(c);
+        pbf_collider_id id{9, 9};
+        CHECK_REFUSED_BY(pbf_world_create_collider(w.id, &c, &id), k.check);
+    }
+    const float pos[3] = {0, 0.5f, 0}, zero_q[4] = {0, 0, 0, 0};
+    CHECK_REFUSED_BY(pbf_collider_set_pose(w.id, pbf_collider_id{1, 1}, pos, zero_q), Check::COLLIDER_POSE);
+}
