@@ -35,7 +35,12 @@ WorldLock::WorldLock(const char* fn, pbf_world_id id, bool quiet) {
     }
     if (entry_) {
         lock_ = std::unique_lock<std::mutex>(entry_->mutex);
-        if (!entry_->world) entry_.reset();
+        if (!entry_->world) {
+            // Destroyed meanwhile: this may be the entry's last reference, so unlock before
+            // letting it go (the mutex goes with it).
+            lock_.unlock();
+            entry_.reset();
+        }
     }
     if (!entry_) {
         const std::string message = std::string(fn) + ": world {" + std::to_string(id.index) + ", " +
