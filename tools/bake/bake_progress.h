@@ -36,17 +36,24 @@ public:
             bar[width] = '\0';
             std::fprintf(stderr, "\r[%s] %3d%%  frame %lld/%lld  %u particles  %.1f frames/s  ETA %s   ", bar, pct,
                          (long long)done, (long long)total_, count, done > 0 ? double(done) / elapsed : 0.0, eta);
-            if (done >= total_) std::fprintf(stderr, "\n");
+            drawn_ = done < total_;
+            if (!drawn_) std::fprintf(stderr, "\n");
             std::fflush(stderr);
         } else {
-            while (next_decile_ <= 10 && pct >= next_decile_ * 10) {
-                if (next_decile_ > 0 || done == 0)
-                    std::fprintf(stderr, "pbf_bake: %3d%%  frame %lld/%lld  %u particles  elapsed %.1f s  ETA %s\n",
-                                 next_decile_ * 10, (long long)done, (long long)total_, count, elapsed, eta);
-                ++next_decile_;
+            // One line when a new multiple of 10 % is reached (one line even if a frame crosses several).
+            if (next_decile_ <= 10 && pct >= next_decile_ * 10) {
+                std::fprintf(stderr, "pbf_bake: %3d%%  frame %lld/%lld  %u particles  elapsed %.1f s  ETA %s\n", pct,
+                             (long long)done, (long long)total_, count, elapsed, eta);
+                next_decile_ = pct / 10 + 1;
             }
             std::fflush(stderr);
         }
+    }
+
+    // Ends the bar's line (on a terminal) so that a message can follow on a line of its own.
+    void break_line() {
+        if (drawn_) std::fprintf(stderr, "\n");
+        drawn_ = false;
     }
 
     double seconds() const {
@@ -65,7 +72,7 @@ private:
     }
 
     int64_t total_;
-    bool enabled_, tty_;
+    bool enabled_, tty_, drawn_ = false;
     int next_decile_ = 0;
     std::chrono::steady_clock::time_point start_;
 };

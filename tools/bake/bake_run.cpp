@@ -73,6 +73,22 @@ RunResult run_bake(const Scene& s, const RunOptions& o) {
         check(pbf_world_emit_block(world.id, &s.blocks[i].desc, &emitted), file + ": /blocks/" + std::to_string(i),
               "pbf_world_emit_block");
     }
+    Progress progress(s.frame_end - s.frame_start + 1, o.progress);
+    // A full world is not an error for libpbf (a block emits what fits, nozzles stop), but the
+    // artist should know: warn once, naming the key to raise.
+    bool warned_full = false;
+    auto warn_if_full = [&](uint32_t count, const std::string& when) {
+        if (warned_full || count < info.max_particles) return;
+        warned_full = true;
+        progress.break_line();
+        std::fprintf(stderr, "pbf_bake: warning: %s: the world is full (%u particles): %s; raise /world/max_particles\n",
+                     file.c_str(), info.max_particles, when.c_str());
+    };
+    {
+        uint32_t count = 0;
+        check(pbf_world_get_particle_count(world.id, &count), file, "pbf_world_get_particle_count");
+        warn_if_full(count, "the blocks were cut short");
+    }
     std::vector<pbf_emitter_id> emitters(s.emitters.size());
     std::vector<uint32_t> emitter_on(s.emitters.size());
     auto emitter_wanted = [&](size_t i, int64_t frame) -> uint32_t {
@@ -93,8 +109,6 @@ RunResult run_bake(const Scene& s, const RunOptions& o) {
     // ---- frames --------------------------------------------------------------------------
     const double frame_dt = 1.0 / s.frame_rate;
     const float step_dt = float(frame_dt / s.steps_per_frame);
-    const int64_t to_write = s.frame_end - s.frame_start + 1;
-    Progress progress(to_write, o.progress);
     progress.update(0, 0);
 
     Frame fr;
@@ -118,6 +132,7 @@ RunResult run_bake(const Scene& s, const RunOptions& o) {
             check(pbf_world_copy_velocities(world.id, fr.vel.data(), count, &written), file, "pbf_world_copy_velocities");
             check(pbf_world_copy_ids(world.id, fr.ids.data(), count, &written), file, "pbf_world_copy_ids");
             fr.count = count;
+            if (!s.emitters.empty()) warn_if_full(count, "nozzles stop emitting from frame " + std::to_string(k));
             std::vector<std::string> files;
             if (formats & kPly) {
                 files.push_back((fs::path(dir) / frame_file(s, k, "ply")).string());

@@ -139,6 +139,9 @@ struct SolverField {
     bool open_lo;
 };
 
+// One line per field of pbf_solver_params after struct_size. A field added to the header must be
+// added here too: the bake test "every solver parameter is settable by name" checks the count
+// against sizeof(pbf_solver_params).
 #define PBF_FIELD(name, u, b, lo, hi, open) {#name, offsetof(pbf_solver_params, name), u, b, lo, hi, open}
 const SolverField kSolverFields[] = {
     PBF_FIELD(iterations, true, false, 1, 64, false),
