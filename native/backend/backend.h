@@ -65,7 +65,6 @@ enum Stage : int {
     kStageGridPredicted,
     kStageLambda,
     kStageDeltaCollide,
-    kStageVelocity,  // folded into the last Δp pass (version 5): reads 0
     kStageVorticity,
     kStageVorticityXsph,
     kStageDensityEnd,

@@ -15,7 +15,7 @@ namespace pbf {
 const char* stage_name(int stage) {
     static const char* const names[kStageCount] = {
         "emit+drain", "grid(x)", "density(x)", "forces+LDC+predict", "grid(x*)", "lambda",
-        "delta+collide", "velocity", "omega+xsph", "vorticity force", "density(end)"};
+        "delta+collide", "omega+xsph", "vorticity force", "density(end)"};
     return stage >= 0 && stage < kStageCount ? names[stage] : "?";
 }
 

@@ -27,7 +27,6 @@ struct alignas(16) Vec4 {
     float x, y, z, w;
 };
 
-PBF_HD Vec3 make_vec3(float x, float y, float z) { return Vec3{x, y, z}; }
 PBF_HD Vec3 xyz(const Vec4& v) { return Vec3{v.x, v.y, v.z}; }
 PBF_HD Vec4 make_vec4(const Vec3& v, float w) { return Vec4{v.x, v.y, v.z, w}; }
 
