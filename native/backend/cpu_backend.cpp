@@ -1,3 +1,4 @@
+// The CPU executor (cpu_exec.h): memory, the counting sort and the reductions.
 #include <unistd.h>
 
 #include <cstdlib>
@@ -7,17 +8,9 @@
 #include <omp.h>
 #endif
 
-#include "../solver/solver.h"
 #include "cpu_exec.h"
 
 namespace pbf {
-
-const char* stage_name(int stage) {
-    static const char* const names[kStageCount] = {
-        "emit+drain", "grid(x)", "density(x)", "forces+LDC+predict", "grid(x*)", "lambda",
-        "delta+collide", "omega+xsph", "vorticity force", "density(end)"};
-    return stage >= 0 && stage < kStageCount ? names[stage] : "?";
-}
 
 Status CpuExec::init(uint32_t, uint32_t num_cells) {
     // Refuse worlds that would not fit in physical memory rather than let the OS kill the
@@ -97,13 +90,6 @@ void CpuExec::sum_compressive_error(const SimConstants& s, const float* density,
 #pragma omp parallel for reduction(+ : sum) if (live > 2048)
     for (int64_t i = 0; i < live; ++i) sum += fmaxf(density[i] * s.inv_rest_density - 1.0f, 0.0f);
     *out += static_cast<float>(sum);
-}
-
-std::unique_ptr<Backend> create_cpu_backend(const BackendConfig& config, Status* status) {
-    auto solver = std::make_unique<Solver<CpuExec>>();
-    *status = solver->init(config);
-    if (!status->ok()) return nullptr;
-    return solver;
 }
 
 }  // namespace pbf
