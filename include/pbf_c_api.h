@@ -51,7 +51,7 @@ extern "C" {
 #endif
 
 /* ---- Version ------------------------------------------------------------------------------ */
-#define PBF_VERSION_MAJOR 1
+#define PBF_VERSION_MAJOR 2
 #define PBF_VERSION_MINOR 0
 #define PBF_VERSION_PATCH 0
 /* major in bits 22..31, minor in 12..21, patch in 0..11 */
@@ -109,7 +109,9 @@ typedef struct pbf_collider_id { uint32_t index; uint32_t generation; } pbf_coll
 typedef struct pbf_solver_params {
     uint32_t struct_size;
     uint32_t iterations;        /* density-constraint iterations per substep, 1..64 (default 4) */
-    uint32_t substeps;          /* substeps per pbf_world_step, 1..16 (default 1) */
+    uint32_t substeps;          /* substeps per pbf_world_step. 0 (default): automatic, chosen per
+                                   step so that the fastest particle moves at most substep_travel·h
+                                   per substep, up to max_substeps. 1..64: exactly that many. */
     float relaxation;           /* ε of λ (constraint force mixing), relative to the constraint
                                    gradient norm of a particle at rest density; > 0 (default 1).
                                    Smaller converges faster per iteration but a Jacobi sweep
@@ -130,6 +132,14 @@ typedef struct pbf_solver_params {
                                    0.01 = 1 %), with `iterations` as the cap; 0..1. A substep runs at
                                    least one iteration. Decided on the device: the step still never
                                    waits. Stats report iterations run. */
+    uint32_t max_substeps;      /* cap of the automatic substep count, 1..64 (default 16). A step that
+                                   would need more runs this many, and the speed limit below keeps
+                                   every particle within h per substep (stats count the cuts). */
+    float substep_travel;       /* automatic substeps: the fastest particle's travel per substep, as a
+                                   fraction of h, 0.05..1 (default 0.5) */
+    float sound_speed;          /* m/s, > 0 (default 40): the solver removes a density error no faster
+                                   than over h / sound_speed (the constraint's compliance), so a very
+                                   small dt cannot turn an old error into a large velocity. */
 } pbf_solver_params;
 
 /* Fills the library's defaults. Prefer pbf_solver_params_default(). */
@@ -213,6 +223,9 @@ typedef struct pbf_step_stats {
     float kinetic_energy;           /* Σ ½ m v², joules */
     float step_time_ms;             /* the last pbf_world_step's duration on its backend */
     uint32_t iterations;            /* constraint iterations run in the last step, all substeps */
+    uint32_t substeps;              /* substeps the last step ran */
+    uint32_t speed_clamps;          /* particle-substeps of the last step whose speed a limit cut
+                                       (max_speed, or the h-per-substep cap); 0 in a healthy run */
     uint32_t reserved0;
 } pbf_step_stats;
 PBF_API pbf_result PBF_CALL pbf_world_get_stats(pbf_world_id world, pbf_step_stats* out_stats);

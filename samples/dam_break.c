@@ -1,6 +1,6 @@
 /* Headless dam break: a column of water collapses in a tank. C99, public header only.
  *
- *   dam_break [particles=32768] [steps=300] [iterations=4]
+ *   dam_break [particles=8000] [steps=150] [iterations=4]
  *   PBF_BACKEND=cpu|cuda overrides the backend (default: CUDA when available).
  *   PBF_LDC=0|1 turns Local Density Calibration off or on (default on).
  * Exits non-zero on any libpbf error. */
@@ -23,8 +23,8 @@
 static const char* backend_name(pbf_backend b) { return b == PBF_BACKEND_CUDA ? "cuda" : "cpu"; }
 
 int main(int argc, char** argv) {
-    const long particles = argc > 1 ? atol(argv[1]) : 32768;
-    const long steps = argc > 2 ? atol(argv[2]) : 300;
+    const long particles = argc > 1 ? atol(argv[1]) : 8000;
+    const long steps = argc > 2 ? atol(argv[2]) : 150;
     const long iterations = argc > 3 ? atol(argv[3]) : 4;
     if (particles < 64 || steps < 1 || iterations < 1 || iterations > 64) {
         fprintf(stderr, "usage: dam_break [particles>=64] [steps>=1] [iterations 1..64]\n");

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Configures and builds libpbf, its tests and samples (Release):
 #
-#   scripts/build.sh [BUILD_DIR=build]
+#   scripts/build.sh [BUILD_DIR=build] [TARGET...]
+#
+# With TARGETs (e.g. dam_break), only those and what they need are built; without, everything.
 #
 # Environment:
 #   PBF_CUDA_ARCHITECTURES  CUDA architectures to build for (default here: 90, one architecture
@@ -14,6 +16,9 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 build_dir="${1:-build}"
+shift || true
+targets=()
+[ "$#" -gt 0 ] && targets=(--target "$@")
 
 bash "$root/scripts/install-deps.sh"
 
@@ -31,4 +36,4 @@ cmake -S "$root" -B "$build_dir" \
   -DCMAKE_BUILD_TYPE=Release \
   -DPBF_WITH_CUDA="$with_cuda" \
   -DPBF_CUDA_ARCHITECTURES="${PBF_CUDA_ARCHITECTURES:-90}"
-cmake --build "$build_dir" -j"$(nproc)"
+cmake --build "$build_dir" "${targets[@]}" -j"$(nproc)"

@@ -2,10 +2,17 @@
 # Installs the Debian/Ubuntu packages that libpbf's build, tests and samples need, but only
 # those that are missing (checked with dpkg -s). Uses sudo when not run as root.
 # Prints nothing when everything is already installed.
+#
+#   scripts/install-deps.sh            the build, the tests, the samples, the install check
+#   scripts/install-deps.sh windows    also the Windows cross build and its tests
+#                                      (MinGW-w64 posix-thread compilers, Wine)
 set -euo pipefail
 
 packages=(cmake g++ make pkg-config libeigen3-dev catch2 libpng-dev
           mono-mcs mono-runtime nunit-console libnunit-cil-dev)
+if [ "${1:-}" = windows ]; then
+  packages+=(g++-mingw-w64-x86-64-posix gcc-mingw-w64-x86-64-posix wine wine64)
+fi
 
 missing=()
 for p in "${packages[@]}"; do

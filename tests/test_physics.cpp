@@ -14,8 +14,9 @@ using namespace pbf;
 namespace {
 
 struct Scene {
-    SimConstants s{};
-    ColliderSet colliders{};
+    WorldConstants s{};
+    StepContext ctx{};
+    uint32_t clamped = 0;
     std::vector<Vec4> pos, vel, pred, corrected;
     std::vector<float> density;
     std::vector<uint32_t> cell_begin, keys, mask_rows;
@@ -31,16 +32,21 @@ struct Scene {
         s.mass = float(s.rest_density / c.kernel_sum);
         s.poly6_coef = poly6_coefficient(h);
         s.spiky_coef = spiky_grad_coefficient(h);
-        s.lambda_epsilon = 0.01f * float(c.gradient_norm2 / (c.kernel_sum * c.kernel_sum));
+        s.rest_gradient_norm2 = float(c.gradient_norm2 / (c.kernel_sum * c.kernel_sum));
+        s.relaxation = 0.01f;
         s.scorr_k = 0.0f;
         s.scorr_n = 4.0f;
         s.scorr_inv_w_dq = 1.0f;
         s.max_speed = 100.0f;
-        s.dt = dt;
-        s.inv_dt = 1.0f / dt;
         s.gravity = Vec3{0, 0, 0};
-        s.wall_min = Vec3{-100, -100, -100};
-        s.wall_max = Vec3{100, 100, 100};
+        s.wall_min = s.boundary_min = Vec3{-100, -100, -100};
+        s.wall_max = s.boundary_max = Vec3{100, 100, 100};
+        s.boundary_scale = 0.0f;  // no walls within reach
+        ctx.dt = dt;
+        ctx.inv_dt = 1.0f / dt;
+        ctx.lambda_epsilon = s.relaxation * s.rest_gradient_norm2;
+        ctx.speed_limit = s.max_speed;
+        ctx.clamped = &clamped;
         s.grid = GridDims{Vec3{-100, -100, -100}, 1.0f / 200.0f, 1, 1, 1, 1};
     }
     void add(Vec3 p) { pos.push_back(make_vec4(p, 1.0f)); }
@@ -59,7 +65,9 @@ struct Scene {
     void run(const Op& op) {
         for (uint32_t i = 0; i < n(); ++i) op(i);
     }
-    void densities(std::vector<Vec4>& at) { run(DensityOp{s, cell_begin.data(), at.data(), density.data()}); }
+    void densities(std::vector<Vec4>& at) {
+        run(DensityOp{s, ctx.colliders, cell_begin.data(), at.data(), density.data()});
+    }
 };
 
 // Spread (std) of ρ/ρ0 over particles at least `margin` inside the lattice's bounding box.
@@ -88,36 +96,36 @@ TEST_CASE("LDC force points from denser toward less dense neighbours", "[ldc]") 
     sc.add(Vec3{-0.05f, 0, 0});  // -x neighbour
     sc.finish();
     sc.s.ldc_enabled = 1;
-    sc.s.ldc_k = 100.0f;
+    const float k = 100.0f;
     const float rho0 = sc.s.rest_density;
 
     SECTION("denser neighbour on +x, less dense on -x: pushed toward -x") {
         sc.density = {rho0, 1.2f * rho0, 0.8f * rho0};
-        const Vec3 f = ldc_force(sc.s, sc.cell_begin.data(), sc.pos.data(), sc.density.data(), 0);
+        const Vec3 f = ldc_force(sc.s, k, sc.cell_begin.data(), sc.pos.data(), sc.density.data(), 0);
         CHECK(f.x < 0.0f);
         CHECK(std::fabs(f.y) < 1e-6f);
         CHECK(std::fabs(f.z) < 1e-6f);
     }
     SECTION("mirror image: pushed toward +x") {
         sc.density = {rho0, 0.8f * rho0, 1.2f * rho0};
-        CHECK(ldc_force(sc.s, sc.cell_begin.data(), sc.pos.data(), sc.density.data(), 0).x > 0.0f);
+        CHECK(ldc_force(sc.s, k, sc.cell_begin.data(), sc.pos.data(), sc.density.data(), 0).x > 0.0f);
     }
     SECTION("equal densities: no force") {
         sc.density = {rho0, rho0, rho0};
-        CHECK(length(ldc_force(sc.s, sc.cell_begin.data(), sc.pos.data(), sc.density.data(), 0)) == 0.0f);
+        CHECK(length(ldc_force(sc.s, k, sc.cell_begin.data(), sc.pos.data(), sc.density.data(), 0)) == 0.0f);
     }
     SECTION("a particle denser than both neighbours is pushed by neither side (symmetric)") {
         sc.density = {1.3f * rho0, rho0, rho0};
-        CHECK(std::fabs(ldc_force(sc.s, sc.cell_begin.data(), sc.pos.data(), sc.density.data(), 0).x) < 1e-6f);
+        CHECK(std::fabs(ldc_force(sc.s, k, sc.cell_begin.data(), sc.pos.data(), sc.density.data(), 0).x) < 1e-6f);
         // Each neighbour is pushed away from the dense centre, toward lower density.
-        CHECK(ldc_force(sc.s, sc.cell_begin.data(), sc.pos.data(), sc.density.data(), 1).x > 0.0f);
-        CHECK(ldc_force(sc.s, sc.cell_begin.data(), sc.pos.data(), sc.density.data(), 2).x < 0.0f);
+        CHECK(ldc_force(sc.s, k, sc.cell_begin.data(), sc.pos.data(), sc.density.data(), 1).x > 0.0f);
+        CHECK(ldc_force(sc.s, k, sc.cell_begin.data(), sc.pos.data(), sc.density.data(), 2).x < 0.0f);
     }
     SECTION("the weight is the linear hat h(1 - r/h): a closer neighbour pushes harder") {
         sc.density = {rho0, 1.2f * rho0, rho0};
-        const float far = -ldc_force(sc.s, sc.cell_begin.data(), sc.pos.data(), sc.density.data(), 0).x;
+        const float far = -ldc_force(sc.s, k, sc.cell_begin.data(), sc.pos.data(), sc.density.data(), 0).x;
         sc.pos[1].x = 0.025f;
-        const float near = -ldc_force(sc.s, sc.cell_begin.data(), sc.pos.data(), sc.density.data(), 0).x;
+        const float near = -ldc_force(sc.s, k, sc.cell_begin.data(), sc.pos.data(), sc.density.data(), 0).x;
         // f = K ρ_ij h (1 - r/h): r = h/2 gives 0.5h, r = h/4 gives 0.75h.
         CHECK(near / far == Approx(1.5f).epsilon(1e-4));
         CHECK(far == Approx(100.0f * 0.2f * 0.1f * 0.5f).epsilon(1e-4));
@@ -138,12 +146,12 @@ std::pair<double, double> ldc_once(float gain, uint32_t seed) {
             for (int x = 0; x < n; ++x) sc.add(Vec3{x * d + jitter(rng), y * d + jitter(rng), z * d + jitter(rng)});
     sc.finish();
     sc.s.ldc_enabled = 1;
-    sc.s.ldc_k = gain / (sc.s.dt * sc.s.dt);
+    sc.ctx.ldc_k = gain / (sc.ctx.dt * sc.ctx.dt);
     const float lo = 2.0f * sc.s.h, hi = (n - 1) * d - 2.0f * sc.s.h;
     sc.densities(sc.pos);
     std::vector<Vec4> start = sc.pos;
     const double before = interior_spread(start, sc.density, sc.s.rest_density, lo, hi);
-    sc.run(PredictOp{sc.s, sc.colliders, sc.cell_begin.data(), sc.density.data(), sc.pos.data(), sc.vel.data(),
+    sc.run(PredictOp{sc.s, sc.ctx, sc.cell_begin.data(), sc.density.data(), sc.pos.data(), sc.vel.data(),
                      sc.pred.data()});
     sc.densities(sc.pred);
     const double after = interior_spread(start, sc.density, sc.s.rest_density, lo, hi);
@@ -172,7 +180,7 @@ TEST_CASE("LDC off leaves a resting lattice at rest (gravity off)", "[ldc]") {
             for (int x = 0; x < 4; ++x) sc.add(Vec3{x * 0.05f, y * 0.05f, z * 0.05f});
     sc.finish();
     sc.s.ldc_enabled = 0;
-    sc.run(PredictOp{sc.s, sc.colliders, sc.cell_begin.data(), sc.density.data(), sc.pos.data(), sc.vel.data(),
+    sc.run(PredictOp{sc.s, sc.ctx, sc.cell_begin.data(), sc.density.data(), sc.pos.data(), sc.vel.data(),
                      sc.pred.data()});
     for (uint32_t i = 0; i < sc.n(); ++i) {
         CHECK(sc.pred[i].x == sc.pos[i].x);
@@ -203,19 +211,19 @@ TEST_CASE("density constraint: λ < 0 only where compressed, and Δp reduces com
         REQUIRE(k > 0);
         return e / k;
     };
-    sc.run(LambdaOp{sc.s, sc.cell_begin.data(), sc.masks(), 1u, sc.pred.data(), sc.density.data(), nullptr});
+    sc.run(LambdaOp{sc.s, sc.ctx, sc.cell_begin.data(), sc.masks(), 1u, sc.pred.data(), sc.density.data(), nullptr});
     const double error_before = interior_error();
     CHECK(error_before > 0.2);
     const uint32_t centre = (n / 2) * n * n + (n / 2) * n + n / 2;
     CHECK(sc.pred[centre].w < 0.0f);
     CHECK(sc.pred[0].w == 0.0f);  // a corner particle is under-dense: unilateral, no pull
     for (int it = 0; it < 4; ++it) {
-        sc.run(LambdaOp{sc.s, sc.cell_begin.data(), sc.masks(), 0u, sc.pred.data(), sc.density.data(), nullptr});
-        sc.run(DeltaOp{sc.s, sc.colliders, sc.cell_begin.data(), sc.masks(), sc.pos.data(), sc.pred.data(),
+        sc.run(LambdaOp{sc.s, sc.ctx, sc.cell_begin.data(), sc.masks(), 0u, sc.pred.data(), sc.density.data(), nullptr});
+        sc.run(DeltaOp{sc.s, sc.ctx, sc.cell_begin.data(), sc.masks(), sc.pos.data(), sc.pred.data(),
                        sc.corrected.data(), nullptr});
         std::swap(sc.pred, sc.corrected);
     }
-    sc.run(LambdaOp{sc.s, sc.cell_begin.data(), sc.masks(), 0u, sc.pred.data(), sc.density.data(), nullptr});
+    sc.run(LambdaOp{sc.s, sc.ctx, sc.cell_begin.data(), sc.masks(), 0u, sc.pred.data(), sc.density.data(), nullptr});
     const double error_after = interior_error();
     INFO("interior compressive error " << error_before << " -> " << error_after);
     CHECK(error_after < 0.5 * error_before);
@@ -227,18 +235,15 @@ TEST_CASE("colliders push particle centres out to one radius from the surface", 
     Scene sc(0.05f);
     const float r = sc.s.radius;
     auto pose = [](Vec3 p) { return ColliderPose{p, Mat3{{1, 0, 0, 0, 1, 0, 0, 0, 1}}}; };
-    Collider sphere{kShapeSphere, 0.2f, 0.0f, 0.0f, Vec3{0, 0, 0}, pose(Vec3{0, 0, 0}), pose(Vec3{0, 0, 0})};
-    Collider box{kShapeBox, 0.0f, 0.0f, 0.0f, Vec3{0.1f, 0.2f, 0.3f}, pose(Vec3{1, 0, 0}), pose(Vec3{1, 0, 0})};
-    Collider capsule{kShapeCapsule, 0.1f, 0.3f, 0.0f, Vec3{0, 0, 0}, pose(Vec3{0, 1, 0}), pose(Vec3{0, 1, 0})};
-    Collider plane{kShapePlane, 0.0f, 0.0f, 0.0f, Vec3{0, 0, 0}, pose(Vec3{0, -1, 0}), pose(Vec3{0, -1, 0})};
-    ColliderSet set{};
-    set.items[set.count++] = sphere;
-    set.items[set.count++] = box;
-    set.items[set.count++] = capsule;
-    set.items[set.count++] = plane;
+    const Collider shapes[4] = {{kShapeSphere, 0.2f, 0.0f, 0.0f, Vec3{0, 0, 0}},
+                                {kShapeBox, 0.0f, 0.0f, 0.0f, Vec3{0.1f, 0.2f, 0.3f}},
+                                {kShapeCapsule, 0.1f, 0.3f, 0.0f, Vec3{0, 0, 0}},
+                                {kShapePlane, 0.0f, 0.0f, 0.0f, Vec3{0, 0, 0}}};
+    const ColliderPose poses[4] = {pose(Vec3{0, 0, 0}), pose(Vec3{1, 0, 0}), pose(Vec3{0, 1, 0}), pose(Vec3{0, -1, 0})};
+    const ColliderView set{shapes, poses, poses, 4};
     Vec3 n;
     const Vec3 in_sphere = collide(sc.s, set, Vec3{0.05f, 0.0f, 0.0f}, Vec3{0, 0, 0});
-    CHECK(collider_distance(sphere, sphere.cur, in_sphere, n) == Approx(r).margin(1e-5));
+    CHECK(collider_distance(shapes[0], poses[0], in_sphere, n) == Approx(r).margin(1e-5));
     CHECK(in_sphere.x > 0.0f);
     const Vec3 in_box = collide(sc.s, set, Vec3{1.08f, 0.0f, 0.0f}, Vec3{1.08f, 0, 0});
     CHECK(in_box.x == Approx(1.1f + r).margin(1e-5));  // out through the nearest (+x) face

@@ -85,30 +85,41 @@ struct LogCounter {
     std::atomic<uint64_t> calls{0};
 };
 void PBF_CALL count_log(pbf_log_level, const char*, void* user) { static_cast<LogCounter*>(user)->calls.fetch_add(1); }
+// Lets the other threads run for a while. Not sleep_for: below a millisecond it may return at
+// once (MinGW's winpthreads round it down to Sleep(0)).
+void pause_for(std::chrono::microseconds span) {
+    const auto end = std::chrono::steady_clock::now() + span;
+    while (std::chrono::steady_clock::now() < end) std::this_thread::yield();
+}
 }  // namespace
 
 TEST_CASE("threads: after pbf_set_log_callback returns, the previous callback is never called",
           "[threads][reliability][log]") {
     LogCounter a, b;
     std::atomic<bool> stop{false};
+    std::atomic<int> started{0};
     std::vector<std::thread> noisy;
     for (int t = 0; t < 3; ++t) {
         noisy.emplace_back([&] {  // errors from every thread, all the time
+            started.fetch_add(1);
             while (!stop.load()) (void)pbf_world_step(pbf_world_id{0, 0}, 1.0f / 60.0f);
         });
     }
+    // The rounds below last milliseconds: start them once the threads run (thread start-up can
+    // take longer than that, e.g. under Wine), or neither callback may ever be called.
+    while (started.load() < 3) std::this_thread::yield();
     bool stale_call = false;
     for (int round = 0; round < 200 && !stale_call; ++round) {
         pbf_set_log_callback(count_log, &a);
-        std::this_thread::sleep_for(std::chrono::microseconds(200));
+        pause_for(std::chrono::microseconds(200));
         pbf_set_log_callback(count_log, &b);
         const uint64_t frozen = a.calls.load();
-        std::this_thread::sleep_for(std::chrono::microseconds(200));
+        pause_for(std::chrono::microseconds(200));
         stale_call = a.calls.load() != frozen;
     }
     pbf_set_log_callback(nullptr, nullptr);
     const uint64_t b_frozen = b.calls.load();
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    pause_for(std::chrono::milliseconds(5));
     stop.store(true);
     for (std::thread& t : noisy) t.join();
     CHECK_FALSE(stale_call);

@@ -96,7 +96,7 @@ TEST_CASE("validate: world desc and solver parameters name the failed check", "[
         Check check;
     };
     const Case cases[] = {
-        {"header major 2", [](pbf_world_desc& d) { d.header_version = PBF_MAKE_VERSION(2, 0, 0); }, Check::WORLD_HEADER_VERSION},
+        {"another header major", [](pbf_world_desc& d) { d.header_version = PBF_MAKE_VERSION(PBF_VERSION_MAJOR + 1, 0, 0); }, Check::WORLD_HEADER_VERSION},
         {"backend 7", [](pbf_world_desc& d) { d.backend = static_cast<pbf_backend>(7); }, Check::WORLD_BACKEND},
         {"cuda_device -1", [](pbf_world_desc& d) { d.cuda_device = -1; }, Check::WORLD_CUDA_DEVICE},
         {"max_particles 0", [](pbf_world_desc& d) { d.max_particles = 0; }, Check::WORLD_MAX_PARTICLES},
@@ -106,7 +106,8 @@ TEST_CASE("validate: world desc and solver parameters name the failed check", "[
         {"domain NaN", [](pbf_world_desc& d) { d.domain_max[0] = NAN; }, Check::WORLD_DOMAIN_FINITE},
         {"flat domain", [](pbf_world_desc& d) { d.domain_max[1] = d.domain_min[1]; }, Check::WORLD_DOMAIN_SIZE},
         {"iterations 0", [](pbf_world_desc& d) { d.solver.iterations = 0; }, Check::SOLVER_ITERATIONS},
-        {"substeps 17", [](pbf_world_desc& d) { d.solver.substeps = 17; }, Check::SOLVER_SUBSTEPS},
+        {"substeps 65", [](pbf_world_desc& d) { d.solver.substeps = 65; }, Check::SOLVER_SUBSTEPS},
+        {"max_substeps 0", [](pbf_world_desc& d) { d.solver.max_substeps = 0; }, Check::SOLVER_MAX_SUBSTEPS},
         {"scorr_dq 1", [](pbf_world_desc& d) { d.solver.scorr_dq = 1.0f; }, Check::SOLVER_SCORR_DQ},
         {"ldc_enabled 2", [](pbf_world_desc& d) { d.solver.ldc_enabled = 2; }, Check::SOLVER_LDC_ENABLED},
         {"adaptive 1", [](pbf_world_desc& d) { d.solver.adaptive_error_target = 1.0f; }, Check::SOLVER_ADAPTIVE_TARGET},
@@ -121,11 +122,12 @@ TEST_CASE("validate: world desc and solver parameters name the failed check", "[
     }
     // The version check names both majors.
     pbf_world_desc d = cpu_desc();
-    d.header_version = PBF_MAKE_VERSION(2, 0, 0);
+    d.header_version = PBF_MAKE_VERSION(PBF_VERSION_MAJOR + 1, 0, 0);
     pbf_world_id id{};
     pbf_world_create(&d, &id);
-    CHECK(std::string(pbf_last_error_message()).find("header major version 2 does not match the library's 1") !=
-          std::string::npos);
+    const std::string expected = "header major version " + std::to_string(PBF_VERSION_MAJOR + 1) +
+                                 " does not match the library's " + std::to_string(PBF_VERSION_MAJOR);
+    CHECK(std::string(pbf_last_error_message()).find(expected) != std::string::npos);
 }
 
 // Converted from test_c_api.cpp ("emitter desc: ... out-of-range"), where these compared

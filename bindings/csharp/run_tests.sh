@@ -44,7 +44,7 @@ echo "   $(grep -c '^struct ' "$out/layout_expected.txt") structs, $(grep -c '^f
 echo "== mcs: Pbf.dll (bindings)"
 # C# 7.2 is mcs's newest: the bindings compile with it, hence with Unity's and .NET's compilers.
 mcs -langversion:7.2 -target:library -warnaserror+ -nowarn:1591 -r:System.Numerics \
-    -doc:"$out/Pbf.xml" -out:"$out/Pbf.dll" "$here"/src/*.cs
+    -doc:"$out/Pbf.xml" -out:"$out/Pbf.dll" "$here"/unity/Runtime/Core/*.cs
 cp "$here/Pbf.dll.config" "$out/Pbf.dll.config"
 
 echo "== mcs: Pbf.Tests.dll"

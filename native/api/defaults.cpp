@@ -15,7 +15,10 @@ PBF_API pbf_result PBF_CALL pbf_solver_params_init(pbf_solver_params* p, uint32_
     std::memset(p, 0, sizeof *p);
     p->struct_size = sizeof *p;
     p->iterations = 4;
-    p->substeps = 1;
+    p->substeps = 0;
+    p->max_substeps = 16;
+    p->substep_travel = 0.5f;
+    p->sound_speed = 5.0f;
     p->relaxation = 1.0f;
     p->scorr_k = 0.1f;
     p->scorr_n = 4.0f;

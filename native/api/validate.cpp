@@ -58,7 +58,10 @@ std::string check_message(const Verdict& v) {
 
 Verdict validate_solver_params(const pbf_solver_params& p) {
     V(p.iterations >= 1 && p.iterations <= 64, SOLVER_ITERATIONS);
-    V(p.substeps >= 1 && p.substeps <= 16, SOLVER_SUBSTEPS);
+    V(p.substeps <= 64, SOLVER_SUBSTEPS);
+    V(p.max_substeps >= 1 && p.max_substeps <= 64, SOLVER_MAX_SUBSTEPS);
+    V(std::isfinite(p.substep_travel) && p.substep_travel >= 0.05f && p.substep_travel <= 1.0f, SOLVER_SUBSTEP_TRAVEL);
+    V(std::isfinite(p.sound_speed) && p.sound_speed > 0.0f, SOLVER_SOUND_SPEED);
     V(std::isfinite(p.relaxation) && p.relaxation > 0.0f, SOLVER_RELAXATION);
     V(in(p.scorr_k, 0.0f, 1.0f), SOLVER_SCORR_K);
     V(in(p.scorr_n, 1.0f, 8.0f), SOLVER_SCORR_N);

@@ -29,7 +29,10 @@ inline uint32_t element_bytes(pbf_buffer source) { return raw(source) == PBF_BUF
 #define PBF_VALIDATE_CHECKS(X)                                                                                       \
     /* solver parameters (pbf_solver_params, also inside pbf_world_desc) */                                         \
     X(SOLVER_ITERATIONS, PBF_ERROR_INVALID_ARGUMENT, "solver.iterations must be 1..64")                              \
-    X(SOLVER_SUBSTEPS, PBF_ERROR_INVALID_ARGUMENT, "solver.substeps must be 1..16")                                  \
+    X(SOLVER_SUBSTEPS, PBF_ERROR_INVALID_ARGUMENT, "solver.substeps must be 0 (automatic) or 1..64")                 \
+    X(SOLVER_MAX_SUBSTEPS, PBF_ERROR_INVALID_ARGUMENT, "solver.max_substeps must be 1..64")                          \
+    X(SOLVER_SUBSTEP_TRAVEL, PBF_ERROR_INVALID_ARGUMENT, "solver.substep_travel must be 0.05..1 (a fraction of h)")  \
+    X(SOLVER_SOUND_SPEED, PBF_ERROR_INVALID_ARGUMENT, "solver.sound_speed must be finite and > 0")                   \
     X(SOLVER_RELAXATION, PBF_ERROR_INVALID_ARGUMENT, "solver.relaxation must be finite and > 0")                     \
     X(SOLVER_SCORR_K, PBF_ERROR_INVALID_ARGUMENT, "solver.scorr_k must be 0..1")                                     \
     X(SOLVER_SCORR_N, PBF_ERROR_INVALID_ARGUMENT, "solver.scorr_n must be 1..8")                                     \

@@ -1,6 +1,4 @@
 // The CPU executor (cpu_exec.h): memory, the counting sort and the reductions.
-#include <unistd.h>
-
 #include <cstdlib>
 #include <cstring>
 #include <new>
@@ -10,13 +8,37 @@
 
 #include "cpu_exec.h"
 
+#if defined(_WIN32)
+#ifndef NOMINMAX
+#define NOMINMAX
+#endif
+#ifndef WIN32_LEAN_AND_MEAN
+#define WIN32_LEAN_AND_MEAN
+#endif
+#include <windows.h>
+#else
+#include <unistd.h>
+#endif
+
 namespace pbf {
+
+// Physical memory in bytes; 0 where it cannot be found out.
+static uint64_t physical_memory_bytes() {
+#if defined(_WIN32)
+    MEMORYSTATUSEX status;
+    status.dwLength = sizeof status;
+    return GlobalMemoryStatusEx(&status) ? uint64_t(status.ullTotalPhys) : 0;
+#else
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+    return (pages > 0 && page > 0) ? uint64_t(pages) * uint64_t(page) : 0;
+#endif
+}
 
 Status CpuExec::init(uint32_t, uint32_t num_cells) {
     // Refuse worlds that would not fit in physical memory rather than let the OS kill the
     // process later when the pages are touched.
-    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
-    byte_limit_ = (pages > 0 && page > 0) ? uint64_t(pages) * uint64_t(page) / 4 * 3 : UINT64_MAX;
+    const uint64_t physical = physical_memory_bytes();
+    byte_limit_ = physical > 0 ? physical / 4 * 3 : UINT64_MAX;
     histogram_.assign(size_t(num_cells) + 2, 0);
     return Status{};
 }
@@ -48,6 +70,16 @@ void CpuExec::release(void* p) {
 }
 
 void CpuExec::zero(void* p, size_t bytes) { std::memset(p, 0, bytes); }
+void CpuExec::upload(void* dst, const void* src, size_t bytes) {
+    if (bytes) std::memcpy(dst, src, bytes);
+}
+
+void CpuExec::max_speed(const Vec4* velocities, const uint32_t* count, uint32_t n, uint32_t* out_bits) {
+    const uint32_t live = std::min(n, *count);
+    float v2max = 0.0f;
+    for (uint32_t i = 0; i < live; ++i) v2max = fmaxf(v2max, length_sq(xyz(velocities[i])));
+    *out_bits = bits_from_float(sqrtf(v2max));
+}
 void CpuExec::download(void* dst, const void* src, size_t bytes) {
     if (bytes) std::memcpy(dst, src, bytes);
 }
@@ -66,24 +98,32 @@ void CpuExec::sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uin
     *key_sel = *value_sel = 1;
 }
 
-void CpuExec::reduce_stats(const SimConstants& s, const float* density, const Vec4* velocities, uint32_t n,
+void CpuExec::reduce_stats(const WorldConstants& s, const float* density, const Vec4* velocities, uint32_t n,
                            StatsReadback* out) {
     double error_sum = 0.0, ke = 0.0;
     float error_max = 0.0f;
     const int64_t count = n;
-#pragma omp parallel for reduction(+ : error_sum, ke) reduction(max : error_max) if (count > 2048)
-    for (int64_t i = 0; i < count; ++i) {
-        const ParticleStats ps = particle_stats(s, density[i], velocities[i]);
-        error_sum += ps.compressive_error;
-        ke += ps.kinetic_energy;
-        error_max = fmaxf(error_max, ps.compressive_error);
+    // The maximum is taken per thread and merged in a critical section rather than with
+    // reduction(max:), which needs OpenMP 3.1 (MSVC's /openmp is 2.0); the result is the same.
+#pragma omp parallel if (count > 2048)
+    {
+        float thread_max = 0.0f;
+#pragma omp for reduction(+ : error_sum, ke)
+        for (int64_t i = 0; i < count; ++i) {
+            const ParticleStats ps = particle_stats(s, density[i], velocities[i]);
+            error_sum += ps.compressive_error;
+            ke += ps.kinetic_energy;
+            thread_max = fmaxf(thread_max, ps.compressive_error);
+        }
+#pragma omp critical(pbf_reduce_stats_max)
+        error_max = fmaxf(error_max, thread_max);
     }
     out->error_sum = error_sum;
     out->kinetic_energy = ke;
     out->error_max = error_max;
 }
 
-void CpuExec::sum_compressive_error(const SimConstants& s, const float* density, const uint32_t* count, uint32_t n,
+void CpuExec::sum_compressive_error(const WorldConstants& s, const float* density, const uint32_t* count, uint32_t n,
                                     float* out) {
     const int64_t live = std::min(n, *count);
     double sum = 0.0;

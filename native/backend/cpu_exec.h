@@ -27,6 +27,18 @@ public:
     void release(void* p);
     void zero(void* p, size_t bytes);
     void download(void* dst, const void* src, size_t bytes);
+    void upload(void* dst, const void* src, size_t bytes);
+    // Memory both the host and the backend read and write (here: any host memory).
+    template <class T>
+    T* alloc_host_visible(size_t count) {
+        return alloc<T>(count);
+    }
+    void release_host_visible(void* p) { release(p); }
+    // The step's feedback is complete when for_each returns: always ready.
+    void feedback_published() {}
+    bool feedback_ready() const { return true; }
+    // *out_bits = bits of the largest |v| over live particles (i < *count).
+    void max_speed(const Vec4* velocities, const uint32_t* count, uint32_t n, uint32_t* out_bits);
     void* native_stream() const { return nullptr; }
     Status use_stream(void*) {
         return Status::error(PBF_ERROR_INVALID_STATE, "the world runs on the CPU backend: it has no CUDA stream");
@@ -42,10 +54,10 @@ public:
     // Stable counting sort of (key, value) pairs, keys in 0..max_key; result in buffers [1].
     void sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
                     int* value_sel);
-    void reduce_stats(const SimConstants& s, const float* density, const Vec4* velocities, uint32_t n,
+    void reduce_stats(const WorldConstants& s, const float* density, const Vec4* velocities, uint32_t n,
                       StatsReadback* out);
     // *out += Σ over live particles (i < *count) of max(ρ/ρ0 - 1, 0).
-    void sum_compressive_error(const SimConstants& s, const float* density, const uint32_t* count, uint32_t n,
+    void sum_compressive_error(const WorldConstants& s, const float* density, const uint32_t* count, uint32_t n,
                                float* out);
 
     void timer_begin() { t0_ = std::chrono::steady_clock::now(); }

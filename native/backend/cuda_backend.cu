@@ -31,6 +31,11 @@ CudaExec::~CudaExec() {
     for (cudaEvent_t e : mark_event_)
         if (e) cudaEventDestroy(e);
     if (sort_temp_) cudaFree(sort_temp_);
+    for (int k = 0; k < kStagingSlots; ++k) {
+        if (staging_event_[k]) cudaEventDestroy(staging_event_[k]);
+        if (staging_[k]) cudaFreeHost(staging_[k]);
+    }
+    if (feedback_event_) cudaEventDestroy(feedback_event_);
     if (reduce_out_) cudaFree(reduce_out_);
     if (start_) cudaEventDestroy(start_);
     if (stop_) cudaEventDestroy(stop_);
@@ -67,6 +72,11 @@ Status CudaExec::init(uint32_t capacity, uint32_t num_cells) {
     stream_ = own_stream_;
     record(cudaEventCreate(&start_));
     record(cudaEventCreate(&stop_));
+    record(cudaEventCreateWithFlags(&feedback_event_, cudaEventDisableTiming));
+    for (int k = 0; k < kStagingSlots; ++k) {
+        record(cudaEventCreateWithFlags(&staging_event_[k], cudaEventDisableTiming));
+        staging_[k] = alloc_host_bytes(kStagingBytes);
+    }
     // Temporary storage for the largest sort this world can run, allocated once.
     cub::DoubleBuffer<uint32_t> k(nullptr, nullptr), v(nullptr, nullptr);
     record(cub::DeviceRadixSort::SortPairs(nullptr, sort_temp_bytes_, k, v, int(capacity), 0, 32, stream_));
@@ -87,6 +97,44 @@ void* CudaExec::alloc_bytes(size_t bytes) {
     }
     bytes_ += bytes;
     return p;
+}
+
+void* CudaExec::alloc_host_bytes(size_t bytes) {
+    void* p = nullptr;
+    const cudaError_t e = cudaHostAlloc(&p, bytes == 0 ? 16 : bytes, cudaHostAllocMapped);
+    if (e != cudaSuccess) {
+        (void)cudaGetLastError();
+        if (first_error_ == cudaSuccess) first_error_ = e;
+        return nullptr;
+    }
+    return p;
+}
+
+void CudaExec::upload(void* dst, const void* src, size_t bytes) {
+    if (bytes == 0) return;
+    note_host_device_transfer(bytes);
+    if (bytes > kStagingBytes || !staging_[staging_next_]) {  // larger than a slot: a copy that waits
+        record(cudaMemcpyAsync(dst, src, bytes, cudaMemcpyHostToDevice, stream_));
+        record(cudaStreamSynchronize(stream_));
+        return;
+    }
+    const int slot = staging_next_;
+    staging_next_ = (staging_next_ + 1) % kStagingSlots;
+    // Waits only if the host has queued kStagingSlots uploads the GPU has not reached yet.
+    record(cudaEventSynchronize(staging_event_[slot]));
+    std::memcpy(staging_[slot], src, bytes);
+    record(cudaMemcpyAsync(dst, staging_[slot], bytes, cudaMemcpyHostToDevice, stream_));
+    record(cudaEventRecord(staging_event_[slot], stream_));
+}
+
+bool CudaExec::feedback_ready() {
+    const cudaError_t e = cudaEventQuery(feedback_event_);
+    if (e == cudaErrorNotReady) {
+        (void)cudaGetLastError();  // not an error: the step is still running
+        return false;
+    }
+    record(e);
+    return e == cudaSuccess;
 }
 
 void CudaExec::release(void* p) {
@@ -120,7 +168,7 @@ void CudaExec::sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, ui
 
 namespace {
 constexpr int kReduceBlock = 256;
-__global__ void reduce_stats_kernel(SimConstants s, const float* density, const Vec4* velocities, uint32_t n,
+__global__ void reduce_stats_kernel(WorldConstants s, const float* density, const Vec4* velocities, uint32_t n,
                                     double* out) {
     double err = 0.0, ke = 0.0;
     float max_err = 0.0f;
@@ -147,7 +195,7 @@ __global__ void reduce_stats_kernel(SimConstants s, const float* density, const 
 }
 }  // namespace
 
-void CudaExec::reduce_stats(const SimConstants& s, const float* density, const Vec4* velocities, uint32_t n,
+void CudaExec::reduce_stats(const WorldConstants& s, const float* density, const Vec4* velocities, uint32_t n,
                             StatsReadback* out) {
     record(cudaMemsetAsync(reduce_out_, 0, 3 * sizeof(double), stream_));
     if (n > 0) {
@@ -165,7 +213,7 @@ void CudaExec::reduce_stats(const SimConstants& s, const float* density, const V
 }
 
 namespace {
-__global__ void sum_error_kernel(SimConstants s, const float* density, const uint32_t* count, uint32_t n, float* out) {
+__global__ void sum_error_kernel(WorldConstants s, const float* density, const uint32_t* count, uint32_t n, float* out) {
     const uint32_t live = min(n, *count);
     float sum = 0.0f;
     for (uint32_t i = blockIdx.x * blockDim.x + threadIdx.x; i < live; i += gridDim.x * blockDim.x)
@@ -177,11 +225,31 @@ __global__ void sum_error_kernel(SimConstants s, const float* density, const uin
 }
 }  // namespace
 
-void CudaExec::sum_compressive_error(const SimConstants& s, const float* density, const uint32_t* count, uint32_t n,
+void CudaExec::sum_compressive_error(const WorldConstants& s, const float* density, const uint32_t* count, uint32_t n,
                                      float* out) {
     if (n == 0) return;
     const uint32_t blocks = std::min<uint32_t>((n + kReduceBlock - 1) / kReduceBlock, 264);
     sum_error_kernel<<<blocks, kReduceBlock, 0, stream_>>>(s, density, count, n, out);
+    record(cudaGetLastError());
+}
+
+namespace {
+__global__ void max_speed_kernel(const Vec4* velocities, const uint32_t* count, uint32_t n, uint32_t* out_bits) {
+    const uint32_t live = min(n, *count);
+    float v2 = 0.0f;
+    for (uint32_t i = blockIdx.x * blockDim.x + threadIdx.x; i < live; i += gridDim.x * blockDim.x)
+        v2 = fmaxf(v2, length_sq(xyz(velocities[i])));
+    using Reduce = cub::BlockReduce<float, kReduceBlock>;
+    __shared__ typename Reduce::TempStorage temp;
+    const float block_max = Reduce(temp).Reduce(v2, [](float a, float b) { return fmaxf(a, b); });
+    if (threadIdx.x == 0 && block_max > 0.0f) atomicMax(out_bits, __float_as_uint(sqrtf(block_max)));
+}
+}  // namespace
+
+void CudaExec::max_speed(const Vec4* velocities, const uint32_t* count, uint32_t n, uint32_t* out_bits) {
+    if (n == 0) return;
+    const uint32_t blocks = std::min<uint32_t>((n + kReduceBlock - 1) / kReduceBlock, 264);
+    max_speed_kernel<<<blocks, kReduceBlock, 0, stream_>>>(velocities, count, n, out_bits);
     record(cudaGetLastError());
 }
 

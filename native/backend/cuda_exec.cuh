@@ -41,6 +41,24 @@ public:
     void release(void* p);
     void zero(void* p, size_t bytes) { record(cudaMemsetAsync(p, 0, bytes, stream_)); }
     void download(void* dst, const void* src, size_t bytes);
+    // Queues a host-to-device copy on the stream without waiting for the GPU: src is staged in
+    // pinned memory (a ring of slots, each reused once its last copy has run).
+    void upload(void* dst, const void* src, size_t bytes);
+    // Pinned, mapped host memory that kernels write and the host reads (unified addressing: one
+    // pointer serves both).
+    template <class T>
+    T* alloc_host_visible(size_t count) {
+        return static_cast<T*>(alloc_host_bytes(count * sizeof(T)));
+    }
+    void release_host_visible(void* p) {
+        if (p) cudaFreeHost(p);
+    }
+    // Marks the end of a step's feedback writes; feedback_ready() says, without waiting,
+    // whether the latest marked step has finished.
+    void feedback_published() { record(cudaEventRecord(feedback_event_, stream_)); }
+    bool feedback_ready();
+    // *out_bits (device memory) = bits of the largest |v| over live particles (i < *count).
+    void max_speed(const Vec4* velocities, const uint32_t* count, uint32_t n, uint32_t* out_bits);
     void* native_stream() const { return stream_; }
     // Runs on stream from now on (null: the world's own); work queued before is ordered first.
     Status use_stream(void* stream);
@@ -54,10 +72,10 @@ public:
 
     void sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
                     int* value_sel);
-    void reduce_stats(const SimConstants& s, const float* density, const Vec4* velocities, uint32_t n,
+    void reduce_stats(const WorldConstants& s, const float* density, const Vec4* velocities, uint32_t n,
                       StatsReadback* out);
     // *out += Σ over live particles (i < *count) of max(ρ/ρ0 - 1, 0); on the stream, no wait.
-    void sum_compressive_error(const SimConstants& s, const float* density, const uint32_t* count, uint32_t n,
+    void sum_compressive_error(const WorldConstants& s, const float* density, const uint32_t* count, uint32_t n,
                                float* out);
 
     void timer_begin() { record(cudaEventRecord(start_, stream_)); }
@@ -80,7 +98,14 @@ public:
 
 private:
     static constexpr int kMaxMarks = 1024;
+    static constexpr int kStagingSlots = 8;
+    static constexpr size_t kStagingBytes = 256 * 1024;
     void* alloc_bytes(size_t bytes);
+    void* alloc_host_bytes(size_t bytes);
+    void* staging_[kStagingSlots] = {};
+    cudaEvent_t staging_event_[kStagingSlots] = {};
+    int staging_next_ = 0;
+    cudaEvent_t feedback_event_ = nullptr;
     bool profiling_ = false;
     int marks_ = 0;
     int mark_stage_[kMaxMarks] = {};

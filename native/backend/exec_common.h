@@ -9,6 +9,7 @@ namespace pbf {
 
 struct StatsReadback {
     uint32_t count = 0;
+    uint32_t speed_clamps = 0;     // particle-substeps whose speed a limit cut in the last step
     uint32_t iterations_used = 0;  // adaptive mode: iterations run in the last step
     uint64_t emitted_total = 0, drained_total = 0;
     double error_sum = 0.0, kinetic_energy = 0.0;

@@ -1,6 +1,6 @@
-// Particle-vs-collider projection: a particle centre is kept at least `radius` outside every
-// collider and inside the domain walls. Position-based, so a moving collider pushes fluid by
-// displacing it; the velocity update turns that displacement into velocity.
+// Particles against colliders and the domain walls: projection (a particle centre stays at least
+// `radius` outside every collider and inside the walls), Coulomb friction, a swept test against
+// fast colliders, and the boundary density that walls and colliders contribute.
 #pragma once
 #include "params.h"
 
@@ -46,25 +46,119 @@ PBF_HD float collider_distance(const Collider& c, const ColliderPose& pose, Vec3
     return dist;
 }
 
+// Where a particle that moved from x_old to p met collider c, seen from the collider (which
+// moved from prev to cur over the substep): the segment is marched in the collider's frame by
+// its distance field (sphere tracing, at most 16 probes). Returns false when it did not meet
+// the collider within `radius`. A particle can otherwise pass through a collider that moves (or
+// that it crosses) more than about its thickness in one substep.
+PBF_HD bool swept_contact(const Collider& c, const ColliderPose& prev, const ColliderPose& cur, Vec3 x_old, Vec3 p,
+                          float radius, Vec3& hit) {
+    // Both ends in the collider's local frame, then in the end pose's world frame: the collider
+    // stands still there and the particle moves from a to b.
+    const Vec3 a = cur.position + mul(cur.rotation, mul_transpose(prev.rotation, x_old - prev.position));
+    const Vec3 b = p;
+    const Vec3 ab = b - a;
+    const float len = length(ab);
+    if (len <= radius) return false;  // the end-pose projection handles short moves
+    Vec3 n;
+    if (collider_distance(c, cur, a, n) < radius) return false;  // started in contact: project
+    const Vec3 dir = ab * (1.0f / len);
+    float t = 0.0f;
+    for (int k = 0; k < 16; ++k) {
+        const Vec3 x = a + dir * t;
+        const float d = collider_distance(c, cur, x, n) - radius;
+        if (d <= 1e-4f * radius) {
+            hit = x;
+            return true;
+        }
+        t += d;
+        if (t >= len) return false;
+    }
+    return false;
+}
+
 // Projects predicted position p (the particle was at x_old at the start of the substep).
-PBF_HD Vec3 collide(const SimConstants& s, const ColliderSet& colliders, Vec3 p, Vec3 x_old) {
-    for (uint32_t k = 0; k < colliders.count; ++k) {
-        const Collider& c = colliders.items[k];
+// Friction is Coulomb's, in position form: the tangential motion relative to the collider
+// over the substep is removed up to μ times the depth this projection pushed out.
+PBF_HD Vec3 collide(const WorldConstants& s, const ColliderView& cv, Vec3 p, Vec3 x_old) {
+    for (uint32_t k = 0; k < cv.count; ++k) {
+        const Collider& c = cv.shapes[k];
+        const ColliderPose& cur = cv.cur[k];
+        Vec3 hit;
+        if (swept_contact(c, cv.prev[k], cur, x_old, p, s.radius, hit)) p = hit;
         Vec3 n;
-        const float d = collider_distance(c, c.cur, p, n);
+        const float d = collider_distance(c, cur, p, n);
         if (d >= s.radius) continue;
-        p += n * (s.radius - d);
+        const float depth = s.radius - d;
+        p += n * depth;
         if (c.friction > 0.0f) {
             // Where the contact point was at the start of the substep, had it moved with the collider.
-            const Vec3 local = mul_transpose(c.cur.rotation, p - c.cur.position);
-            const Vec3 carried = c.prev.position + mul(c.prev.rotation, local);
+            const ColliderPose& prev = cv.prev[k];
+            const Vec3 local = mul_transpose(cur.rotation, p - cur.position);
+            const Vec3 carried = prev.position + mul(prev.rotation, local);
             // The particle moved p - x_old, the surface point p - carried: relative motion is the difference.
             const Vec3 rel = carried - x_old;
             const Vec3 tangential = rel - n * dot(n, rel);
-            p -= tangential * c.friction;
+            const float t_len = length(tangential);
+            const float removable = c.friction * depth;
+            p -= t_len <= removable ? tangential : tangential * (removable / t_len);
         }
     }
     return min3(max3(p, s.wall_min), s.wall_max);
+}
+
+// ---- boundary density ------------------------------------------------------------------------
+// A solid half-space at distance y from a particle, filled at rest density, adds ρ0·Φ(y/h)
+// to its poly6 density, with Φ(t) = ∫_t^1 (315/256)(1 - s²)⁴ ds (the poly6 kernel integrated over
+// the half-space): Φ(0) = 1/2, Φ(1) = 0. Walls and colliders are treated as locally flat at
+// their closest point (exact for walls and planes; for spheres, capsules and boxes an
+// approximation near curved parts, edges and corners). γ (boundary_scale) scales the continuum
+// integral to the particle lattice, so a rest lattice against a wall has rest density.
+PBF_HD float boundary_phi(float t) {
+    if (t >= 1.0f) return 0.0f;
+    t = fmaxf(t, 0.0f);
+    const float t2 = t * t;
+    // t - 4t³/3 + 6t⁵/5 - 4t⁷/7 + t⁹/9, by Horner in t²
+    const float f = t * (1.0f + t2 * (-4.0f / 3.0f + t2 * (6.0f / 5.0f + t2 * (-4.0f / 7.0f + t2 * (1.0f / 9.0f)))));
+    return 0.5f - (315.0f / 256.0f) * f;
+}
+// dΦ/dt = -(315/256)(1 - t²)⁴.
+PBF_HD float boundary_phi_slope(float t) {
+    if (t >= 1.0f) return 0.0f;
+    t = fmaxf(t, 0.0f);
+    const float u = 1.0f - t * t;
+    const float u2 = u * u;
+    return -(315.0f / 256.0f) * u2 * u2;
+}
+
+struct BoundarySample {
+    float density_ratio;  // Σ γΦ: the boundary's share of ρ/ρ0
+    Vec3 gradient;        // its gradient in x (1/m): points into the boundary
+};
+
+PBF_HD void add_boundary(const WorldConstants& s, float y, Vec3 n, BoundarySample& b) {
+    const float t = y * (1.0f / s.h);
+    if (t >= 1.0f) return;
+    b.density_ratio += s.boundary_scale * boundary_phi(t);
+    b.gradient += n * (s.boundary_scale * boundary_phi_slope(t) / s.h);
+}
+
+// The walls' and colliders' contribution at position p. n points from the boundary into the
+// fluid; the density falls along it.
+PBF_HD BoundarySample boundary_at(const WorldConstants& s, const ColliderView& cv, Vec3 p) {
+    BoundarySample b{0.0f, Vec3{0.0f, 0.0f, 0.0f}};
+    if (p.x - s.boundary_min.x < s.h) add_boundary(s, p.x - s.boundary_min.x, Vec3{1.0f, 0.0f, 0.0f}, b);
+    if (s.boundary_max.x - p.x < s.h) add_boundary(s, s.boundary_max.x - p.x, Vec3{-1.0f, 0.0f, 0.0f}, b);
+    if (p.y - s.boundary_min.y < s.h) add_boundary(s, p.y - s.boundary_min.y, Vec3{0.0f, 1.0f, 0.0f}, b);
+    if (s.boundary_max.y - p.y < s.h) add_boundary(s, s.boundary_max.y - p.y, Vec3{0.0f, -1.0f, 0.0f}, b);
+    if (p.z - s.boundary_min.z < s.h) add_boundary(s, p.z - s.boundary_min.z, Vec3{0.0f, 0.0f, 1.0f}, b);
+    if (s.boundary_max.z - p.z < s.h) add_boundary(s, s.boundary_max.z - p.z, Vec3{0.0f, 0.0f, -1.0f}, b);
+    for (uint32_t k = 0; k < cv.count; ++k) {
+        Vec3 n;
+        const float d = collider_distance(cv.shapes[k], cv.cur[k], p, n);
+        if (d < s.h) add_boundary(s, d, n, b);
+    }
+    return b;
 }
 
 }  // namespace pbf

@@ -1,4 +1,6 @@
-// Constants of one substep, passed by value to every per-particle operation (host and device).
+// What every per-particle operation receives by value (host and device): the world's constants,
+// computed once when the world is created or its solver parameters change, and the step
+// context of one substep (Δt and everything derived from it), built by the world per substep.
 #pragma once
 #include <cstdint>
 #include "vec.h"
@@ -23,23 +25,30 @@ struct GridDims {
 
 enum ColliderShape : uint32_t { kShapePlane = 1, kShapeSphere = 2, kShapeCapsule = 3, kShapeBox = 4 };
 
-// A collider at the start (prev) and end (cur) of the substep; the solver projects particles
-// out of the end pose and uses the motion prev→cur for friction.
 struct ColliderPose {
     Vec3 position;
     Mat3 rotation;  // body axes in world space
 };
 
+// A collider's shape; its poses live beside it (ColliderView).
 struct Collider {
     uint32_t shape;
     float radius;
     float half_height;
-    float friction;
+    float friction;  // Coulomb coefficient μ
     Vec3 half_extents;
-    ColliderPose prev, cur;
 };
 
-struct SimConstants {
+// The colliders of one substep, in backend memory: shapes[k] moves from prev[k] (the substep's
+// start) to cur[k] (its end). Outside a step, prev = cur = the poses the last step reached.
+struct ColliderView {
+    const Collider* shapes = nullptr;
+    const ColliderPose* prev = nullptr;
+    const ColliderPose* cur = nullptr;
+    uint32_t count = 0;
+};
+
+struct WorldConstants {
     // geometry and mass
     float radius;        // particle radius (collision distance to walls and colliders)
     float h, h2;         // kernel radius
@@ -47,30 +56,34 @@ struct SimConstants {
     float rest_density, inv_rest_density;
     float poly6_coef, spiky_coef;
     // constraint
-    float lambda_epsilon;   // absolute ε of λ
+    float rest_gradient_norm2;  // Σ_k |∇_k C|² of a particle at rest density (λ's units)
+    float relaxation;           // ε of λ relative to rest_gradient_norm2
     float scorr_k, scorr_n, scorr_inv_w_dq;
     // velocity post-processing
-    float xsph_c, vorticity_epsilon, max_speed;
-    // Local Density Calibration: K = gain / Δt² (1/s²)
+    float vorticity_epsilon, max_speed;
     uint32_t ldc_enabled;
-    float ldc_k;
     // > 0: iterate until the mean compressive density error is below it (iterations = cap)
     float adaptive_target;
-    // time and forces
-    float dt, inv_dt;
     Vec3 gravity;
-    // walls: particle centres stay within [wall_min, wall_max]
+    // walls: particle centres stay within [wall_min, wall_max]; the solid begins at the domain
+    // box [boundary_min, boundary_max] one radius further out
     Vec3 wall_min, wall_max;
+    Vec3 boundary_min, boundary_max;
+    float boundary_scale;  // γ: the half-space density integral scaled to the rest lattice
     GridDims grid;
     uint32_t capacity;
 };
 
-// Colliders travel inline in the kernel parameters of the ops that collide, so moving a
-// collider needs no host-to-device copy: the step uploads nothing.
-constexpr uint32_t kMaxColliders = 32;
-struct ColliderSet {
-    uint32_t count;
-    Collider items[kMaxColliders];
+// One substep: Δt and what depends on it. Built by the world for each substep it queues.
+struct StepContext {
+    float dt, inv_dt;
+    float lambda_epsilon;    // ε of λ (relaxation × the rest gradient norm)
+    float error_damping;     // γ = τ / Δt: an error present at the substep's start relaxes by 1/(1 + γ)
+    float ldc_k;             // LDC's K (1/s²)
+    float xsph_c;            // XSPH factor of this substep (the user's c is per 1/60 s)
+    float speed_limit;       // min(max_speed, the travel cap · h / Δt)
+    ColliderView colliders;
+    uint32_t* clamped;       // counts the particles whose speed a limit cut (backend memory)
 };
 
 }  // namespace pbf

@@ -104,26 +104,28 @@ struct ConvergenceOp {
 };
 
 // ---- densities ---------------------------------------------------------------------------------
-PBF_HD float density_at(const SimConstants& s, const uint32_t* cell_begin, const NeighborMasks& masks,
-                        const Vec4* pos, uint32_t i, Vec3 xi) {
+// SPH density of the particles plus the walls' and colliders' share (boundary_at).
+PBF_HD float density_at(const WorldConstants& s, const ColliderView& colliders, const uint32_t* cell_begin,
+                        const NeighborMasks& masks, const Vec4* pos, uint32_t i, Vec3 xi) {
     float rho = 0.0f;
     for_each_neighbor_of(s.grid, cell_begin, masks, i, xi, [&](uint32_t j) {
         const Vec3 d = xi - xyz(pos[j]);
         rho += poly6(length_sq(d), s.h2, s.poly6_coef);
     });
-    return rho * s.mass;
+    return rho * s.mass + boundary_at(s, colliders, xi).density_ratio * s.rest_density;
 }
 
 // SPH density at the current positions; also stores ρ/ρ0 in positions' w (for colouring).
 // With masks (the last substep's, while the particle order is unchanged) it replays them.
 struct DensityOp {
-    SimConstants s;
+    WorldConstants s;
+    ColliderView colliders;  // at the current poses
     const uint32_t* cell_begin;
     Vec4* positions;
     float* density;
     NeighborMasks masks;  // rows null: walk the grid
     PBF_HD void operator()(uint32_t i) const {
-        const float rho = density_at(s, cell_begin, masks, positions, i, xyz(positions[i]));
+        const float rho = density_at(s, colliders, cell_begin, masks, positions, i, xyz(positions[i]));
         density[i] = rho;
         positions[i].w = rho * s.inv_rest_density;
     }
@@ -135,8 +137,8 @@ struct DensityOp {
 // less dense neighbours and away from denser ones. With n_ij pointing from i to j, the minus
 // sign does exactly that (a denser j, ρ_ij > 0, pushes i along -n_ij, away from j). The unit
 // test "LDC force points from denser toward less dense" pins this reading.
-PBF_HD Vec3 ldc_force(const SimConstants& s, const uint32_t* cell_begin, const Vec4* pos, const float* density,
-                      uint32_t i, const NeighborMasks& masks = NeighborMasks{}) {
+PBF_HD Vec3 ldc_force(const WorldConstants& s, float k, const uint32_t* cell_begin, const Vec4* pos,
+                      const float* density, uint32_t i, const NeighborMasks& masks = NeighborMasks{}) {
     const Vec3 xi = xyz(pos[i]);
     // Densities below ρ0 count as ρ0: LDC smooths compression only. Read literally, Eq. 1 also
     // evens out the density deficit of free-surface and wall particles (too few neighbours, not
@@ -152,7 +154,7 @@ PBF_HD Vec3 ldc_force(const SimConstants& s, const uint32_t* cell_begin, const V
         // ρ_ij h (1 - r/h) n_ij with n_ij = d / r:  ρ_ij (h/r - 1) d
         f += d * (rho_ij * (s.h * inv_r - 1.0f));
     });
-    return f * -s.ldc_k;
+    return f * -k;
 }
 
 // Limits |v| to max_speed, and never returns Inf or NaN, whatever it is given: every velocity
@@ -172,10 +174,19 @@ PBF_HD Vec3 clamp_speed(Vec3 v, float max_speed) {
     return len > 0.0f ? u * (max_speed / len) : Vec3{0.0f, 0.0f, 0.0f};
 }
 
+// The substep's speed limit (max_speed, and the travel cap that keeps every particle within
+// the neighbour search's reach); each particle-substep it cuts is counted for the stats.
+PBF_HD Vec3 limit_speed(const StepContext& ctx, Vec3 v) {
+    const float limit = ctx.speed_limit;
+    if (length_sq(v) <= limit * limit) return v;  // false for NaN: clamp_speed zeroes it
+    atomic_add_u32(ctx.clamped, 1u);
+    return clamp_speed(v, limit);
+}
+
 // v += (g + f_ldc) Δt ; x* = x + v Δt, projected out of colliders and walls.
 struct PredictOp {
-    SimConstants s;
-    ColliderSet colliders;
+    WorldConstants s;
+    StepContext ctx;
     const uint32_t* cell_begin;  // used only with LDC
     const float* density;        // ρ at the current positions, used only with LDC
     const Vec4* positions;
@@ -184,11 +195,11 @@ struct PredictOp {
     NeighborMasks masks;  // the last substep's, while the particle order is unchanged; else null
     PBF_HD void operator()(uint32_t i) const {
         Vec3 accel = s.gravity;
-        if (s.ldc_enabled) accel += ldc_force(s, cell_begin, positions, density, i, masks);
+        if (s.ldc_enabled) accel += ldc_force(s, ctx.ldc_k, cell_begin, positions, density, i, masks);
         const Vec3 x = xyz(positions[i]);
-        const Vec3 v = clamp_speed(xyz(velocities[i]) + accel * s.dt, s.max_speed);
+        const Vec3 v = limit_speed(ctx, xyz(velocities[i]) + accel * ctx.dt);
         velocities[i] = make_vec4(v, 0.0f);
-        predicted[i] = make_vec4(collide(s, colliders, x + v * s.dt, x), 0.0f);
+        predicted[i] = make_vec4(collide(s, ctx.colliders, x + v * ctx.dt, x), 0.0f);
     }
 };
 
@@ -202,10 +213,12 @@ struct PredictOp {
 // C_i stays exact each iteration; its gradient norm, the step's scaling, is frozen within the
 // substep, where positions move by a small fraction of h).
 struct LambdaOp {
-    SimConstants s;
+    WorldConstants s;
+    StepContext ctx;
     const uint32_t* cell_begin;
     NeighborMasks masks;
     uint32_t record;
+    const Vec4* positions;  // x; w = ρ/ρ0 when the last substep ended (the error it left)
     Vec4* predicted;
     float* density;
     const IterationControl* control;  // null: fixed iteration count
@@ -213,7 +226,7 @@ struct LambdaOp {
     PBF_HD void operator()(uint32_t i) const {
         if (control && control->converged) return;
         const Vec3 xi = xyz(predicted[i]);
-        float rho = 0.0f, denom;
+        float rho = 0.0f, denom, boundary;
         if (record || !denominator) {
             float sum_grad2 = 0.0f;
             Vec3 grad_i{0.0f, 0.0f, 0.0f};
@@ -224,13 +237,16 @@ struct LambdaOp {
                 if (r2 >= s.h2) return;
                 rho += poly6(r2, s.h2, s.poly6_coef);
                 if (j == i) return;
-                const Vec3 g = spiky_gradient_r2(d, r2, s.h, s.spiky_coef) * scale;
+                const Vec3 g = pair_gradient(d, r2, s.h, s.spiky_coef, i, j) * scale;
                 grad_i += g;
                 sum_grad2 += length_sq(g);
             };
             if (record) for_each_neighbor_recording(s.grid, cell_begin, predicted, s.h2, masks, i, xi, visit);
             else for_each_listed_neighbor(s.grid, cell_begin, masks, i, visit);
-            denom = sum_grad2 + length_sq(grad_i) + s.lambda_epsilon;
+            // The walls' and colliders' density moves with x_i too (they carry no λ of their own).
+            const BoundarySample b = boundary_at(s, ctx.colliders, xi);
+            boundary = b.density_ratio;
+            denom = (1.0f + ctx.error_damping) * (sum_grad2 + length_sq(grad_i + b.gradient)) + ctx.lambda_epsilon;
             if (denominator) denominator[i] = denom;
         } else {
             for_each_listed_neighbor(s.grid, cell_begin, masks, i, [&](uint32_t j) {
@@ -238,11 +254,18 @@ struct LambdaOp {
                 if (r2 < s.h2) rho += poly6(r2, s.h2, s.poly6_coef);
             });
             denom = denominator[i];
+            boundary = boundary_at(s, ctx.colliders, xi).density_ratio;
         }
-        rho *= s.mass;
+        rho = rho * s.mass + boundary * s.rest_density;
         density[i] = rho;
+        // Error damping (XPBD's constraint damping with the substep's start as reference): the
+        // target is C + γ (C - C₀) = 0, C₀ the error the particle started the substep with. New
+        // compression (C₀ = 0) is removed in full; an old error shrinks by 1/(1 + γ) per
+        // substep, γ = τ/Δt, so it relaxes over τ whatever Δt is and the velocity its removal
+        // creates stays bounded (the step turns every correction into velocity).
         const float c = fmaxf(rho * s.inv_rest_density - 1.0f, 0.0f);
-        predicted[i].w = -c / denom;
+        const float c0 = fmaxf(positions[i].w - 1.0f, 0.0f);
+        predicted[i].w = -fmaxf(c + ctx.error_damping * (c - c0), 0.0f) / denom;
     }
 };
 
@@ -266,8 +289,8 @@ PBF_HD float scorr_power(float ratio, float n) {
 // iteration does the velocity update in the same pass (finish_positions set): v = (x* - x)/Δt
 // and x = x*, each particle writing only its own x and v, which no other thread reads here.
 struct DeltaOp {
-    SimConstants s;
-    ColliderSet colliders;
+    WorldConstants s;
+    StepContext ctx;
     const uint32_t* cell_begin;
     NeighborMasks masks;
     const Vec4* positions;  // x at the start of the substep (for friction)
@@ -292,13 +315,14 @@ struct DeltaOp {
                 if (r2 >= s.h2) return;
                 const float ratio = poly6(r2, s.h2, s.poly6_coef) * s.scorr_inv_w_dq;
                 const float scorr = -s.scorr_k * scorr_power(ratio, s.scorr_n);
-                dp += spiky_gradient_r2(d, r2, s.h, s.spiky_coef) * (lambda_i + pj.w + scorr);
+                dp += pair_gradient(d, r2, s.h, s.spiky_coef, i, j) * (lambda_i + pj.w + scorr);
             });
-            dp = dp * (s.mass * s.inv_rest_density);
-            c = collide(s, colliders, xi + dp, xyz(positions[i]));
+            // The boundary's share of ∇C_i, weighted by λ_i alone (the boundary has no λ).
+            dp = dp * (s.mass * s.inv_rest_density) + boundary_at(s, ctx.colliders, xi).gradient * lambda_i;
+            c = collide(s, ctx.colliders, xi + dp, xyz(positions[i]));
         }
         if (finish_positions) {
-            const Vec3 v = clamp_speed((c - xyz(positions[i])) * s.inv_dt, s.max_speed);
+            const Vec3 v = limit_speed(ctx, (c - xyz(positions[i])) * ctx.inv_dt);
             finish_velocities[i] = make_vec4(v, 0.0f);
             finish_positions[i] = make_vec4(c, density[i] * s.inv_rest_density);
         } else {
@@ -312,7 +336,8 @@ struct DeltaOp {
 // XSPH, v_i + c Σ_j (m/ρ_j) v_ij W_ij (Eq. 17), v_ij = v_j - v_i; both read the velocities of the
 // velocity update, so one walk serves both. The smoothed velocity goes to velocities_out.
 struct VorticityXsphOp {
-    SimConstants s;
+    WorldConstants s;
+    StepContext ctx;
     const uint32_t* cell_begin;
     NeighborMasks masks;
     const Vec4* positions;
@@ -336,7 +361,7 @@ struct VorticityXsphOp {
             xsph += vij * (poly6(r2, s.h2, s.poly6_coef) * vol);
         });
         omega[i] = make_vec4(w, length(w));
-        velocities_out[i] = make_vec4(vi + xsph * s.xsph_c, 0.0f);
+        velocities_out[i] = make_vec4(vi + xsph * ctx.xsph_c, 0.0f);
     }
 };
 
@@ -345,7 +370,8 @@ struct VorticityXsphOp {
 // sums ρ at the final positions (a poly6 it computes anyway): the next step's LDC and the stats
 // read it, so no separate density pass runs at the end of a step.
 struct VorticityForceOp {
-    SimConstants s;
+    WorldConstants s;
+    StepContext ctx;
     const uint32_t* cell_begin;
     NeighborMasks masks;
     const Vec4* positions;
@@ -367,14 +393,14 @@ struct VorticityForceOp {
             const float vol = fast_div(s.mass, fmaxf(pj.w, 1e-6f) * s.rest_density);
             eta += spiky_gradient_r2(d, r2, s.h, s.spiky_coef) * ((omega[j].w - wi) * vol);
         });
-        density[i] = rho * s.mass;
+        density[i] = rho * s.mass + boundary_at(s, ctx.colliders, xi).density_ratio * s.rest_density;
         Vec3 v = xyz(velocities[i]);
         const float eta_len = length(eta);
         if (s.vorticity_epsilon > 0.0f && eta_len > 1e-9f) {
             const Vec3 n = eta * (1.0f / eta_len);
-            v += cross(n, xyz(omega[i])) * (s.vorticity_epsilon * s.dt);
+            v += cross(n, xyz(omega[i])) * (s.vorticity_epsilon * ctx.dt);
         }
-        velocities[i] = make_vec4(clamp_speed(v, s.max_speed), 0.0f);
+        velocities[i] = make_vec4(limit_speed(ctx, v), 0.0f);
     }
 };
 
@@ -477,7 +503,7 @@ struct ParticleStats {
     float compressive_error;  // max(ρ/ρ0 - 1, 0)
     float kinetic_energy;     // ½ m v²
 };
-PBF_HD ParticleStats particle_stats(const SimConstants& s, float density, Vec4 velocity) {
+PBF_HD ParticleStats particle_stats(const WorldConstants& s, float density, Vec4 velocity) {
     return ParticleStats{fmaxf(density * s.inv_rest_density - 1.0f, 0.0f),
                          0.5f * s.mass * length_sq(xyz(velocity))};
 }

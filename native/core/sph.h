@@ -28,4 +28,20 @@ PBF_HD Vec3 spiky_gradient_r2(Vec3 d, float r2, float h, float coefficient) {
     return d * (-coefficient * t * t * inv_r);
 }
 
+// ∇_i W_spiky for the pair (i, j) at d = x_i - x_j (r² < h²). Particles closer than 1e-3 h
+// (two clamped into the same wall corner, say) have no defined direction and a zero spiky
+// gradient, so nothing would ever separate them: such a pair uses the kernel's slope at r = 0
+// along a direction fixed per pair (a hash of the two indices), opposite for i and j.
+PBF_HD Vec3 pair_gradient(Vec3 d, float r2, float h, float coefficient, uint32_t i, uint32_t j) {
+    if (r2 >= 1e-6f * h * h) return spiky_gradient_r2(d, r2, h, coefficient);
+    const uint32_t lo = i < j ? i : j, hi = i < j ? j : i;
+    uint32_t u = lo * 0x9E3779B1u ^ (hi + 0x7F4A7C15u) * 0x85EBCA77u;
+    u ^= u >> 15;
+    u *= 0x2C1B3C6Du;
+    u ^= u >> 13;
+    const Vec3 dir{float(u & 1023u) - 511.5f, float((u >> 10) & 1023u) - 511.5f, float((u >> 20) & 1023u) - 511.5f};
+    const float sign = i < j ? 1.0f : -1.0f;
+    return dir * (sign * -coefficient * h * h * inv_sqrt(length_sq(dir)));
+}
+
 }  // namespace pbf

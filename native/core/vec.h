@@ -69,6 +69,27 @@ PBF_HD float fast_div(float a, float b) {
 #endif
 }
 
+// The float with these bits, and back (non-negative floats order like their bit patterns, so
+// an unsigned atomic max finds the largest).
+PBF_HD float float_from_bits(uint32_t u) {
+#if defined(__CUDA_ARCH__)
+    return __uint_as_float(u);
+#else
+    float f;
+    __builtin_memcpy(&f, &u, sizeof f);
+    return f;
+#endif
+}
+PBF_HD uint32_t bits_from_float(float f) {
+#if defined(__CUDA_ARCH__)
+    return __float_as_uint(f);
+#else
+    uint32_t u;
+    __builtin_memcpy(&u, &f, sizeof u);
+    return u;
+#endif
+}
+
 // Index of the lowest set bit of a non-zero mask.
 PBF_HD uint32_t lowest_bit(uint32_t mask) {
 #if defined(__CUDA_ARCH__)

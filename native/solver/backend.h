@@ -27,13 +27,42 @@ struct DrainBox {
     Vec3 box_min, box_max;
 };
 
-// Everything one substep needs; built by the world on the host.
+// Limits of the per-step buffers, allocated with the world: colliders, and substeps per step
+// (the pose table holds kMaxSubsteps + 1 rows of kMaxColliders).
+constexpr uint32_t kMaxColliders = 32;
+constexpr uint32_t kMaxSubsteps = 64;
+
+// Everything one substep needs; built by the world on the host. The solver points
+// ctx.colliders at the substep's poses in backend memory.
 struct SubstepInput {
-    SimConstants constants;
-    ColliderSet colliders;
+    StepContext ctx{};
     std::vector<NozzleEmission> nozzles;
     std::vector<DrainBox> drains;
     uint32_t iterations = 1;
+};
+
+// One pbf_world_step: its substeps and the colliders they see. collider_poses holds
+// (substeps + 1) rows of collider_shapes.size() poses: row k is where each collider stands at
+// the start of substep k, the last row where the step leaves it.
+struct StepInput {
+    std::vector<SubstepInput> substeps;
+    std::vector<Collider> collider_shapes;
+    std::vector<ColliderPose> collider_poses;
+};
+
+// Colliders standing still (between steps): one pose each.
+struct ColliderSetAtRest {
+    std::vector<Collider> shapes;
+    std::vector<ColliderPose> poses;
+};
+
+// What a step leaves for the host to read without waiting (the next step's substep choice):
+// valid once the step has finished on the backend; the host reads the latest finished one.
+struct StepFeedback {
+    float max_speed = 0.0f;     // fastest particle at the end of the step (m/s)
+    uint32_t speed_clamps = 0;  // particle-substeps whose speed a limit cut
+    uint32_t steps = 0;         // steps finished (0: no feedback yet)
+    float error_mean = 0.0f;    // mean compressive density error at the end of the step
 };
 
 struct BlockEmission {
@@ -87,15 +116,21 @@ public:
     virtual uint64_t device_bytes() const = 0;
 
     // Queues the substeps of one pbf_world_step; on CUDA, returns without waiting.
-    virtual Status step(const std::vector<SubstepInput>& substeps) = 0;
+    virtual Status step(const WorldConstants& constants, const StepInput& input) = 0;
+    // The latest finished step's feedback, without waiting (a step still running on the
+    // device is not waited for: the one before it answers).
+    virtual StepFeedback feedback() = 0;
+    // The colliders between steps (for densities outside a step): after the world creates or
+    // destroys one. A step leaves them at its end poses itself.
+    virtual Status set_colliders_at_rest(const ColliderSetAtRest& colliders) = 0;
     // Emits a lattice block (waits for the device); *emitted = particles that fitted.
-    virtual Status emit_block(const BlockEmission& block, const SimConstants& constants, uint32_t* emitted) = 0;
+    virtual Status emit_block(const BlockEmission& block, const WorldConstants& constants, uint32_t* emitted) = 0;
     virtual Status particle_count(uint32_t* count) = 0;
     // Copy-out in storage order. what: 0 positions, 1 velocities.
     virtual Status copy_vec4(int what, float* out, uint32_t max_count, uint32_t* written) = 0;
     virtual Status copy_ids(uint32_t* out, uint32_t max_count, uint32_t* written) = 0;
     // Densities at the current positions, then sums over particles (waits for the device).
-    virtual Status read_stats(const SimConstants& constants, StatsReadback* out) = 0;
+    virtual Status read_stats(const WorldConstants& constants, StatsReadback* out) = 0;
     // Milliseconds the last step took on the backend (waits for it).
     virtual Status last_step_ms(float* ms) = 0;
     virtual Status map_positions(void** data, uint32_t* count) = 0;

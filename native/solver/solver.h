@@ -19,6 +19,38 @@ struct DeviceCounters {
     unsigned long long emitted_total;
     unsigned long long drained_total;
     IterationControl control;
+    uint32_t speed_clamps;    // particle-substeps a speed limit cut, this step
+    uint32_t max_speed_bits;  // the fastest particle's speed at the end of the step (float bits)
+    uint32_t steps;           // steps finished
+    float end_error_sum;      // Σ max(ρ/ρ0 - 1, 0) at the end of the step
+};
+
+// One thread at the start of a step: clears the step's counters.
+struct BeginStepOp {
+    DeviceCounters* c;
+    PBF_HD void operator()(uint32_t) const {
+        c->control.converged = 0;
+        c->control.error_sum = 0.0f;
+        c->control.iterations_used = 0;
+        c->speed_clamps = 0;
+        c->max_speed_bits = 0;
+        c->end_error_sum = 0.0f;
+    }
+};
+
+// One thread at the end of a step: publishes what the host reads without waiting.
+struct PublishFeedbackOp {
+    DeviceCounters* c;
+    StepFeedback* out;  // host-visible memory
+    PBF_HD void operator()(uint32_t) const {
+        ++c->steps;
+        StepFeedback f;
+        f.max_speed = float_from_bits(c->max_speed_bits);
+        f.speed_clamps = c->speed_clamps;
+        f.steps = c->steps;
+        f.error_mean = c->count ? c->end_error_sum / static_cast<float>(c->count) : 0.0f;
+        *out = f;
+    }
 };
 
 template <class Exec>
@@ -58,6 +90,11 @@ public:
         alloc(density_, n);
         alloc(cell_begin_, size_t(config.grid.num_cells) + 1);
         alloc(counters_, 1);
+        alloc(collider_shapes_, kMaxColliders);
+        alloc(collider_poses_, size_t(kMaxColliders) * (kMaxSubsteps + 1));
+        alloc(rest_poses_, kMaxColliders);
+        feedback_ = exec_.template alloc_host_visible<StepFeedback>(1);
+        ok = ok && feedback_ != nullptr;
         if (!ok) {
             return Status::error(PBF_ERROR_OUT_OF_MEMORY,
                                  "cannot allocate " + std::to_string(config.capacity) + " particles on " +
@@ -75,6 +112,7 @@ public:
         exec_.zero(density_, n * sizeof(float));
         exec_.zero(cell_begin_, (size_t(config.grid.num_cells) + 1) * sizeof(uint32_t));
         exec_.zero(counters_, sizeof(DeviceCounters));
+        *feedback_ = StepFeedback{};
         return exec_.check("world initialisation");
     }
 
@@ -82,18 +120,62 @@ public:
     std::string device_name() const override { return exec_.device_name(); }
     uint64_t device_bytes() const override { return exec_.allocated_bytes(); }
 
-    Status step(const std::vector<SubstepInput>& substeps) override {
+    Status step(const WorldConstants& s, const StepInput& in) override {
         exec_.activate();
+        const uint32_t count = static_cast<uint32_t>(in.collider_shapes.size());
+        const size_t substeps = in.substeps.size();
+        if (count > kMaxColliders || substeps > kMaxSubsteps || in.collider_poses.size() != count * (substeps + 1))
+            return Status::error(PBF_ERROR_INTERNAL, "step input exceeds the solver's collider buffers");
         exec_.timer_begin();
         exec_.profile_reset();
-        exec_.for_each(1, ResetControlOp{&counters_->control, 1u});
-        for (const SubstepInput& in : substeps) substep(in);
+        // The step's colliders go up once, before its first kernel; every substep reads its
+        // rows of the pose table.
+        if (count > 0) {
+            exec_.upload(collider_shapes_, in.collider_shapes.data(), count * sizeof(Collider));
+            exec_.upload(collider_poses_, in.collider_poses.data(), in.collider_poses.size() * sizeof(ColliderPose));
+        }
+        exec_.for_each(1, BeginStepOp{counters_});
+        for (size_t k = 0; k < substeps; ++k) {
+            SubstepInput sub = in.substeps[k];
+            sub.ctx.colliders = ColliderView{collider_shapes_, collider_poses_ + k * count,
+                                             collider_poses_ + (k + 1) * count, count};
+            sub.ctx.clamped = &counters_->speed_clamps;
+            substep(s, sub);
+        }
+        // Between steps the colliders stand at the step's end poses.
+        rest_colliders_ = ColliderView{collider_shapes_, collider_poses_ + substeps * count,
+                                       collider_poses_ + substeps * count, count};
+        exec_.max_speed(vel_, &counters_->count, bound_, &counters_->max_speed_bits);
+        if (density_valid_) exec_.sum_compressive_error(s, density_, &counters_->count, bound_, &counters_->end_error_sum);
+        exec_.for_each(1, PublishFeedbackOp{counters_, feedback_});
+        exec_.feedback_published();
         exec_.profile_mark(kStageCount);
         exec_.timer_end();
         return exec_.check("pbf_world_step");
     }
 
-    Status emit_block(const BlockEmission& b, const SimConstants& s, uint32_t* emitted) override {
+    StepFeedback feedback() override {
+        exec_.activate();
+        if (exec_.feedback_ready()) last_feedback_ = *feedback_;
+        return last_feedback_;
+    }
+
+    Status set_colliders_at_rest(const ColliderSetAtRest& c) override {
+        exec_.activate();
+        const uint32_t count = static_cast<uint32_t>(c.shapes.size());
+        if (count > kMaxColliders || c.poses.size() != count)
+            return Status::error(PBF_ERROR_INTERNAL, "collider set exceeds the solver's collider buffers");
+        // The shapes table is also the steps': rewritten here, ordered after earlier steps.
+        if (count > 0) {
+            exec_.upload(collider_shapes_, c.shapes.data(), count * sizeof(Collider));
+            exec_.upload(rest_poses_, c.poses.data(), count * sizeof(ColliderPose));
+        }
+        rest_colliders_ = ColliderView{collider_shapes_, rest_poses_, rest_poses_, count};
+        density_valid_ = false;
+        return exec_.check("updating colliders");
+    }
+
+    Status emit_block(const BlockEmission& b, const WorldConstants& s, uint32_t* emitted) override {
         exec_.activate();
         uint32_t count = 0;
         Status st = read_count(&count);
@@ -141,10 +223,10 @@ public:
         return exec_.check("copy-out");
     }
 
-    Status read_stats(const SimConstants& s, StatsReadback* out) override {
+    Status read_stats(const WorldConstants& s, StatsReadback* out) override {
         exec_.activate();
         if (!density_valid_) {  // the grid is valid between API calls: one density pass suffices
-            exec_.for_each(bound_, DensityOp{s, cell_begin_, pos_, density_, valid_masks()});
+            exec_.for_each(bound_, DensityOp{s, rest_colliders_, cell_begin_, pos_, density_, valid_masks()});
             density_valid_ = true;
         }
         DeviceCounters c{};
@@ -153,6 +235,7 @@ public:
         if (!st.ok()) return st;
         out->count = c.count;
         out->iterations_used = c.control.iterations_used;
+        out->speed_clamps = c.speed_clamps;
         out->emitted_total = c.emitted_total;
         out->drained_total = c.drained_total;
         exec_.reduce_stats(s, density_, vel_, c.count, out);
@@ -195,15 +278,15 @@ public:
     }
 
 private:
-    void substep(const SubstepInput& in) {
-        const SimConstants& s = in.constants;
+    void substep(const WorldConstants& s, const SubstepInput& in) {
+        const StepContext& ctx = in.ctx;
         exec_.profile_mark(kStageEmitDrain);
         // Emission and drains first, so the grid builds below drop drained particles.
         for (const NozzleEmission& nz : in.nozzles) {
             if (nz.count == 0) continue;
             EmitNozzleOp op{&counters_->count, &counters_->next_id, config_.capacity, nz.count, nz.sequence,
                             nz.disc_points, nz.center, nz.direction, nz.tangent, nz.bitangent, nz.radius,
-                            nz.speed, s.dt, pos_, vel_, ids_};
+                            nz.speed, ctx.dt, pos_, vel_, ids_};
             exec_.for_each(nz.count, op);
             commit_emission(nz.count);
             bound_ = std::min<uint64_t>(config_.capacity, uint64_t(bound_) + nz.count);
@@ -220,11 +303,12 @@ private:
             exec_.profile_mark(kStageGridX);
             if (!grid_valid_) build_grid(s, false);
             exec_.profile_mark(kStageDensityX);
-            if (!density_valid_) exec_.for_each(bound_, DensityOp{s, cell_begin_, pos_, density_, valid_masks()});
+            if (!density_valid_)
+                exec_.for_each(bound_, DensityOp{s, ctx.colliders, cell_begin_, pos_, density_, valid_masks()});
         }
         exec_.profile_mark(kStageForcesPredict);
         // 2. forces (gravity + LDC), predict x*.
-        exec_.for_each(bound_, PredictOp{s, in.colliders, cell_begin_, density_, pos_, vel_, pred_, valid_masks()});
+        exec_.for_each(bound_, PredictOp{s, ctx, cell_begin_, density_, pos_, vel_, pred_, valid_masks()});
         // 3. neighbours: grid of x*.
         exec_.profile_mark(kStageGridPredicted);
         build_grid(s, true);
@@ -239,8 +323,8 @@ private:
         const NeighborMasks masks{masks_, sorted_keys_, config_.capacity};
         for (uint32_t it = 0; it < in.iterations; ++it) {
             exec_.profile_mark(kStageLambda);
-            exec_.for_each(bound_, LambdaOp{s, cell_begin_, masks, it == 0 ? 1u : 0u, pred_, density_, control,
-                                            denominator_});
+            exec_.for_each(bound_, LambdaOp{s, ctx, cell_begin_, masks, it == 0 ? 1u : 0u, pos_, pred_, density_,
+                                            control, denominator_});
             if (adaptive) {
                 exec_.sum_compressive_error(s, density_, &counters_->count, bound_, &control->error_sum);
                 exec_.for_each(1, ConvergenceOp{control, &counters_->count, s.adaptive_target, it == 0 ? 1u : 0u});
@@ -248,19 +332,19 @@ private:
             exec_.profile_mark(kStageDeltaCollide);
             // The last iteration also updates v and x (no separate velocity pass).
             const bool last = it + 1 == in.iterations;
-            exec_.for_each(bound_, DeltaOp{s, in.colliders, cell_begin_, masks, pos_, pred_, spare_, control,
+            exec_.for_each(bound_, DeltaOp{s, ctx, cell_begin_, masks, pos_, pred_, spare_, control,
                                            last ? pos_ : nullptr, last ? vel_ : nullptr, density_});
             if (!last) std::swap(pred_, spare_);  // Jacobi: the corrected positions are the next input
         }
         masks_valid_ = true;  // recorded by the first λ pass
         // 5. vorticity confinement and XSPH.
-        if (s.vorticity_epsilon > 0.0f || s.xsph_c > 0.0f) {
+        if (s.vorticity_epsilon > 0.0f || ctx.xsph_c > 0.0f) {
             // x* now lives in x: pred_ and spare_ are free until the next substep.
             Vec4* omega = spare_;
             exec_.profile_mark(kStageVorticity);
-            exec_.for_each(bound_, VorticityXsphOp{s, cell_begin_, masks, pos_, vel_, omega, pred_});
+            exec_.for_each(bound_, VorticityXsphOp{s, ctx, cell_begin_, masks, pos_, vel_, omega, pred_});
             exec_.profile_mark(kStageVorticityXsph);
-            exec_.for_each(bound_, VorticityForceOp{s, cell_begin_, masks, pos_, omega, pred_, density_});
+            exec_.for_each(bound_, VorticityForceOp{s, ctx, cell_begin_, masks, pos_, omega, pred_, density_});
             std::swap(vel_, pred_);
             density_valid_ = true;  // that pass also summed ρ at the final positions
         } else {
@@ -270,14 +354,14 @@ private:
         // With LDC the next substep needs ρ(x); computing it now also serves the stats.
         if (s.ldc_enabled && !density_valid_) {
             exec_.profile_mark(kStageDensityEnd);
-            exec_.for_each(bound_, DensityOp{s, cell_begin_, pos_, density_, masks});
+            exec_.for_each(bound_, DensityOp{s, ctx.colliders, cell_begin_, pos_, density_, masks});
             density_valid_ = true;
         }
     }
 
     // Sorts particles by the cell of x (by_predicted false) or of x*, moves their data into
     // that order and rebuilds cell_begin; drops dead particles from the count.
-    void build_grid(const SimConstants& s, bool by_predicted) {
+    void build_grid(const WorldConstants& s, bool by_predicted) {
         const uint32_t n = bound_;
         const Vec4* binned = by_predicted ? pred_ : pos_;
         exec_.for_each(n, CellKeyOp{binned, ids_, &counters_->count, s.grid, keys_[0], order_[0]});
@@ -332,6 +416,10 @@ private:
         exec_.release(density_);
         exec_.release(cell_begin_);
         exec_.release(counters_);
+        exec_.release(collider_shapes_);
+        exec_.release(collider_poses_);
+        exec_.release(rest_poses_);
+        exec_.release_host_visible(feedback_);
     }
 
     Exec exec_;
@@ -350,6 +438,12 @@ private:
     float* density_ = nullptr;
     uint32_t* cell_begin_ = nullptr;
     DeviceCounters* counters_ = nullptr;
+    Collider* collider_shapes_ = nullptr;    // kMaxColliders
+    ColliderPose* collider_poses_ = nullptr;  // (kMaxSubsteps + 1) rows of kMaxColliders
+    ColliderPose* rest_poses_ = nullptr;      // kMaxColliders, set between steps
+    ColliderView rest_colliders_{};           // the colliders outside a step
+    StepFeedback* feedback_ = nullptr;        // host-visible; written by the step's last op
+    StepFeedback last_feedback_{};
     uint32_t bound_ = 0;  // upper bound of the live count known on the host (launch size)
     bool grid_valid_ = true;
     bool density_valid_ = false;

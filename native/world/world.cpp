@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "../core/collide.h"
 #include "../core/sph.h"
 
 namespace pbf {
@@ -49,6 +50,23 @@ LatticeCalibration calibrate_lattice(float spacing, float h) {
     return c;
 }
 
+float boundary_lattice_scale(float spacing, float h) {
+    // The first layer lies one radius (spacing / 2) from the wall; the layers it misses lie
+    // k·spacing below it (k >= 1), each a square lattice.
+    const double d = spacing, hh = h;
+    const int reach = static_cast<int>(std::ceil(hh / d));
+    double missing = 0.0;
+    for (int k = 1; k <= reach; ++k)
+        for (int z = -reach; z <= reach; ++z)
+            for (int x = -reach; x <= reach; ++x) {
+                const double r2 = d * d * double(x * x + k * k + z * z);
+                if (r2 < hh * hh) missing += std::pow(hh * hh - r2, 3);
+            }
+    const LatticeCalibration c = calibrate_lattice(spacing, h);
+    const double poly6 = 315.0 / (64.0 * M_PI * std::pow(hh, 9));
+    return static_cast<float>(missing * poly6 / c.kernel_sum / boundary_phi(0.5f * spacing / h));
+}
+
 std::unique_ptr<World> World::create(const pbf_world_desc& desc, Status* status) {
     std::unique_ptr<World> w(new World());
     w->desc_ = desc;
@@ -61,6 +79,7 @@ std::unique_ptr<World> World::create(const pbf_world_desc& desc, Status* status)
     // |∇_k C|² of a rest particle, with ∇C = (m/ρ0) ∇W.
     const double m_over_rho = 1.0 / cal.kernel_sum;
     w->gradient_norm2_ = static_cast<float>(cal.gradient_norm2 * m_over_rho * m_over_rho);
+    w->boundary_scale_ = boundary_lattice_scale(spacing, w->h_);
     // Every constant the kernels use must be a normal float: a radius or rest density so extreme
     // that one over- or underflows (a denormal rest density, a radius of 1e20 m) would make every
     // density and velocity NaN.
@@ -112,11 +131,13 @@ std::unique_ptr<World> World::create(const pbf_world_desc& desc, Status* status)
     if (kind == PBF_BACKEND_AUTO) kind = cuda_device_available(desc.cuda_device) ? PBF_BACKEND_CUDA : PBF_BACKEND_CPU;
     w->backend_ = kind == PBF_BACKEND_CUDA ? create_cuda_backend(config, status) : create_cpu_backend(config, status);
     if (!w->backend_) return nullptr;
+    w->update_constants();
     return w;
 }
 
-SimConstants World::constants(float dt) const {
-    SimConstants s{};
+void World::update_constants() {
+    WorldConstants& s = constants_;
+    s = WorldConstants{};
     s.radius = desc_.particle_radius;
     s.h = h_;
     s.h2 = h_ * h_;
@@ -125,7 +146,8 @@ SimConstants World::constants(float dt) const {
     s.inv_rest_density = 1.0f / desc_.rest_density;
     s.poly6_coef = poly6_coefficient(h_);
     s.spiky_coef = spiky_grad_coefficient(h_);
-    s.lambda_epsilon = params_.relaxation * gradient_norm2_;
+    s.rest_gradient_norm2 = gradient_norm2_;
+    s.relaxation = params_.relaxation;
     const float dq = params_.scorr_dq * h_;
     // s_corr enters beside λ_i + λ_j. Macklin & Müller's k = 0.1 presumes their units; here
     // k·(W/W(Δq))^n is read as a density-ratio error and converted to λ's units by the rest
@@ -133,46 +155,108 @@ SimConstants World::constants(float dt) const {
     s.scorr_k = params_.scorr_k / (gradient_norm2_ * (1.0f + params_.relaxation));
     s.scorr_n = params_.scorr_n;
     s.scorr_inv_w_dq = 1.0f / poly6(dq * dq, s.h2, s.poly6_coef);
-    s.xsph_c = params_.xsph_c;
     s.vorticity_epsilon = params_.vorticity_epsilon;
     s.max_speed = params_.max_speed;
     s.ldc_enabled = params_.ldc_enabled;
-    s.ldc_k = params_.ldc_gain / (dt * dt);
     s.adaptive_target = params_.adaptive_error_target;
-    s.dt = dt;
-    s.inv_dt = 1.0f / dt;
     s.gravity = gravity_;
     const Vec3 r{s.radius, s.radius, s.radius};
-    s.wall_min = to_vec3(desc_.domain_min) + r;
-    s.wall_max = to_vec3(desc_.domain_max) - r;
+    s.boundary_min = to_vec3(desc_.domain_min);
+    s.boundary_max = to_vec3(desc_.domain_max);
+    s.wall_min = s.boundary_min + r;
+    s.wall_max = s.boundary_max - r;
+    s.boundary_scale = boundary_scale_;
     s.grid = grid_;
     s.capacity = desc_.max_particles;
-    return s;
 }
 
-// Colliders for the substep covering fraction t0..t1 of the step (kinematic ones move
-// from their pose to their target over the step).
-ColliderSet World::colliders_at(float t0, float t1) {
-    ColliderSet set{};
-    colliders_.for_each([&](ColliderEntry& e) {
-        Collider c = e.collider;
-        c.prev = pose_at(e, t0);
-        c.cur = pose_at(e, t1);
-        set.items[set.count++] = c;
+// A substep of sub_dt: everything that depends on Δt.
+StepContext World::step_context(float sub_dt) const {
+    StepContext c{};
+    c.dt = sub_dt;
+    c.inv_dt = 1.0f / sub_dt;
+    c.lambda_epsilon = gradient_norm2_ * params_.relaxation;
+    // The response time τ = h / sound_speed: errors older than the substep relax over τ (the λ
+    // pass's error damping, γ = τ/Δt), and LDC's K = gain / Δt² takes τ as a floor of Δt, so
+    // neither turns an error into a velocity larger than about error · sound_speed.
+    const float tau = h_ / params_.sound_speed;
+    c.error_damping = std::fmin(tau / sub_dt, 1e6f);
+    c.ldc_k = params_.ldc_gain / (sub_dt * sub_dt + tau * tau);
+    // XSPH's c is per 1/60 s: a substep of Δt applies 1 - (1 - c)^(60 Δt), so the smoothing per
+    // second does not depend on the substep count.
+    c.xsph_c = params_.xsph_c >= 1.0f ? 1.0f : 1.0f - std::pow(1.0f - params_.xsph_c, 60.0f * sub_dt);
+    // No particle may move more than h in a substep (kTravelCap): beyond that a few iterations
+    // cannot resolve the compression it creates.
+    constexpr float kTravelCap = 1.0f;
+    c.speed_limit = std::fmin(params_.max_speed, kTravelCap * h_ / sub_dt);
+    return c;
+}
+
+// Substeps for a step of dt: fixed, or from the fastest motion expected over the step: the
+// latest finished step's fastest particle (read without waiting), particles emitted since, the
+// nozzles, and the kinematic colliders' surface speed; plus what gravity adds over dt.
+uint32_t World::substeps_for(float dt) {
+    if (params_.substeps > 0) return params_.substeps;
+    const StepFeedback fb = backend_->feedback();
+    // Compression: a fluid deeper than the iterations can hold compresses under gravity; the
+    // latest finished step's mean compressive error scales the substeps (error ~ Δt²).
+    if (fb.steps != feedback_steps_) {
+        feedback_steps_ = fb.steps;
+        constexpr float kErrorTarget = 0.01f;
+        const float factor = std::sqrt(std::fmax(fb.error_mean, 1e-6f) / kErrorTarget);
+        substeps_for_error_ = std::clamp(substeps_for_error_ * std::clamp(factor, 0.85f, 4.0f), 1.0f,
+                                         float(params_.max_substeps));
+    }
+    float v = std::fmax(fb.max_speed, emitted_speed_);
+    emitters_.for_each([&](EmitterEntry& e) {
+        if (e.desc.enabled && e.desc.type == PBF_EMITTER_NOZZLE) v = std::fmax(v, e.desc.speed);
     });
-    return set;
+    colliders_.for_each([&](ColliderEntry& e) {
+        float reach = 0.0f;  // distance of the farthest surface point from the centre
+        switch (e.collider.shape) {
+            case kShapeSphere: reach = e.collider.radius; break;
+            case kShapeCapsule: reach = e.collider.radius + e.collider.half_height; break;
+            case kShapeBox: reach = length(e.collider.half_extents); break;
+            default: reach = 0.0f;  // a plane: its translation only
+        }
+        const float angle = to_quat(e.rotation).angularDistance(to_quat(e.target_rotation));
+        v = std::fmax(v, (length(e.target_position - e.position) + angle * reach) / dt);
+    });
+    v += length(gravity_) * dt;
+    const double n = std::max(std::ceil(double(v) * dt / (double(params_.substep_travel) * h_)),
+                              std::ceil(double(substeps_for_error_) - 1e-3));
+    return static_cast<uint32_t>(std::clamp(n, 1.0, double(params_.max_substeps)));
+}
+
+Status World::colliders_changed() {
+    ColliderSetAtRest rest;
+    colliders_.for_each([&](ColliderEntry& e) {
+        rest.shapes.push_back(e.collider);
+        rest.poses.push_back(pose_at(e, 0.0f));
+    });
+    return backend_->set_colliders_at_rest(rest);
+}
+
+bool World::destroy_collider(pbf_collider_id id) {
+    if (!colliders_.erase(id.index, id.generation)) return false;
+    (void)colliders_changed();  // the step uploads its colliders anyway; this serves stats between steps
+    return true;
 }
 
 Status World::step(float dt) {
-    const uint32_t substeps = params_.substeps;
+    const uint32_t substeps = substeps_for(dt);
     const float sub_dt = dt / static_cast<float>(substeps);
     const float spacing = rest_spacing();
-    std::vector<SubstepInput> inputs(substeps);
+    StepInput input;
+    input.substeps.resize(substeps);
+    colliders_.for_each([&](ColliderEntry& e) { input.collider_shapes.push_back(e.collider); });
+    for (uint32_t k = 0; k <= substeps; ++k)
+        colliders_.for_each([&](ColliderEntry& e) { input.collider_poses.push_back(pose_at(e, float(k) / substeps)); });
+    const StepContext ctx = step_context(sub_dt);
     for (uint32_t k = 0; k < substeps; ++k) {
-        SubstepInput& in = inputs[k];
-        in.constants = constants(sub_dt);
+        SubstepInput& in = input.substeps[k];
+        in.ctx = ctx;
         in.iterations = params_.iterations;
-        in.colliders = colliders_at(float(k) / substeps, float(k + 1) / substeps);
         emitters_.for_each([&](EmitterEntry& e) {
             if (!e.desc.enabled) return;
             if (e.desc.type == PBF_EMITTER_DRAIN) {
@@ -197,7 +281,7 @@ Status World::step(float dt) {
         });
     }
     mapped_ = false;  // the mapping is valid until the next step
-    Status st = backend_->step(inputs);
+    Status st = backend_->step(constants_, input);
     // Kinematic colliders arrived at their targets.
     colliders_.for_each([](ColliderEntry& e) {
         e.position = e.target_position;
@@ -205,7 +289,9 @@ Status World::step(float dt) {
     });
     if (st.ok()) {
         ++step_index_;
+        last_substeps_ = substeps;
         last_iterations_ = params_.iterations * substeps;
+        emitted_speed_ = 0.0f;
         if (attachment_) st = attachment_->after_step();  // e.g. copies into graphics buffers
     }
     return st;
@@ -228,7 +314,7 @@ void World::get_info(pbf_world_info* info) const {
 Status World::get_stats(pbf_step_stats* out) {
     StatsReadback r;
     // Any substep's constants serve: the density pass and the reduction use no dt.
-    Status st = backend_->read_stats(constants(1.0f / 60.0f), &r);
+    Status st = backend_->read_stats(constants_, &r);
     if (!st.ok()) return st;
     float ms = 0.0f;
     st = backend_->last_step_ms(&ms);
@@ -242,6 +328,8 @@ Status World::get_stats(pbf_step_stats* out) {
     out->kinetic_energy = static_cast<float>(r.kinetic_energy);
     out->step_time_ms = step_index_ ? ms : 0.0f;
     out->iterations = params_.adaptive_error_target > 0.0f ? r.iterations_used : last_iterations_;
+    out->substeps = step_index_ ? last_substeps_ : 0u;
+    out->speed_clamps = step_index_ ? r.speed_clamps : 0u;
     out->reserved0 = 0;
     return Status{};
 }
@@ -253,19 +341,40 @@ Status World::emit_block(const pbf_block_desc& d, uint32_t* emitted) {
         const double n = std::floor((d.box_max[axis] - d.box_min[axis]) / s + 1e-4);  // 0.15 / 0.05 is 3, not 2
         return static_cast<uint32_t>(std::clamp(n, 1.0, double(desc_.max_particles)));
     };
+    // Lattice points outside the walls (centres closer than one radius to the domain's faces)
+    // are dropped: clamped onto the wall they would pile up on one plane.
+    uint32_t first[3], count[3];
+    for (int axis = 0; axis < 3; ++axis) {
+        const double n = points(axis);
+        const double x0 = double(d.box_min[axis]) + 0.5 * s;
+        const double wmin = axis == 0 ? constants_.wall_min.x : axis == 1 ? constants_.wall_min.y : constants_.wall_min.z;
+        const double wmax = axis == 0 ? constants_.wall_max.x : axis == 1 ? constants_.wall_max.y : constants_.wall_max.z;
+        const double k0 = std::max(0.0, std::ceil((wmin - x0) / s - 1e-4));
+        const double k1 = std::min(n - 1.0, std::floor((wmax - x0) / s + 1e-4));
+        if (!(k0 <= k1)) {
+            return Status::error(PBF_ERROR_INVALID_ARGUMENT,
+                                 "the block lies outside the walls (particle centres stay one particle_radius "
+                                 "inside domain_min..domain_max); nothing was emitted");
+        }
+        first[axis] = static_cast<uint32_t>(k0);
+        count[axis] = static_cast<uint32_t>(k1 - k0 + 1.0);
+    }
     BlockEmission b{};
-    b.nx = points(0);
-    b.ny = points(1);
-    b.nz = points(2);
+    b.nx = count[0];
+    b.ny = count[1];
+    b.nz = count[2];
     b.spacing = s;
-    b.origin = to_vec3(d.box_min) + Vec3{0.5f * s, 0.5f * s, 0.5f * s};
+    b.origin = to_vec3(d.box_min) + Vec3{(0.5f + first[0]) * s, (0.5f + first[1]) * s, (0.5f + first[2]) * s};
     b.velocity = to_vec3(d.velocity);
     if (uint64_t(b.nx) * b.ny * b.nz > desc_.max_particles) {
         // Emit what fits: the lattice is filled x-first, so whole layers in z are kept.
         b.nz = std::max<uint32_t>(1, desc_.max_particles / (b.nx * uint64_t(b.ny)) + 1);
     }
-    Status st = backend_->emit_block(b, constants(1.0f / 60.0f), emitted);
-    if (*emitted > 0) mapped_ = false;  // new particles reorder storage; a failed emit keeps the map
+    Status st = backend_->emit_block(b, constants_, emitted);
+    if (*emitted > 0) {
+        mapped_ = false;  // new particles reorder storage; a failed emit keeps the map
+        emitted_speed_ = std::fmax(emitted_speed_, length(b.velocity));
+    }
     if (st.ok() && *emitted == 0)
         return Status::error(PBF_ERROR_CAPACITY, "world is full (max_particles = " +
                                                      std::to_string(desc_.max_particles) + "); nothing was emitted");
@@ -303,7 +412,7 @@ Status World::create_collider(const pbf_collider_desc& d, pbf_collider_id* out) 
     std::memcpy(e.target_rotation, qn, sizeof qn);
     const auto h = colliders_.insert(e);
     *out = pbf_collider_id{h.index, h.generation};
-    return Status{};
+    return colliders_changed();
 }
 
 Status World::map_positions(pbf_mapped_buffer* out) {

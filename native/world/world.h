@@ -10,7 +10,7 @@
 namespace pbf {
 
 struct ColliderEntry {
-    Collider collider;   // shape data; prev/cur poses are filled per substep
+    Collider collider;   // shape data; its poses are computed per substep
     uint32_t motion;     // pbf_collider_motion
     Vec3 position, target_position;
     float rotation[4], target_rotation[4];  // unit quaternions (x, y, z, w)
@@ -28,6 +28,10 @@ struct LatticeCalibration {
     double gradient_norm2;  // Σ_j |∇W_ij|² around one particle
 };
 LatticeCalibration calibrate_lattice(float spacing, float h);
+// γ of the boundary density: the density a rest lattice's first layer misses at a wall (the
+// lattice layers beyond it), over the continuum half-space integral Φ at its distance (one
+// radius): so a rest lattice against a wall has rest density in its first layer.
+float boundary_lattice_scale(float spacing, float h);
 
 // State another layer keeps with a world (the interop layer, native/interop): told after each
 // successful step, destroyed with the world before its backend.
@@ -44,8 +48,14 @@ public:
 
     Status step(float dt);
     const pbf_solver_params& solver_params() const { return params_; }
-    void set_solver_params(const pbf_solver_params& p) { params_ = p; }
-    void set_gravity(Vec3 g) { gravity_ = g; }
+    void set_solver_params(const pbf_solver_params& p) {
+        params_ = p;
+        update_constants();
+    }
+    void set_gravity(Vec3 g) {
+        gravity_ = g;
+        update_constants();
+    }
     void get_info(pbf_world_info* info) const;
     Status get_stats(pbf_step_stats* stats);
 
@@ -55,7 +65,7 @@ public:
     EmitterEntry* find_emitter(pbf_emitter_id id) { return emitters_.find(id.index, id.generation); }
 
     Status create_collider(const pbf_collider_desc& desc, pbf_collider_id* out);
-    bool destroy_collider(pbf_collider_id id) { return colliders_.erase(id.index, id.generation); }
+    bool destroy_collider(pbf_collider_id id);
     ColliderEntry* find_collider(pbf_collider_id id) { return colliders_.find(id.index, id.generation); }
 
     Status particle_count(uint32_t* count) { return backend_->particle_count(count); }
@@ -104,19 +114,26 @@ public:
 
 private:
     World() = default;
-    SimConstants constants(float dt) const;
-    ColliderSet colliders_at(float t0, float t1);
+    void update_constants();
+    uint32_t substeps_for(float dt);
+    StepContext step_context(float sub_dt) const;
+    Status colliders_changed();
 
+    WorldConstants constants_{};
     pbf_world_desc desc_{};
     pbf_solver_params params_{};
     Vec3 gravity_{};
-    float mass_ = 0.0f, h_ = 0.0f, gradient_norm2_ = 0.0f;
+    float mass_ = 0.0f, h_ = 0.0f, gradient_norm2_ = 0.0f, boundary_scale_ = 0.0f;
+    float emitted_speed_ = 0.0f;  // fastest particle emitted since the last step (block velocity)
     GridDims grid_{};
     std::unique_ptr<Backend> backend_;
     SlotTable<EmitterEntry> emitters_;
     SlotTable<ColliderEntry> colliders_;
     uint64_t step_index_ = 0;
     uint32_t last_iterations_ = 0;
+    uint32_t last_substeps_ = 0;
+    float substeps_for_error_ = 4.0f;  // the automatic substeps' compression controller
+    uint32_t feedback_steps_ = 0;      // the feedback it last used
     bool mapped_ = false;
     std::unique_ptr<WorldAttachment> attachment_;  // declared after backend_: destroyed before it
 };

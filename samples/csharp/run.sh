@@ -20,7 +20,7 @@ out="$here/build"
 mkdir -p "$out"
 
 mcs -langversion:7.2 -target:library -nowarn:1591 -r:System.Numerics -out:"$out/Pbf.dll" \
-    "$root"/bindings/csharp/src/*.cs
+    "$root"/bindings/csharp/unity/Runtime/Core/*.cs
 cp "$root/bindings/csharp/Pbf.dll.config" "$out/Pbf.dll.config"
 mcs -langversion:7.2 -r:System.Numerics -r:"$out/Pbf.dll" -out:"$out/DamBreak.exe" "$here/DamBreak.cs"
 

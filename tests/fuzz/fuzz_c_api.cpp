@@ -411,7 +411,7 @@ void op_create_world(Reader& in, State& s) {
     }
     if (mask & 0x0080) fuzz_params(in, &d.solver);
     if (mask & 0x0100) d.struct_size = in.struct_size(sizeof d);
-    if (mask & 0x0200) d.header_version = in.u8() < 200 ? PBF_MAKE_VERSION(1, in.u8(), in.u8()) : in.raw32();
+    if (mask & 0x0200) d.header_version = in.u8() < 200 ? PBF_MAKE_VERSION(PBF_VERSION_MAJOR, in.u8(), in.u8()) : in.raw32();
     if (mask & 0x0400) d.cuda_device = int32_t(in.u32(0, 2));
     if (mask & 0x0800) in.vec3(d.domain_max, -2.0f, 2.0f);
     const bool null_out = (mask & 0x1000) && in.u8() < 32;

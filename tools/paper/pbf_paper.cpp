@@ -29,6 +29,7 @@
 //                Diagnostics (library defaults otherwise): --relaxation E --scorr-k K --xsph C
 //                --vorticity EPS
 //
+// `pbf_paper run --help` and `pbf_paper timing --help` list the options with their defaults.
 // Exit status: 0 ok, 1 a libpbf error, 2 bad arguments. A run that diverges (non-finite
 // energy) still writes its rows and exits 0 with "diverged" on stdout: divergence is a result.
 #include <algorithm>
@@ -40,6 +41,8 @@
 #include <map>
 #include <string>
 #include <vector>
+
+#include <CLI/CLI.hpp>
 
 #include "paper_scene.h"
 
@@ -325,25 +328,81 @@ int cmd_timing(const Args& args) {
     return 0;
 }
 
+// The options of each command. Values are kept as text, as given, and read by cmd_run and
+// cmd_timing through Args with their defaults there; `def` is what --help shows.
+struct OptionSpec {
+    const char* name;
+    const char* def;
+    const char* help;
+    bool number;   // a single number (checked by CLI11); else free text or a comma-separated list
+    unsigned cmds; // 1: run, 2: timing
+};
+const OptionSpec kOptions[] = {
+    {"--scene", "dam", "dam or tank", false, 3},
+    {"--a", "0.4", "scale a, metres", true, 3},
+    {"--na", "32", "particles across a", true, 3},
+    {"--nz", "6", "particle layers in z", true, 3},
+    {"--length", "5", "dam tank length, in units of a", true, 3},
+    {"--backend", "cpu", "cpu or cuda", false, 3},
+    {"--csv", "stdout", "CSV file to write", false, 3},
+    {"--gain", "0.1", "LDC gain K*dt^2 (0.1: the library's default when the report's runs were made; it is 0.3 now)",
+     true, 3},
+    {"--frames", "90", "frames to run", true, 1},
+    {"--frame-dt", "1/60", "frame length, seconds", true, 1},
+    {"--per-substep", "0", "1: one substep per pbf_world_step call and one CSV row per substep (same physics)", true, 1},
+    {"--iterations", "4", "constraint iterations (the cap with --adaptive-target)", true, 1},
+    {"--ldc", "1", "Local Density Calibration: 0 off, 1 on", true, 1},
+    {"--substeps", "0", "substeps per frame (0: the CFL-like rule of samples/dam_break.c)", true, 1},
+    {"--adaptive-target", "0", "0: fixed iterations; > 0: iterate until the mean compressive density error is below it",
+     true, 1},
+    {"--relaxation", "library default", "diagnostics: constraint relaxation", true, 1},
+    {"--scorr-k", "library default", "diagnostics: tensile instability k", true, 1},
+    {"--xsph", "library default", "diagnostics: XSPH viscosity c", true, 1},
+    {"--vorticity", "library default", "diagnostics: vorticity confinement epsilon", true, 1},
+    {"--snap-times", "", "comma-separated times (s) at which to write every particle's x,y,z,w", false, 1},
+    {"--snap-prefix", "", "snapshot files: PREFIX_t<time>.csv", false, 1},
+    {"--particles", "na^3 of the scene", "particle count: na = cbrt(N), pbf_bench's dam column", true, 2},
+    {"--iterations", "1,2,3,4,5,6", "iteration counts (comma-separated; the caps with --adaptive-target)", false, 2},
+    {"--ldc", "0,1", "LDC settings, stepped alternately (comma-separated)", false, 2},
+    {"--adaptive-target", "0", "adaptive targets (comma-separated; 0: fixed iterations)", false, 2},
+    {"--steps", "100", "timed steps", true, 2},
+    {"--warmup", "20", "untimed steps before them", true, 2},
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc < 2) {
-        std::fprintf(stderr, "usage: pbf_paper run|timing [--option value]... (see the top of pbf_paper.cpp)\n");
-        return 2;
+    CLI::App app{"pbf_paper: the runs behind docs/paper/README.md (the LDC reproduction), public C API only. "
+                 "Exit status: 0 ok, 1 a libpbf error, 2 bad arguments.",
+                 "pbf_paper"};
+    app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+    app.require_subcommand(1);
+    app.footer("Run `pbf_paper run --help` or `pbf_paper timing --help` for the options of each command.");
+    CLI::App* run = app.add_subcommand("run", "one simulation: one CSV row per frame (or per substep)");
+    CLI::App* timing = app.add_subcommand("timing", "time per step against iterations, LDC off and on stepped alternately");
+    std::map<std::string, std::string> run_values, timing_values;
+    CLI::Validator number = CLI::Number;
+    number.description("");  // the type X says enough in --help
+    for (const OptionSpec& o : kOptions) {
+        for (unsigned bit = 1; bit <= 2; ++bit) {
+            if (!(o.cmds & bit)) continue;
+            CLI::App* cmd = bit == 1 ? run : timing;
+            std::string& value = (bit == 1 ? run_values : timing_values)[o.name];
+            CLI::Option* opt = cmd->add_option(o.name, value, o.help);
+            if (*o.def) opt->default_str(o.def);
+            if (o.number) opt->check(number)->type_name("X");
+            if (std::string(o.name) == "--scene") opt->check(CLI::IsMember({"dam", "tank"}));
+            if (std::string(o.name) == "--backend") opt->check(CLI::IsMember({"cpu", "cuda"}));
+        }
+    }
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e) == 0 ? 0 : 2;
     }
     Args args;
-    for (int i = 2; i < argc; ++i) {
-        const std::string k = argv[i];
-        if (k.rfind("--", 0) != 0 || i + 1 >= argc) {
-            std::fprintf(stderr, "pbf_paper: expected --option value, got %s\n", k.c_str());
-            return 2;
-        }
-        args.kv[k] = argv[++i];
-    }
-    const std::string cmd = argv[1];
-    if (cmd == "run") return cmd_run(args);
-    if (cmd == "timing") return cmd_timing(args);
-    std::fprintf(stderr, "pbf_paper: unknown command %s\n", cmd.c_str());
-    return 2;
+    CLI::App* cmd = run->parsed() ? run : timing;
+    for (const auto& [name, value] : cmd == run ? run_values : timing_values)
+        if (cmd->count(name)) args.kv[name] = value;
+    return cmd == run ? cmd_run(args) : cmd_timing(args);
 }

@@ -11,7 +11,7 @@
 //
 //   pbf_soak [--steps N=1000000] [--check-every K=1000] [--capacity C=256]
 //            [--warmup W=min(N/10, 20000)] [--rss-slack-kb S=2048] [--backend cpu|cuda]
-//            [--substeps 1] [--iterations 2] [--quiet]
+//            [--substeps 1] [--iterations 2] [--quiet]     (--help lists them with their defaults)
 //
 // Exit status 0 when every check passed; 1 on the first failed check (with a message).
 #include <pbf_c_api.h>
@@ -25,6 +25,8 @@
 #include <cstring>
 #include <string>
 #include <vector>
+
+#include <CLI/CLI.hpp>
 
 #if defined(__linux__)
 #include <unistd.h>
@@ -69,43 +71,48 @@ uint64_t rss_kb() {
 #endif
 }
 
-uint64_t parse_u64(const char* s, const char* name) {
-    char* end = nullptr;
-    const double v = std::strtod(s, &end);  // accepts 1e6
-    if (!end || *end != '\0' || !(v >= 0) || v > 1e18) die(std::string("bad value for ") + name + ": " + s);
-    return uint64_t(v);
-}
-
 Options parse(int argc, char** argv) {
     Options o;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        auto next = [&]() -> const char* {
-            if (i + 1 >= argc) die("missing value after " + a);
-            return argv[++i];
-        };
-        if (a == "--steps") o.steps = parse_u64(next(), "--steps");
-        else if (a == "--check-every") o.check_every = std::max<uint64_t>(1, parse_u64(next(), "--check-every"));
-        else if (a == "--capacity") o.capacity = uint32_t(std::min<uint64_t>(parse_u64(next(), "--capacity"), 1u << 24));
-        else if (a == "--warmup") o.warmup = parse_u64(next(), "--warmup");
-        else if (a == "--rss-slack-kb") o.rss_slack_kb = parse_u64(next(), "--rss-slack-kb");
-        else if (a == "--substeps") o.substeps = uint32_t(parse_u64(next(), "--substeps"));
-        else if (a == "--iterations") o.iterations = uint32_t(parse_u64(next(), "--iterations"));
-        else if (a == "--quiet") o.quiet = true;
-        else if (a == "--backend") {
-            const std::string b = next();
-            if (b == "cpu") o.backend = PBF_BACKEND_CPU;
-            else if (b == "cuda") o.backend = PBF_BACKEND_CUDA;
-            else die("--backend must be cpu or cuda");
-        } else if (a == "-h" || a == "--help") {
-            std::printf("usage: pbf_soak [--steps N] [--check-every K] [--capacity C] [--warmup W] "
-                        "[--rss-slack-kb S] [--backend cpu|cuda] [--substeps S] [--iterations I] [--quiet]\n");
-            std::exit(0);
-        } else {
-            die("unknown argument " + a);
-        }
+    // Counts are read as numbers so that 1e6 works as it always has; they are truncated to
+    // integers (values 0 .. 1e18).
+    double steps = double(o.steps), check_every = double(o.check_every), capacity = double(o.capacity),
+           warmup = 0.0, rss_slack_kb = double(o.rss_slack_kb), substeps = double(o.substeps),
+           iterations = double(o.iterations);
+    std::string backend = "cpu";
+    CLI::App app{"pbf_soak: runs a small world with a nozzle, a drain and a kinematic sphere for many steps and "
+                 "checks every K steps that nothing drifts (no NaN/Inf, particles inside the walls, exact particle "
+                 "accounting, unique ids, flat resident memory after the warm-up). Exit status 0 when every check "
+                 "passed; 1 on the first failed check.",
+                 "pbf_soak"};
+    app.option_defaults()->always_capture_default()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+    CLI::Validator count = CLI::Range(0.0, 1e18);
+    count.description("");  // the type N says enough in --help
+    app.add_option("--steps", steps, "steps to run (1e6 notation accepted)")->check(count)->type_name("N");
+    app.add_option("--check-every", check_every, "steps between checks (at least 1)")->check(count)->type_name("N");
+    app.add_option("--capacity", capacity, "max_particles of the world (at most 2^24)")->check(count)->type_name("N");
+    app.add_option("--warmup", warmup, "steps before the resident memory baseline is taken")
+        ->check(count)
+        ->type_name("N")
+        ->default_str("min(steps/10, 20000)");
+    app.add_option("--rss-slack-kb", rss_slack_kb, "allowed growth of resident memory after the warm-up, KiB")->check(count)->type_name("N");
+    app.add_option("--backend", backend, "cpu or cuda")->check(CLI::IsMember({"cpu", "cuda"}));
+    app.add_option("--substeps", substeps, "solver substeps per step")->check(count)->type_name("N");
+    app.add_option("--iterations", iterations, "constraint iterations per substep")->check(count)->type_name("N");
+    app.add_flag("--quiet", o.quiet, "print only the final line");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        const int rc = app.exit(e);
+        std::exit(rc == 0 ? 0 : 1);  // --help: 0; a bad argument: 1, as before
     }
-    if (o.warmup == UINT64_MAX) o.warmup = std::min<uint64_t>(o.steps / 10, 20000);
+    o.steps = uint64_t(steps);
+    o.check_every = std::max<uint64_t>(1, uint64_t(check_every));
+    o.capacity = uint32_t(std::min<uint64_t>(uint64_t(capacity), 1u << 24));
+    o.warmup = app.count("--warmup") ? uint64_t(warmup) : std::min<uint64_t>(o.steps / 10, 20000);
+    o.rss_slack_kb = uint64_t(rss_slack_kb);
+    o.substeps = uint32_t(uint64_t(substeps));
+    o.iterations = uint32_t(uint64_t(iterations));
+    o.backend = backend == "cuda" ? PBF_BACKEND_CUDA : PBF_BACKEND_CPU;
     return o;
 }
 

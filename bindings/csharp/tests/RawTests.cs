@@ -146,7 +146,8 @@ namespace Pbf.Tests
             pbf_world_desc d = CpuDesc();
             d.header_version = Native.PBF_MAKE_VERSION(Native.PBF_VERSION_MAJOR + 1, 0, 0);
             pbf_world_id id;
-            ExpectRaw(pbf_result.PBF_ERROR_VERSION_MISMATCH, Native.pbf_world_create(ref d, out id), "header major version 2");
+            ExpectRaw(pbf_result.PBF_ERROR_VERSION_MISMATCH, Native.pbf_world_create(ref d, out id),
+                      "header major version " + (Native.PBF_VERSION_MAJOR + 1));
             d.header_version = Native.PBF_MAKE_VERSION(Native.PBF_VERSION_MAJOR, 7, 3);  // minor/patch may differ
             Assert.AreEqual(pbf_result.PBF_OK, Native.pbf_world_create(ref d, out id), Native.LastErrorMessage());
             Assert.AreEqual(pbf_result.PBF_OK, Native.pbf_world_destroy(id));

@@ -1,7 +1,7 @@
 // Unity glue for the libpbf bindings: conversions between UnityEngine and System.Numerics types,
 // and a log handler that forwards libpbf's messages to the Unity console. Everything that needs
-// UnityEngine lives here; the core bindings (Runtime/Core, copied from bindings/csharp/src by
-// sync.sh) compile without it.
+// UnityEngine lives here; the core bindings (Runtime/Core: the one copy of the C# bindings, which
+// Pbf.csproj and the Mono test build compile too) compile without it.
 using UnityEngine;
 
 namespace Pbf.Unity

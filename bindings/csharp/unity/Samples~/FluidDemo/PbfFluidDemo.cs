@@ -3,7 +3,8 @@
 // positions are copied (no allocation) into a GraphicsBuffer and drawn as instanced spheres by
 // the "Pbf/Particles" shader, coloured by density.
 //
-// Setup: add this component to an empty GameObject, assign a material using Pbf/Particles
+// Setup: open FluidDemo.unity (beside this file) and press Play. Or add this component to any
+// GameObject: it uses the assigned material, else one made from the Pbf/Particles shader
 // (PbfParticles.shader beside this file). Optionally assign a Transform to "Pusher".
 using Pbf;
 using Pbf.Unity;
@@ -104,6 +105,12 @@ public sealed class PbfFluidDemo : MonoBehaviour
         _positions = new Vector4[maxParticles];
         _positionsBuffer = new GraphicsBuffer(GraphicsBuffer.Target.Structured, maxParticles, 16);
         _props = new MaterialPropertyBlock();
+        if (particleMaterial == null)
+        {
+            Shader shader = Shader.Find("Pbf/Particles");
+            if (shader != null) particleMaterial = new Material(shader);
+            else Debug.LogWarning("PbfFluidDemo: no material assigned and the Pbf/Particles shader is not loaded: nothing is drawn");
+        }
         if (particleMesh == null)
         {
             GameObject sphere = GameObject.CreatePrimitive(PrimitiveType.Sphere);

@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# The C# packages' checks, for CI:
+#
+#   bash scripts/check_packages.sh [LIBDIR=build/lib]
+#
+#   1. scripts/check_unity_package.sh        the Unity package as Unity's importer reads it
+#   2. pbf_packages.py unity-selftest        that check fails on broken copies of the package
+#   3. scripts/check_nuget.sh LIBDIR         pack the NuGet package, validate it, consume it under Mono
+#
+# LIBDIR holds a CPU build of libpbf.so for the NuGet package (the Unity package carries its own,
+# committed plugins). The Windows DLL comes from build-mingw/lib/pbf.dll (built with
+# scripts/build_windows_dll.sh when missing). PBF_UNITY_REQUIRE_WINDOWS=0 and
+# PBF_NUGET_REQUIRE_WINDOWS=0 accept packages without it, with a warning.
+# Ends with 'packages: N passed, N failed' (the checks of all three); exit 1 on any failure.
+set -uo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+libdir="${1:-build/lib}"
+log="$(mktemp)"
+trap 'rm -f "$log"' EXIT
+rc=0
+bash scripts/check_unity_package.sh 2>&1 | tee -a "$log"; [ "${PIPESTATUS[0]}" -eq 0 ] || rc=1
+python3 scripts/pbf_packages.py unity-selftest bindings/csharp/unity 2>&1 | tee -a "$log"; [ "${PIPESTATUS[0]}" -eq 0 ] || rc=1
+bash scripts/check_nuget.sh "$libdir" 2>&1 | tee -a "$log"; [ "${PIPESTATUS[0]}" -eq 0 ] || rc=1
+# Sum the three closing lines ('unity package:', 'unity check self-test:', 'nuget package:').
+read -r passed failed < <(sed -n -E 's/^(unity package|unity check self-test|nuget package): ([0-9]+) passed, ([0-9]+) failed$/\2 \3/p' "$log" \
+  | awk '{p += $1; f += $2; n++} END {print p + 0, f + 0 + (n < 3 ? 1 : 0)}')
+echo
+grep -E '^(unity package|unity check self-test|nuget package): ' "$log"
+echo "packages: $passed passed, $failed failed"
+[ "$rc" -eq 0 ] && [ "$failed" -eq 0 ]
