@@ -15,14 +15,11 @@
 #include <vector>
 
 #include "pbf_c_api.h"
+#include "support.h"
 
 namespace rel {
 
-inline void set3(float* v, float x, float y, float z) {
-    v[0] = x;
-    v[1] = y;
-    v[2] = z;
-}
+using ::set3;
 
 inline std::string failure(const char* call, pbf_result r) {
     return std::string(call) + " -> " + pbf_result_string(r) + ": " + pbf_last_error_message();

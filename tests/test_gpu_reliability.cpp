@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "reliability_support.h"
-#include "scene_support.h"
+#include "support.h"
 
 TEST_CASE("CUDA out of memory: creation fails with OUT_OF_MEMORY, other worlds step on, nothing leaks",
           "[gpu][reliability][memory]") {

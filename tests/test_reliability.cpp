@@ -18,7 +18,7 @@
 #endif
 
 #include "reliability_support.h"
-#include "scene_support.h"
+#include "support.h"
 
 extern "C" const char* pbf_test_result_string_of_int(int value);  // reliability_c.c
 
@@ -26,7 +26,6 @@ using scene::set3;
 
 namespace {
 
-const float kDt = 1.0f / 60.0f;
 
 pbf_world_desc cpu_desc(uint32_t capacity = 1024) {
     pbf_world_desc d = pbf_world_desc_default();
