@@ -15,14 +15,11 @@
 #include <vector>
 
 #include "pbf_c_api.h"
+#include "support.h"
 
 namespace rel {
 
-inline void set3(float* v, float x, float y, float z) {
-    v[0] = x;
-    v[1] = y;
-    v[2] = z;
-}
+using ::set3;
 
 inline std::string failure(const char* call, pbf_result r) {
     return std::string(call) + " -> " + pbf_result_string(r) + ": " + pbf_last_error_message();
@@ -434,6 +431,41 @@ inline DestroyRaceResult destroy_race(pbf_backend backend, int rounds, int calle
     res.ok = ok.load();
     res.invalid = invalid.load();
     return res;
+}
+
+// ---- checks the CPU tests and their CUDA twins share (Catch2: on the test thread only) --------
+inline void check_parallel(const ParallelResult& r) {
+    for (size_t k = 0; k < r.errors.size(); ++k) {
+        INFO("world " << k);
+        CHECK(r.errors[k] == "");
+        CHECK(r.differences[k] == "");
+    }
+}
+
+inline void check_shared_world(const SharedWorldResult& r) {
+    INFO("steps " << r.steps << ", stats reads " << r.reads << ", copy rounds " << r.copies << ", edit rounds "
+                  << r.edits);
+    CHECK(r.error == "");
+    CHECK(r.steps > 0);
+    CHECK(r.reads > 0);
+    CHECK(r.copies > 0);
+    CHECK(r.edits > 0);
+}
+
+// The survivor (scene 0, driven `first` steps so far) steps on for `steps` more exactly as a twin
+// that never saw what the survivor went through; the twin is destroyed again.
+inline void check_like_twin(pbf_backend backend, const World& survivor, int first, int steps) {
+    World twin;
+    REQUIRE(make_world(backend, 0, &twin) == "");
+    REQUIRE(drive(twin, 0, first) == "");
+    REQUIRE(drive(survivor, first, steps) == "");
+    REQUIRE(drive(twin, first, steps) == "");
+    Capture after_survivor, after_twin;
+    REQUIRE(capture(survivor.id, &after_survivor) == "");
+    REQUIRE(capture(twin.id, &after_twin) == "");
+    CHECK(compare(after_survivor, after_twin) == "");
+    CHECK(consistent(after_survivor, 1500) == "");
+    REQUIRE(pbf_world_destroy(twin.id) == PBF_OK);
 }
 
 }  // namespace rel

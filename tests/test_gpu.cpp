@@ -2,12 +2,11 @@
 #include <array>
 #include <map>
 
-#include "scene_support.h"
+#include "support.h"
 
 using namespace scene;
 
 namespace {
-const float kDt = 1.0f / 60.0f;
 
 pbf_world_id dam_break(pbf_backend backend, uint32_t iterations) {
     pbf_world_desc d = tank(backend, 0.0125f, 0.8f, 0.5f, 0.2f, 8192);

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "reliability_support.h"
-#include "scene_support.h"
+#include "support.h"
 
 TEST_CASE("CUDA out of memory: creation fails with OUT_OF_MEMORY, other worlds step on, nothing leaks",
           "[gpu][reliability][memory]") {
@@ -60,16 +60,7 @@ TEST_CASE("CUDA out of memory: creation fails with OUT_OF_MEMORY, other worlds s
         REQUIRE_PBF(pbf_world_step(id, 1.0f / 60.0f));
         CHECK(scene::all_finite(scene::read(id)));
     }
-    rel::World twin;
-    REQUIRE(rel::make_world(PBF_BACKEND_CUDA, 0, &twin) == "");
-    REQUIRE(rel::drive(twin, 0, 10) == "");
-    REQUIRE(rel::drive(survivor, 10, 30) == "");
-    REQUIRE(rel::drive(twin, 10, 30) == "");
-    rel::Capture cs, ct;
-    REQUIRE(rel::capture(survivor.id, &cs) == "");
-    REQUIRE(rel::capture(twin.id, &ct) == "");
-    CHECK(rel::compare(cs, ct) == "");
-    CHECK(rel::consistent(cs, 1500) == "");
+    rel::check_like_twin(PBF_BACKEND_CUDA, survivor, 10, 30);
 
     // Nothing of the failed creation leaked: after destroying the big worlds, as many fit again.
     for (pbf_world_id id : big) REQUIRE_PBF(pbf_world_destroy(id));
@@ -80,7 +71,6 @@ TEST_CASE("CUDA out of memory: creation fails with OUT_OF_MEMORY, other worlds s
     for (pbf_world_id id : big) REQUIRE_PBF(pbf_world_destroy(id));
     REQUIRE(rel::drive(survivor, 30, 5) == "");
     REQUIRE_PBF(pbf_world_destroy(survivor.id));
-    REQUIRE_PBF(pbf_world_destroy(twin.id));
 }
 
 TEST_CASE("CUDA capacity: emitting past capacity is refused cleanly", "[gpu][reliability][capacity]") {
@@ -125,22 +115,12 @@ TEST_CASE("CUDA capacity: emitting past capacity is refused cleanly", "[gpu][rel
 TEST_CASE("CUDA threads: N worlds stepped on N threads give bit-identical results to one after another",
           "[gpu][reliability][threads]") {
     const rel::ParallelResult r = rel::parallel_vs_sequential(PBF_BACKEND_CUDA, 6, 60);
-    for (size_t k = 0; k < r.errors.size(); ++k) {
-        INFO("world " << k);
-        CHECK(r.errors[k] == "");
-        CHECK(r.differences[k] == "");
-    }
+    rel::check_parallel(r);
 }
 
 TEST_CASE("CUDA threads: concurrent calls on ONE world stay consistent", "[gpu][reliability][threads]") {
     const rel::SharedWorldResult r = rel::shared_world(PBF_BACKEND_CUDA, 1.5);
-    INFO("steps " << r.steps << ", stats reads " << r.reads << ", copy rounds " << r.copies << ", edit rounds "
-                  << r.edits);
-    CHECK(r.error == "");
-    CHECK(r.steps > 0);
-    CHECK(r.reads > 0);
-    CHECK(r.copies > 0);
-    CHECK(r.edits > 0);
+    rel::check_shared_world(r);
 }
 
 TEST_CASE("CUDA threads: destroy racing with calls returns OK or INVALID_HANDLE", "[gpu][reliability][threads]") {

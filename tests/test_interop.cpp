@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "scene_support.h"
+#include "support.h"
 
 #if defined(__unix__)
 #include <fcntl.h>
@@ -32,7 +32,6 @@
 using namespace scene;
 
 namespace {
-const float kDt = 1.0f / 60.0f;
 
 #define CHECK_CODE(call, code)                                                                        \
     do {                                                                                              \

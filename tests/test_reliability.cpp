@@ -18,7 +18,7 @@
 #endif
 
 #include "reliability_support.h"
-#include "scene_support.h"
+#include "support.h"
 
 extern "C" const char* pbf_test_result_string_of_int(int value);  // reliability_c.c
 
@@ -26,7 +26,6 @@ using scene::set3;
 
 namespace {
 
-const float kDt = 1.0f / 60.0f;
 
 pbf_world_desc cpu_desc(uint32_t capacity = 1024) {
     pbf_world_desc d = pbf_world_desc_default();
@@ -249,18 +248,8 @@ TEST_CASE("memory: a world above 3/4 of physical memory fails with OUT_OF_MEMORY
     }
 
     // The survivor is unaffected: it steps on exactly as a twin that never saw the failures.
-    rel::World twin;
-    REQUIRE(rel::make_world(PBF_BACKEND_CPU, 0, &twin) == "");
-    REQUIRE(rel::drive(twin, 0, 10) == "");
-    REQUIRE(rel::drive(survivor, 10, 20) == "");
-    REQUIRE(rel::drive(twin, 10, 20) == "");
-    rel::Capture after_survivor, after_twin;
-    REQUIRE(rel::capture(survivor.id, &after_survivor) == "");
-    REQUIRE(rel::capture(twin.id, &after_twin) == "");
-    CHECK(rel::compare(after_survivor, after_twin) == "");
-    CHECK(rel::consistent(after_survivor, 1500) == "");
+    rel::check_like_twin(PBF_BACKEND_CPU, survivor, 10, 20);
     REQUIRE_PBF(pbf_world_destroy(survivor.id));
-    REQUIRE_PBF(pbf_world_destroy(twin.id));
     // And new worlds can still be made.
     OwnedWorld fresh(cpu_desc(4096));
     CHECK(scene::fill(fresh.id, 0, 0, 0, 0.2f, 0.2f, 0.2f) > 0u);

@@ -1,11 +1,10 @@
 // Whole scenes on the CPU backend through the C API: resting tank, dam break, emitters,
 // drains, capacity and colliders.
-#include "scene_support.h"
+#include "support.h"
 
 using namespace scene;
 
 namespace {
-const float kDt = 1.0f / 60.0f;
 
 double run_resting_tank(pbf_backend backend, uint32_t iterations, uint32_t ldc, bool check_rest) {
     pbf_world_desc d = tank(backend, 0.0125f, 0.6f, 0.6f, 0.3f, 8192);

@@ -19,23 +19,13 @@ TEST_CASE("threads: N worlds stepped on N threads give bit-identical results to 
           "[threads][reliability]") {
     // 6 worlds (one of 8192 particles, whose OpenMP loops go parallel inside the thread).
     const rel::ParallelResult r = rel::parallel_vs_sequential(PBF_BACKEND_CPU, 6, 60);
-    for (size_t k = 0; k < r.errors.size(); ++k) {
-        INFO("world " << k);
-        CHECK(r.errors[k] == "");
-        CHECK(r.differences[k] == "");
-    }
+    rel::check_parallel(r);
 }
 
 TEST_CASE("threads: concurrent step, stats, copies and edits on ONE world stay consistent",
           "[threads][reliability]") {
     const rel::SharedWorldResult r = rel::shared_world(PBF_BACKEND_CPU, 1.5);
-    INFO("steps " << r.steps << ", stats reads " << r.reads << ", copy rounds " << r.copies << ", edit rounds "
-                  << r.edits);
-    CHECK(r.error == "");
-    CHECK(r.steps > 0);
-    CHECK(r.reads > 0);
-    CHECK(r.copies > 0);
-    CHECK(r.edits > 0);
+    rel::check_shared_world(r);
 }
 
 TEST_CASE("threads: destroy racing with calls on the world returns OK or INVALID_HANDLE, never crashes",

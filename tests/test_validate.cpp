@@ -1,5 +1,6 @@
 // White-box tests of the C ABI's named checks (native/api/validate.h): calls through the static
-// core, comparing the check that refused a call instead of substrings of its message.
+// core, comparing the check that refused a call instead of substrings of its message. Fixtures:
+// support.h.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -10,6 +11,7 @@
 
 #include "api/validate.h"
 #include "pbf_c_api.h"
+#include "support.h"
 
 using pbf::api::Check;
 using pbf::api::last_validation_check;
@@ -24,44 +26,6 @@ namespace {
         CHECK(r_ == pbf::api::check_code(check));                                                  \
         CHECK(std::string(pbf::api::check_name(last_validation_check())) == pbf::api::check_name(check)); \
     } while (0)
-
-pbf_world_desc cpu_desc() {
-    pbf_world_desc d = pbf_world_desc_default();
-    d.backend = PBF_BACKEND_CPU;
-    d.max_particles = 1024;
-    const float lo[3] = {-0.5f, 0.0f, -0.5f}, hi[3] = {0.5f, 1.0f, 0.5f};
-    std::memcpy(d.domain_min, lo, sizeof lo);
-    std::memcpy(d.domain_max, hi, sizeof hi);
-    return d;
-}
-
-pbf_emitter_desc nozzle() {
-    pbf_emitter_desc e = pbf_emitter_desc_default();
-    e.type = PBF_EMITTER_NOZZLE;
-    e.position[1] = 0.7f;
-    e.speed = 1.0f;
-    e.radius = 0.05f;
-    e.particles_per_second = 600.0f;
-    return e;
-}
-
-pbf_emitter_desc drain() {
-    pbf_emitter_desc e = pbf_emitter_desc_default();
-    e.type = PBF_EMITTER_DRAIN;
-    const float lo[3] = {0.4f, 0.0f, 0.4f}, hi[3] = {0.5f, 0.1f, 0.5f};
-    std::memcpy(e.box_min, lo, sizeof lo);
-    std::memcpy(e.box_max, hi, sizeof hi);
-    return e;
-}
-
-struct World {
-    pbf_world_id id{};
-    World() {
-        const pbf_world_desc d = cpu_desc();
-        REQUIRE(pbf_world_create(&d, &id) == PBF_OK);
-    }
-    ~World() { pbf_world_destroy(id); }
-};
 
 }  // namespace
 
@@ -79,7 +43,7 @@ TEST_CASE("validate: every check has a unique name, a failure code and a message
 }
 
 TEST_CASE("validate: a successful call leaves the last check alone, a non-check failure clears it", "[api][validate]") {
-    World w;
+    TestWorld w;
     const float nan3[3] = {NAN, 0, 0};
     CHECK_REFUSED_BY(pbf_world_set_gravity(w.id, nan3), Check::GRAVITY);
     const float g[3] = {0, -9.81f, 0};
@@ -96,7 +60,7 @@ TEST_CASE("validate: world desc and solver parameters name the failed check", "[
         Check check;
     };
     const Case cases[] = {
-        {"header major 2", [](pbf_world_desc& d) { d.header_version = PBF_MAKE_VERSION(2, 0, 0); }, Check::WORLD_HEADER_VERSION},
+        {"another header major", [](pbf_world_desc& d) { d.header_version = PBF_MAKE_VERSION(PBF_VERSION_MAJOR + 1, 0, 0); }, Check::WORLD_HEADER_VERSION},
         {"backend 7", [](pbf_world_desc& d) { d.backend = static_cast<pbf_backend>(7); }, Check::WORLD_BACKEND},
         {"cuda_device -1", [](pbf_world_desc& d) { d.cuda_device = -1; }, Check::WORLD_CUDA_DEVICE},
         {"max_particles 0", [](pbf_world_desc& d) { d.max_particles = 0; }, Check::WORLD_MAX_PARTICLES},
@@ -106,52 +70,54 @@ TEST_CASE("validate: world desc and solver parameters name the failed check", "[
         {"domain NaN", [](pbf_world_desc& d) { d.domain_max[0] = NAN; }, Check::WORLD_DOMAIN_FINITE},
         {"flat domain", [](pbf_world_desc& d) { d.domain_max[1] = d.domain_min[1]; }, Check::WORLD_DOMAIN_SIZE},
         {"iterations 0", [](pbf_world_desc& d) { d.solver.iterations = 0; }, Check::SOLVER_ITERATIONS},
-        {"substeps 17", [](pbf_world_desc& d) { d.solver.substeps = 17; }, Check::SOLVER_SUBSTEPS},
+        {"substeps 65", [](pbf_world_desc& d) { d.solver.substeps = 65; }, Check::SOLVER_SUBSTEPS},
+        {"max_substeps 0", [](pbf_world_desc& d) { d.solver.max_substeps = 0; }, Check::SOLVER_MAX_SUBSTEPS},
         {"scorr_dq 1", [](pbf_world_desc& d) { d.solver.scorr_dq = 1.0f; }, Check::SOLVER_SCORR_DQ},
         {"ldc_enabled 2", [](pbf_world_desc& d) { d.solver.ldc_enabled = 2; }, Check::SOLVER_LDC_ENABLED},
         {"adaptive 1", [](pbf_world_desc& d) { d.solver.adaptive_error_target = 1.0f; }, Check::SOLVER_ADAPTIVE_TARGET},
     };
     for (const Case& c : cases) {
         INFO(c.what);
-        pbf_world_desc d = cpu_desc();
+        pbf_world_desc d = small_desc();
         c.spoil(d);
         pbf_world_id id{9, 9};
         CHECK_REFUSED_BY(pbf_world_create(&d, &id), c.check);
         CHECK(id.generation == 0);
     }
     // The version check names both majors.
-    pbf_world_desc d = cpu_desc();
-    d.header_version = PBF_MAKE_VERSION(2, 0, 0);
+    pbf_world_desc d = small_desc();
+    d.header_version = PBF_MAKE_VERSION(PBF_VERSION_MAJOR + 1, 0, 0);
     pbf_world_id id{};
     pbf_world_create(&d, &id);
-    CHECK(std::string(pbf_last_error_message()).find("header major version 2 does not match the library's 1") !=
-          std::string::npos);
+    const std::string expected = "header major version " + std::to_string(PBF_VERSION_MAJOR + 1) +
+                                 " does not match the library's " + std::to_string(PBF_VERSION_MAJOR);
+    CHECK(std::string(pbf_last_error_message()).find(expected) != std::string::npos);
 }
 
 // Converted from test_c_api.cpp ("emitter desc: ... out-of-range"), where these compared
 // message substrings.
 TEST_CASE("validate: emitter descs and transforms name the failed check", "[api][validate][emitter]") {
-    World w;
+    TestWorld w;
     struct Case {
         const char* what;
         pbf_emitter_desc (*make)();
         Check check;
     };
     const Case cases[] = {
-        {"type 0", [] { pbf_emitter_desc e = nozzle(); e.type = static_cast<pbf_emitter_type>(0); return e; }, Check::EMITTER_TYPE},
-        {"type 3", [] { pbf_emitter_desc e = nozzle(); e.type = static_cast<pbf_emitter_type>(3); return e; }, Check::EMITTER_TYPE},
+        {"type 0", [] { pbf_emitter_desc e = nozzle_desc(); e.type = static_cast<pbf_emitter_type>(0); return e; }, Check::EMITTER_TYPE},
+        {"type 3", [] { pbf_emitter_desc e = nozzle_desc(); e.type = static_cast<pbf_emitter_type>(3); return e; }, Check::EMITTER_TYPE},
         {"unset type", [] { return pbf_emitter_desc_default(); }, Check::EMITTER_TYPE},
-        {"enabled 2", [] { pbf_emitter_desc e = nozzle(); e.enabled = 2; return e; }, Check::EMITTER_ENABLED},
-        {"drain enabled 2", [] { pbf_emitter_desc e = drain(); e.enabled = 2; return e; }, Check::EMITTER_ENABLED},
-        {"speed 0", [] { pbf_emitter_desc e = nozzle(); e.speed = 0; return e; }, Check::NOZZLE_SPEED},
-        {"radius -1", [] { pbf_emitter_desc e = nozzle(); e.radius = -1; return e; }, Check::NOZZLE_RADIUS},
-        {"rate 0", [] { pbf_emitter_desc e = nozzle(); e.particles_per_second = 0; return e; }, Check::NOZZLE_RATE},
-        {"rate 2e9", [] { pbf_emitter_desc e = nozzle(); e.particles_per_second = 2e9f; return e; }, Check::NOZZLE_RATE},
-        {"zero direction", [] { pbf_emitter_desc e = nozzle(); e.direction[1] = 0; return e; }, Check::NOZZLE_DIRECTION},
-        {"nozzle position NaN", [] { pbf_emitter_desc e = nozzle(); e.position[0] = NAN; return e; }, Check::NOZZLE_FINITE},
-        {"inverted drain", [] { pbf_emitter_desc e = drain(); std::swap(e.box_min[0], e.box_max[0]); return e; }, Check::DRAIN_BOX},
-        {"drain box Inf", [] { pbf_emitter_desc e = drain(); e.box_max[2] = INFINITY; return e; }, Check::DRAIN_FINITE},
-        {"drain with NaN speed", [] { pbf_emitter_desc e = drain(); e.speed = NAN; return e; }, Check::EMITTER_UNUSED_FINITE},
+        {"enabled 2", [] { pbf_emitter_desc e = nozzle_desc(); e.enabled = 2; return e; }, Check::EMITTER_ENABLED},
+        {"drain enabled 2", [] { pbf_emitter_desc e = drain_desc(); e.enabled = 2; return e; }, Check::EMITTER_ENABLED},
+        {"speed 0", [] { pbf_emitter_desc e = nozzle_desc(); e.speed = 0; return e; }, Check::NOZZLE_SPEED},
+        {"radius -1", [] { pbf_emitter_desc e = nozzle_desc(); e.radius = -1; return e; }, Check::NOZZLE_RADIUS},
+        {"rate 0", [] { pbf_emitter_desc e = nozzle_desc(); e.particles_per_second = 0; return e; }, Check::NOZZLE_RATE},
+        {"rate 2e9", [] { pbf_emitter_desc e = nozzle_desc(); e.particles_per_second = 2e9f; return e; }, Check::NOZZLE_RATE},
+        {"zero direction", [] { pbf_emitter_desc e = nozzle_desc(); e.direction[1] = 0; return e; }, Check::NOZZLE_DIRECTION},
+        {"nozzle position NaN", [] { pbf_emitter_desc e = nozzle_desc(); e.position[0] = NAN; return e; }, Check::NOZZLE_FINITE},
+        {"inverted drain", [] { pbf_emitter_desc e = drain_desc(); std::swap(e.box_min[0], e.box_max[0]); return e; }, Check::DRAIN_BOX},
+        {"drain box Inf", [] { pbf_emitter_desc e = drain_desc(); e.box_max[2] = INFINITY; return e; }, Check::DRAIN_FINITE},
+        {"drain with NaN speed", [] { pbf_emitter_desc e = drain_desc(); e.speed = NAN; return e; }, Check::EMITTER_UNUSED_FINITE},
     };
     for (const Case& c : cases) {
         INFO(c.what);
@@ -161,7 +127,7 @@ TEST_CASE("validate: emitter descs and transforms name the failed check", "[api]
         CHECK(id.generation == 0);
     }
     pbf_emitter_id nz{}, dr{};
-    const pbf_emitter_desc n = nozzle(), d = drain();
+    const pbf_emitter_desc n = nozzle_desc(), d = drain_desc();
     REQUIRE(pbf_world_create_emitter(w.id, &n, &nz) == PBF_OK);
     REQUIRE(pbf_world_create_emitter(w.id, &d, &dr) == PBF_OK);
     const float zero[3] = {0, 0, 0}, pos[3] = {0, 0.7f, 0}, nan3[3] = {NAN, 0, 0};
@@ -173,7 +139,7 @@ TEST_CASE("validate: emitter descs and transforms name the failed check", "[api]
 }
 
 TEST_CASE("validate: collider descs and poses name the failed check", "[api][validate][collider]") {
-    World w;
+    TestWorld w;
     auto sphere = [] {
         pbf_collider_desc c = pbf_collider_desc_default();
         c.shape = PBF_SHAPE_SPHERE;

@@ -6,6 +6,17 @@
 
 using pbf::api::check_struct;
 
+namespace {
+// The start of an *_init: checks the caller's struct_size, zeroes *d and sets its struct_size.
+template <class T>
+pbf_result start(const char* fn, const char* type, T* d, uint32_t struct_size) {
+    if (pbf_result r = check_struct(fn, type, d, struct_size, sizeof(T)); r != PBF_OK) return r;
+    std::memset(d, 0, sizeof *d);
+    d->struct_size = sizeof *d;
+    return PBF_OK;
+}
+}  // namespace
+
 extern "C" {
 
 PBF_API pbf_result PBF_CALL pbf_solver_params_init(pbf_solver_params* p, uint32_t struct_size) {
@@ -52,31 +63,19 @@ PBF_API pbf_result PBF_CALL pbf_world_desc_init(pbf_world_desc* d, uint32_t stru
 }
 
 PBF_API pbf_result PBF_CALL pbf_block_desc_init(pbf_block_desc* d, uint32_t struct_size) {
-    const char* fn = "pbf_block_desc_init";
-    if (pbf_result r = check_struct(fn, "pbf_block_desc", d, struct_size, sizeof(pbf_block_desc)); r != PBF_OK)
-        return r;
-    std::memset(d, 0, sizeof *d);
-    d->struct_size = sizeof *d;
+    if (pbf_result r = start("pbf_block_desc_init", "pbf_block_desc", d, struct_size); r != PBF_OK) return r;
     return PBF_OK;
 }
 
 PBF_API pbf_result PBF_CALL pbf_emitter_desc_init(pbf_emitter_desc* d, uint32_t struct_size) {
-    const char* fn = "pbf_emitter_desc_init";
-    if (pbf_result r = check_struct(fn, "pbf_emitter_desc", d, struct_size, sizeof(pbf_emitter_desc)); r != PBF_OK)
-        return r;
-    std::memset(d, 0, sizeof *d);
-    d->struct_size = sizeof *d;
+    if (pbf_result r = start("pbf_emitter_desc_init", "pbf_emitter_desc", d, struct_size); r != PBF_OK) return r;
     d->enabled = 1;
     d->direction[1] = -1.0f;
     return PBF_OK;
 }
 
 PBF_API pbf_result PBF_CALL pbf_collider_desc_init(pbf_collider_desc* d, uint32_t struct_size) {
-    const char* fn = "pbf_collider_desc_init";
-    if (pbf_result r = check_struct(fn, "pbf_collider_desc", d, struct_size, sizeof(pbf_collider_desc)); r != PBF_OK)
-        return r;
-    std::memset(d, 0, sizeof *d);
-    d->struct_size = sizeof *d;
+    if (pbf_result r = start("pbf_collider_desc_init", "pbf_collider_desc", d, struct_size); r != PBF_OK) return r;
     d->motion = PBF_MOTION_STATIC;
     d->rotation[3] = 1.0f;
     return PBF_OK;
@@ -84,25 +83,14 @@ PBF_API pbf_result PBF_CALL pbf_collider_desc_init(pbf_collider_desc* d, uint32_
 
 // ---- interop descs ----------------------------------------------------------------------------
 PBF_API pbf_result PBF_CALL pbf_gl_buffer_desc_init(pbf_gl_buffer_desc* d, uint32_t struct_size) {
-    const char* fn = "pbf_gl_buffer_desc_init";
-    if (pbf_result r = check_struct(fn, "pbf_gl_buffer_desc", d, struct_size, sizeof(pbf_gl_buffer_desc));
-        r != PBF_OK)
-        return r;
-    std::memset(d, 0, sizeof *d);
-    d->struct_size = sizeof *d;
+    if (pbf_result r = start("pbf_gl_buffer_desc_init", "pbf_gl_buffer_desc", d, struct_size); r != PBF_OK) return r;
     d->source = PBF_BUFFER_POSITIONS;
     d->mode = PBF_COPY_ON_STEP;
     return PBF_OK;
 }
 
 PBF_API pbf_result PBF_CALL pbf_external_buffer_desc_init(pbf_external_buffer_desc* d, uint32_t struct_size) {
-    const char* fn = "pbf_external_buffer_desc_init";
-    if (pbf_result r =
-            check_struct(fn, "pbf_external_buffer_desc", d, struct_size, sizeof(pbf_external_buffer_desc));
-        r != PBF_OK)
-        return r;
-    std::memset(d, 0, sizeof *d);
-    d->struct_size = sizeof *d;
+    if (pbf_result r = start("pbf_external_buffer_desc_init", "pbf_external_buffer_desc", d, struct_size); r != PBF_OK) return r;
     d->fd = -1;
     d->source = PBF_BUFFER_POSITIONS;
     d->mode = PBF_COPY_MANUAL;
@@ -110,23 +98,13 @@ PBF_API pbf_result PBF_CALL pbf_external_buffer_desc_init(pbf_external_buffer_de
 }
 
 PBF_API pbf_result PBF_CALL pbf_semaphore_desc_init(pbf_semaphore_desc* d, uint32_t struct_size) {
-    const char* fn = "pbf_semaphore_desc_init";
-    if (pbf_result r = check_struct(fn, "pbf_semaphore_desc", d, struct_size, sizeof(pbf_semaphore_desc));
-        r != PBF_OK)
-        return r;
-    std::memset(d, 0, sizeof *d);
-    d->struct_size = sizeof *d;
+    if (pbf_result r = start("pbf_semaphore_desc_init", "pbf_semaphore_desc", d, struct_size); r != PBF_OK) return r;
     d->fd = -1;
     return PBF_OK;
 }
 
 PBF_API pbf_result PBF_CALL pbf_external_sync_init(pbf_external_sync* s, uint32_t struct_size) {
-    const char* fn = "pbf_external_sync_init";
-    if (pbf_result r = check_struct(fn, "pbf_external_sync", s, struct_size, sizeof(pbf_external_sync));
-        r != PBF_OK)
-        return r;
-    std::memset(s, 0, sizeof *s);
-    s->struct_size = sizeof *s;
+    if (pbf_result r = start("pbf_external_sync_init", "pbf_external_sync", s, struct_size); r != PBF_OK) return r;
     return PBF_OK;
 }
 

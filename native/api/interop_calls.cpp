@@ -58,6 +58,22 @@ std::string handle_text(uint32_t index, uint32_t generation) {
     return "{" + std::to_string(index) + ", " + std::to_string(generation) + "}";
 }
 
+// The shape of every call on an interop handle: the build supports it, the world is live and the
+// handle is one of its interop state's; then body(io).
+template <class Id, class Body>
+pbf_result on_handle(const char* fn, pbf_world_id id, uint32_t support, bool (Interop::*has)(Id), Id handle,
+                     const char* what, Body&& body) {
+    return guarded(fn, [&]() -> pbf_result {
+        if (pbf_result r = require_support(fn, support); r != PBF_OK) return r;
+        PBF_LOCK_WORLD(w, id);
+        Interop* io = existing_interop(*w);
+        PBF_REQUIRE(io && (io->*has)(handle), PBF_ERROR_INVALID_HANDLE,
+                    std::string(fn) + ": " + what + " " + handle_text(handle.index, handle.generation) +
+                        " is not live in this world (released, or never created here)");
+        return body(io);
+    });
+}
+
 #define PBF_INTEROP_OF(io, w)                                                  \
     Interop* io = nullptr;                                                     \
     if (pbf_result r_ = interop_of(fn, *w, &io); r_ != PBF_OK) return r_
@@ -242,11 +258,8 @@ PBF_API pbf_result PBF_CALL pbf_world_register_gl_buffer(pbf_world_id id, const 
 
 PBF_API pbf_result PBF_CALL pbf_world_unregister_gl_buffer(pbf_world_id id, pbf_gl_buffer_id buffer) {
     const char* fn = "pbf_world_unregister_gl_buffer";
-    return guarded(fn, [&]() -> pbf_result {
-        if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_OPENGL); r != PBF_OK) return r;
-        PBF_LOCK_WORLD(w, id);
-        Interop* io = existing_interop(*w);
-        PBF_REQUIRE_HANDLE(io, has_gl_buffer, buffer, "GL buffer");
+    return on_handle(fn, id, PBF_INTEROP_SUPPORT_OPENGL, &Interop::has_gl_buffer, buffer, "GL buffer",
+                     [&](Interop* io) -> pbf_result {
         const Status st = io->unregister_gl_buffer(buffer);
         return fail(fn, st);
     });
@@ -254,11 +267,8 @@ PBF_API pbf_result PBF_CALL pbf_world_unregister_gl_buffer(pbf_world_id id, pbf_
 
 PBF_API pbf_result PBF_CALL pbf_world_copy_to_gl_buffer(pbf_world_id id, pbf_gl_buffer_id buffer) {
     const char* fn = "pbf_world_copy_to_gl_buffer";
-    return guarded(fn, [&]() -> pbf_result {
-        if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_OPENGL); r != PBF_OK) return r;
-        PBF_LOCK_WORLD(w, id);
-        Interop* io = existing_interop(*w);
-        PBF_REQUIRE_HANDLE(io, has_gl_buffer, buffer, "GL buffer");
+    return on_handle(fn, id, PBF_INTEROP_SUPPORT_OPENGL, &Interop::has_gl_buffer, buffer, "GL buffer",
+                     [&](Interop* io) -> pbf_result {
         PBF_REQUIRE(io->gl_buffer_mode(buffer) != PBF_COPY_ON_RENDER_EVENT, PBF_ERROR_INVALID_STATE,
                     std::string(fn) + ": the buffer was registered with PBF_COPY_ON_RENDER_EVENT: the render thread copies");
         const Status st = io->copy_to_gl_buffer(buffer);
@@ -290,11 +300,8 @@ PBF_API pbf_result PBF_CALL pbf_world_import_external_buffer(pbf_world_id id, co
 
 PBF_API pbf_result PBF_CALL pbf_world_release_external_buffer(pbf_world_id id, pbf_external_buffer_id buffer) {
     const char* fn = "pbf_world_release_external_buffer";
-    return guarded(fn, [&]() -> pbf_result {
-        if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_CUDA); r != PBF_OK) return r;
-        PBF_LOCK_WORLD(w, id);
-        Interop* io = existing_interop(*w);
-        PBF_REQUIRE_HANDLE(io, has_external_buffer, buffer, "external buffer");
+    return on_handle(fn, id, PBF_INTEROP_SUPPORT_CUDA, &Interop::has_external_buffer, buffer, "external buffer",
+                     [&](Interop* io) -> pbf_result {
         const Status st = io->release_external_buffer(buffer);
         return fail(fn, st);
     });
@@ -322,11 +329,8 @@ PBF_API pbf_result PBF_CALL pbf_world_import_semaphore(pbf_world_id id, const pb
 
 PBF_API pbf_result PBF_CALL pbf_world_release_semaphore(pbf_world_id id, pbf_semaphore_id semaphore) {
     const char* fn = "pbf_world_release_semaphore";
-    return guarded(fn, [&]() -> pbf_result {
-        if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_CUDA); r != PBF_OK) return r;
-        PBF_LOCK_WORLD(w, id);
-        Interop* io = existing_interop(*w);
-        PBF_REQUIRE_HANDLE(io, has_semaphore, semaphore, "semaphore");
+    return on_handle(fn, id, PBF_INTEROP_SUPPORT_CUDA, &Interop::has_semaphore, semaphore, "semaphore",
+                     [&](Interop* io) -> pbf_result {
         const Status st = io->release_semaphore(semaphore);
         return fail(fn, st);
     });
@@ -335,11 +339,8 @@ PBF_API pbf_result PBF_CALL pbf_world_release_semaphore(pbf_world_id id, pbf_sem
 PBF_API pbf_result PBF_CALL pbf_world_copy_to_external_buffer(pbf_world_id id, pbf_external_buffer_id buffer,
                                                               const pbf_external_sync* sync) {
     const char* fn = "pbf_world_copy_to_external_buffer";
-    return guarded(fn, [&]() -> pbf_result {
-        if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_CUDA); r != PBF_OK) return r;
-        PBF_LOCK_WORLD(w, id);
-        Interop* io = existing_interop(*w);
-        PBF_REQUIRE_HANDLE(io, has_external_buffer, buffer, "external buffer");
+    return on_handle(fn, id, PBF_INTEROP_SUPPORT_CUDA, &Interop::has_external_buffer, buffer, "external buffer",
+                     [&](Interop* io) -> pbf_result {
         if (sync)
             if (pbf_result r = check_sync(fn, io, sync); r != PBF_OK) return r;
         PBF_REQUIRE(io->external_buffer_mode(buffer) != PBF_COPY_ON_RENDER_EVENT, PBF_ERROR_INVALID_STATE,
@@ -352,11 +353,8 @@ PBF_API pbf_result PBF_CALL pbf_world_copy_to_external_buffer(pbf_world_id id, p
 PBF_API pbf_result PBF_CALL pbf_world_set_external_sync(pbf_world_id id, pbf_external_buffer_id buffer,
                                                         const pbf_external_sync* sync) {
     const char* fn = "pbf_world_set_external_sync";
-    return guarded(fn, [&]() -> pbf_result {
-        if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_CUDA); r != PBF_OK) return r;
-        PBF_LOCK_WORLD(w, id);
-        Interop* io = existing_interop(*w);
-        PBF_REQUIRE_HANDLE(io, has_external_buffer, buffer, "external buffer");
+    return on_handle(fn, id, PBF_INTEROP_SUPPORT_CUDA, &Interop::has_external_buffer, buffer, "external buffer",
+                     [&](Interop* io) -> pbf_result {
         if (sync)
             if (pbf_result r = check_sync(fn, io, sync); r != PBF_OK) return r;
         PBF_REQUIRE(io->external_buffer_mode(buffer) != PBF_COPY_MANUAL, PBF_ERROR_INVALID_STATE,

@@ -1,3 +1,4 @@
+// The CPU executor (cpu_exec.h): memory, the counting sort and the reductions.
 #include <cstdlib>
 #include <cstring>
 #include <new>
@@ -5,7 +6,6 @@
 #include <omp.h>
 #endif
 
-#include "../solver/solver.h"
 #include "cpu_exec.h"
 
 #if defined(_WIN32)
@@ -32,13 +32,6 @@ static uint64_t physical_memory_bytes() {
     const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
     return (pages > 0 && page > 0) ? uint64_t(pages) * uint64_t(page) : 0;
 #endif
-}
-
-const char* stage_name(int stage) {
-    static const char* const names[kStageCount] = {
-        "emit+drain", "grid(x)", "density(x)", "forces+LDC+predict", "grid(x*)", "lambda",
-        "delta+collide", "velocity", "omega+xsph", "vorticity force", "density(end)"};
-    return stage >= 0 && stage < kStageCount ? names[stage] : "?";
 }
 
 Status CpuExec::init(uint32_t, uint32_t num_cells) {
@@ -137,13 +130,6 @@ void CpuExec::sum_compressive_error(const WorldConstants& s, const float* densit
 #pragma omp parallel for reduction(+ : sum) if (live > 2048)
     for (int64_t i = 0; i < live; ++i) sum += fmaxf(density[i] * s.inv_rest_density - 1.0f, 0.0f);
     *out += static_cast<float>(sum);
-}
-
-std::unique_ptr<Backend> create_cpu_backend(const BackendConfig& config, Status* status) {
-    auto solver = std::make_unique<Solver<CpuExec>>();
-    *status = solver->init(config);
-    if (!status->ok()) return nullptr;
-    return solver;
 }
 
 }  // namespace pbf

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "../core/passes.h"
-#include "backend.h"
+#include "exec_common.h"
 
 namespace pbf {
 

@@ -1,3 +1,4 @@
+// The CUDA executor (cuda_exec.cuh): memory, the radix sort, the reductions and the timers.
 #include <cub/block/block_reduce.cuh>
 #include <cub/device/device_radix_sort.cuh>
 
@@ -5,7 +6,6 @@
 #include <cstring>
 
 #include "../common/transfers.h"
-#include "../solver/solver.h"
 #include "cuda_exec.cuh"
 
 namespace pbf {
@@ -276,13 +276,6 @@ bool cuda_device_available(int32_t device) {
         return false;
     }
     return device >= 0 && device < count;
-}
-
-std::unique_ptr<Backend> create_cuda_backend(const BackendConfig& config, Status* status) {
-    auto solver = std::make_unique<Solver<CudaExec>>(config.cuda_device);
-    *status = solver->init(config);
-    if (!status->ok()) return nullptr;
-    return solver;
 }
 
 }  // namespace pbf

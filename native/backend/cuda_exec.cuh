@@ -6,7 +6,7 @@
 #include <string>
 
 #include "../core/passes.h"
-#include "backend.h"
+#include "exec_common.h"
 
 namespace pbf {
 
@@ -27,14 +27,12 @@ public:
 
     explicit CudaExec(int device = 0) : device_(device) {}
     ~CudaExec();
-    void set_device(int device) { device_ = device; }
 
     Status init(uint32_t capacity, uint32_t num_cells);
     void activate() { record(cudaSetDevice(device_)); }
     std::string device_name() const { return name_; }
     std::string last_error_text() const { return cudaGetErrorString(first_error_); }
     uint64_t allocated_bytes() const { return bytes_; }
-    cudaStream_t stream() const { return stream_; }
 
     template <class T>
     T* alloc(size_t count) {

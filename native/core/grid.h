@@ -5,7 +5,6 @@
 
 namespace pbf {
 
-PBF_HD int32_t clamp_cell(int32_t c, int32_t n) { return c < 0 ? 0 : (c >= n ? n - 1 : c); }
 
 // floor(x) as a cell index clamped to 0..n-1. The clamp happens before the conversion, so a
 // particle far outside the grid (an emission at 1e30 m, say) converts no out-of-range float to

@@ -18,16 +18,9 @@ PBF_HD float poly6(float r2, float h2, float coefficient) {
     return coefficient * d * d * d;
 }
 
-// ∇_i W_spiky(x_i - x_j) for d = x_i - x_j at distance r (0 < r < h): points from i toward j
-// (towards the neighbour), scaled by the kernel slope.
-PBF_HD Vec3 spiky_gradient(Vec3 d, float r, float h, float coefficient) {
-    if (r <= 1e-12f || r >= h) return Vec3{0.0f, 0.0f, 0.0f};
-    const float t = h - r;
-    return d * (-coefficient * t * t / r);
-}
-
-// The same from r² (0 < r² < h²), with one reciprocal square root instead of a square root and
-// a division: the form every neighbour loop uses.
+// ∇_i W_spiky(x_i - x_j) for d = x_i - x_j at squared distance r² (0 < r² < h²): points from i
+// toward j (towards the neighbour), scaled by the kernel slope; one reciprocal square root
+// instead of a square root and a division.
 PBF_HD Vec3 spiky_gradient_r2(Vec3 d, float r2, float h, float coefficient) {
     if (r2 <= 1e-24f || r2 >= h * h) return Vec3{0.0f, 0.0f, 0.0f};
     const float inv_r = inv_sqrt(r2);
@@ -49,13 +42,6 @@ PBF_HD Vec3 pair_gradient(Vec3 d, float r2, float h, float coefficient, uint32_t
     const Vec3 dir{float(u & 1023u) - 511.5f, float((u >> 10) & 1023u) - 511.5f, float((u >> 20) & 1023u) - 511.5f};
     const float sign = i < j ? 1.0f : -1.0f;
     return dir * (sign * -coefficient * h * h * inv_sqrt(length_sq(dir)));
-}
-
-// The spiky kernel itself (for the normalisation test): 15/(π h⁶) (h - r)³.
-PBF_HD float spiky(float r, float h) {
-    if (r >= h) return 0.0f;
-    const float t = h - r;
-    return 15.0f / (kPi * powf(h, 6.0f)) * t * t * t;
 }
 
 }  // namespace pbf

@@ -58,19 +58,24 @@ Status CudaInterop::init() {
 }
 
 // ---- Automatic copies -------------------------------------------------------------------------
-Status CudaInterop::after_step() {
+Status CudaInterop::copy_all(pbf_copy_mode mode) {
     std::vector<GlBuffer*> gl;
     gl_.for_each([&](GlBuffer& b) {
-        if (b.desc.mode == PBF_COPY_ON_STEP && b.registered) gl.push_back(&b);
+        if (b.desc.mode == mode && b.registered) gl.push_back(&b);
     });
     Status st = copy_gl(gl);
     external_.for_each([&](ExternalBuffer& b) {
-        if (b.desc.mode != PBF_COPY_ON_STEP) return;
+        if (b.desc.mode != mode) return;
         std::optional<pbf_external_sync> sync = b.next_sync;
         b.next_sync.reset();
         Status s2 = copy_external(b, sync ? &*sync : nullptr);
         if (st.ok()) st = s2;
     });
+    return st;
+}
+
+Status CudaInterop::after_step() {
+    Status st = copy_all(PBF_COPY_ON_STEP);
     if (!st.ok()) st.message = "the step was taken, but the copy after it failed: " + st.message;
     return st;
 }
@@ -95,19 +100,8 @@ Status CudaInterop::render_event() {
             }
         });
         // 2. The copies.
-        std::vector<GlBuffer*> gl;
-        gl_.for_each([&](GlBuffer& b) {
-            if (b.desc.mode == PBF_COPY_ON_RENDER_EVENT && b.registered) gl.push_back(&b);
-        });
-        Status s2 = copy_gl(gl);
+        Status s2 = copy_all(PBF_COPY_ON_RENDER_EVENT);
         if (st.ok()) st = s2;
-        external_.for_each([&](ExternalBuffer& b) {
-            if (b.desc.mode != PBF_COPY_ON_RENDER_EVENT) return;
-            std::optional<pbf_external_sync> sync = b.next_sync;
-            b.next_sync.reset();
-            Status s3 = copy_external(b, sync ? &*sync : nullptr);
-            if (st.ok()) st = s3;
-        });
         // 3. Unregistrations queued by pbf_world_unregister_gl_buffer.
         for (GlBuffer& b : gl_to_unregister_) {
             Status s4 = unregister_now(b);

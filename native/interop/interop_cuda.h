@@ -98,6 +98,9 @@ private:
     Status activate() { return cuda_status("selecting the world's CUDA device", cudaSetDevice(device_)); }
     Status copy_gl(const std::vector<GlBuffer*>& buffers);
     Status copy_external(ExternalBuffer& b, const pbf_external_sync* sync);
+    // Every registered GL buffer and external buffer of this copy mode (external ones with the
+    // sync set for their next copy); the first failure is returned, the other copies still run.
+    Status copy_all(pbf_copy_mode mode);
     Status register_now(GlBuffer& b);
     Status unregister_now(GlBuffer& b);
     void release_external(ExternalBuffer& b);

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <utility>
 
-#include "../backend/backend.h"
+#include "backend.h"
 #include "../core/passes.h"
 
 namespace pbf {

@@ -4,7 +4,7 @@
 #include <memory>
 #include <vector>
 
-#include "../backend/backend.h"
+#include "../solver/backend.h"
 #include "../common/slot_table.h"
 
 namespace pbf {

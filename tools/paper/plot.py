@@ -1169,7 +1169,7 @@ class Report:
 
 
 def compare_mm(T, Z, max_shift=0.2, lo=0.5, hi=3.0):
-    """The test's comparison (tools/paper/paper_scene.h compare_martin_moyce), in NumPy."""
+    """The test's comparison (samples/common/paper_scene.h compare_martin_moyce), in NumPy."""
     pts = [(t, z) for t, z in MM if lo <= t <= hi]
 
     def worst(d):

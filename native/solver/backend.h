@@ -1,23 +1,19 @@
-// What a world asks of its compute backend. One implementation, Solver<Exec> (solver.h), runs
-// the same passes on either executor: CpuExec (OpenMP) or CudaExec (one stream per world).
+// The solver layer's door for the world: what a world asks of its compute backend, and what one
+// substep needs. One implementation, Solver<Exec> (solver.h), runs the same passes on either
+// executor (native/backend): CpuExec (OpenMP) or CudaExec (one stream per world); the factories
+// are in solver_cpu.cpp and solver_cuda.cu.
 #pragma once
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "../backend/exec_common.h"
+#include "../common/status.h"
 #include "../core/params.h"
 #include "pbf_c_api.h"
 
 namespace pbf {
-
-// A result code with its message; ok() when code == PBF_OK.
-struct Status {
-    pbf_result code = PBF_OK;
-    std::string message;
-    bool ok() const { return code == PBF_OK; }
-    static Status error(pbf_result c, std::string m) { return Status{c, std::move(m)}; }
-};
 
 struct NozzleEmission {
     uint32_t count;         // particles this substep
@@ -76,15 +72,6 @@ struct BlockEmission {
     Vec3 velocity;
 };
 
-struct StatsReadback {
-    uint32_t count = 0;
-    uint32_t speed_clamps = 0;     // particle-substeps whose speed a limit cut in the last step
-    uint32_t iterations_used = 0;  // adaptive mode: iterations run in the last step
-    uint64_t emitted_total = 0, drained_total = 0;
-    double error_sum = 0.0, kinetic_energy = 0.0;
-    float error_max = 0.0f;
-};
-
 // Stages of a step, for pbf_bench's per-stage table (profiling on: the step is timed stage by
 // stage, which costs a wait per read-out; off by default).
 enum Stage : int {
@@ -95,7 +82,6 @@ enum Stage : int {
     kStageGridPredicted,
     kStageLambda,
     kStageDeltaCollide,
-    kStageVelocity,  // folded into the last Δp pass (version 5): reads 0
     kStageVorticity,
     kStageVorticityXsph,
     kStageDensityEnd,
@@ -164,7 +150,5 @@ public:
 // Factories; each returns null and sets *status on failure.
 std::unique_ptr<Backend> create_cpu_backend(const BackendConfig& config, Status* status);
 std::unique_ptr<Backend> create_cuda_backend(const BackendConfig& config, Status* status);
-// Whether a CUDA device is usable (false in CPU-only builds).
-bool cuda_device_available(int32_t device);
 
 }  // namespace pbf

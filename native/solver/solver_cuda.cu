@@ -1,0 +1,14 @@
+// The solver on the CUDA executor.
+#include "../backend/cuda_exec.cuh"
+#include "solver.h"
+
+namespace pbf {
+
+std::unique_ptr<Backend> create_cuda_backend(const BackendConfig& config, Status* status) {
+    auto solver = std::make_unique<Solver<CudaExec>>(config.cuda_device);
+    *status = solver->init(config);
+    if (!status->ok()) return nullptr;
+    return solver;
+}
+
+}  // namespace pbf

@@ -1,0 +1,262 @@
+// The one support header of the Catch2 suites: assertion macros for result codes, small worlds
+// and descs for the C ABI tests, and the scenes (tank, fill, read-back) that the CPU scene, [gpu]
+// and interop tests share. Black-box: only the public header. reliability_support.h adds the
+// thread scenarios on top of it.
+#pragma once
+#include <catch2/catch.hpp>
+
+#include <pbf_c_api.h>
+
+#if defined(__unix__) || defined(__APPLE__)
+#include <unistd.h>
+#define PBF_TEST_HAVE_SYSCONF 1
+#endif
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <set>
+#include <string>
+#include <thread>
+#include <vector>
+
+inline void set3(float* v, float x, float y, float z) {
+    v[0] = x;
+    v[1] = y;
+    v[2] = z;
+}
+
+// ---- fixtures of the C ABI tests (test_api_*.cpp) --------------------------------------------
+inline const float kNaN = std::numeric_limits<float>::quiet_NaN();
+inline const float kInf = std::numeric_limits<float>::infinity();
+inline const float kBad[] = {kNaN, kInf, -kInf};
+inline const char* bad_name(float v) { return std::isnan(v) ? "NaN" : (v > 0 ? "+Inf" : "-Inf"); }
+inline const float kDt = 1.0f / 60.0f;
+
+inline std::string last_message() { return pbf_last_error_message(); }
+
+// Asserts the exact result code, that the message names the code (the library prefixes it) and
+// that it mentions `needle` (the offending field or object).
+#define CHECK_FAILS(call, code, needle)                                                             \
+    do {                                                                                            \
+        const pbf_result r_ = (call);                                                               \
+        INFO(#call << " -> " << pbf_result_string(r_) << " \"" << last_message() << "\"");         \
+        CHECK(std::string(pbf_result_string(r_)) == std::string(pbf_result_string(code)));          \
+        if (r_ != PBF_OK) {                                                                         \
+            CHECK_THAT(last_message(), Catch::Contains(pbf_result_string(code)));                   \
+            CHECK_THAT(last_message(), Catch::Contains(needle));                                    \
+        }                                                                                           \
+    } while (0)
+
+#define REQUIRE_OK(call)                                                                            \
+    do {                                                                                            \
+        const pbf_result r_ = (call);                                                               \
+        INFO(#call << " -> " << pbf_result_string(r_) << " \"" << last_message() << "\"");         \
+        REQUIRE(r_ == PBF_OK);                                                                      \
+    } while (0)
+
+inline bool same_id(pbf_emitter_id a, pbf_emitter_id b) { return a.index == b.index && a.generation == b.generation; }
+
+// A small CPU world: spacing 0.05, h = 0.1, domain 1 x 1 x 1 m (1000 grid cells).
+inline pbf_world_desc small_desc(uint32_t max_particles = 4096) {
+    pbf_world_desc d = pbf_world_desc_default();
+    d.backend = PBF_BACKEND_CPU;
+    d.max_particles = max_particles;
+    d.particle_radius = 0.025f;
+    const float lo[3] = {-0.5f, 0.0f, -0.5f}, hi[3] = {0.5f, 1.0f, 0.5f};
+    std::memcpy(d.domain_min, lo, sizeof lo);
+    std::memcpy(d.domain_max, hi, sizeof hi);
+    return d;
+}
+
+inline pbf_block_desc block(float x0, float y0, float z0, float x1, float y1, float z1) {
+    pbf_block_desc b = pbf_block_desc_default();
+    const float lo[3] = {x0, y0, z0}, hi[3] = {x1, y1, z1};
+    std::memcpy(b.box_min, lo, sizeof lo);
+    std::memcpy(b.box_max, hi, sizeof hi);
+    return b;
+}
+
+inline pbf_emitter_desc nozzle_desc() {
+    pbf_emitter_desc e = pbf_emitter_desc_default();
+    e.type = PBF_EMITTER_NOZZLE;
+    e.position[0] = 0.0f;
+    e.position[1] = 0.7f;
+    e.position[2] = 0.0f;
+    e.speed = 1.0f;
+    e.radius = 0.05f;
+    e.particles_per_second = 600.0f;
+    return e;
+}
+
+inline pbf_emitter_desc drain_desc() {
+    pbf_emitter_desc e = pbf_emitter_desc_default();
+    e.type = PBF_EMITTER_DRAIN;
+    const float lo[3] = {0.4f, 0.0f, 0.4f}, hi[3] = {0.5f, 0.1f, 0.5f};
+    std::memcpy(e.box_min, lo, sizeof lo);
+    std::memcpy(e.box_max, hi, sizeof hi);
+    return e;
+}
+
+inline pbf_collider_desc collider_desc(pbf_collider_shape shape, pbf_collider_motion motion = PBF_MOTION_STATIC) {
+    pbf_collider_desc c = pbf_collider_desc_default();
+    c.shape = shape;
+    c.motion = motion;
+    c.position[1] = 0.5f;
+    c.radius = 0.1f;
+    c.half_height = 0.1f;
+    c.half_extents[0] = c.half_extents[1] = c.half_extents[2] = 0.1f;
+    return c;
+}
+
+// Owns a world for one test case.
+struct TestWorld {
+    pbf_world_id id{0, 0};
+    explicit TestWorld(const pbf_world_desc& d) { REQUIRE_OK(pbf_world_create(&d, &id)); }
+    explicit TestWorld(uint32_t max_particles = 4096) : TestWorld(small_desc(max_particles)) {}
+    ~TestWorld() {
+        if (id.generation != 0) pbf_world_destroy(id);
+    }
+    TestWorld(const TestWorld&) = delete;
+    TestWorld& operator=(const TestWorld&) = delete;
+    void release() { id = pbf_world_id{0, 0}; }
+    operator pbf_world_id() const { return id; }
+
+    uint32_t count() const {
+        uint32_t n = 0xFFFFFFFFu;
+        REQUIRE_OK(pbf_world_get_particle_count(id, &n));
+        return n;
+    }
+    uint32_t emit(const pbf_block_desc& b) const {
+        uint32_t n = 0;
+        REQUIRE_OK(pbf_world_emit_block(id, &b, &n));
+        return n;
+    }
+    // A 0.3 m cube of water (6^3 = 216 particles) resting on the floor.
+    uint32_t emit_default_block() const { return emit(block(-0.15f, 0.0f, -0.15f, 0.15f, 0.3f, 0.15f)); }
+    std::vector<float> positions() const {
+        const uint32_t n = count();
+        std::vector<float> p(size_t(n) * 4 + 4, -7.0f);
+        uint32_t written = 0;
+        REQUIRE_OK(pbf_world_copy_positions(id, p.data(), n, &written));
+        REQUIRE(written == n);
+        p.resize(size_t(n) * 4);
+        return p;
+    }
+    std::vector<uint32_t> ids() const {
+        const uint32_t n = count();
+        std::vector<uint32_t> v(n);
+        uint32_t written = 0;
+        REQUIRE_OK(pbf_world_copy_ids(id, v.data(), n, &written));
+        REQUIRE(written == n);
+        return v;
+    }
+    pbf_solver_params params() const {
+        pbf_solver_params p = pbf_solver_params_default();
+        REQUIRE_OK(pbf_world_get_solver_params(id, &p));
+        return p;
+    }
+    // The world still works: a step succeeds and the particle count is what it was (no emitter
+    // or drain in the worlds that call this).
+    void require_usable(uint32_t expected_count) const {
+        REQUIRE(count() == expected_count);
+        REQUIRE_OK(pbf_world_step(id, kDt));
+        REQUIRE(count() == expected_count);
+        pbf_step_stats s{};
+        s.struct_size = sizeof s;
+        REQUIRE_OK(pbf_world_get_stats(id, &s));
+        REQUIRE(s.particle_count == expected_count);
+    }
+};
+
+// Every member of the positions is bitwise what it was.
+inline bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
+    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0);
+}
+
+inline bool same_params(const pbf_solver_params& a, const pbf_solver_params& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// REQUIRE_OK under the name the scene tests use.
+#define REQUIRE_PBF(call) REQUIRE_OK(call)
+
+// ---- scenes shared by the CPU scene tests, the [gpu] tests and the interop tests --------------
+
+namespace scene {
+
+using ::set3;
+
+struct Particles {
+    std::vector<float> pos, vel;  // xyzw
+    std::vector<uint32_t> ids;
+    uint32_t count = 0;
+};
+
+inline Particles read(pbf_world_id w) {
+    Particles p;
+    REQUIRE_PBF(pbf_world_get_particle_count(w, &p.count));
+    p.pos.resize(size_t(p.count) * 4);
+    p.vel.resize(size_t(p.count) * 4);
+    p.ids.resize(p.count);
+    uint32_t n = 0;
+    REQUIRE_PBF(pbf_world_copy_positions(w, p.pos.data(), p.count, &n));
+    REQUIRE_PBF(pbf_world_copy_velocities(w, p.vel.data(), p.count, &n));
+    REQUIRE_PBF(pbf_world_copy_ids(w, p.ids.data(), p.count, &n));
+    return p;
+}
+
+inline pbf_step_stats stats(pbf_world_id w) {
+    pbf_step_stats s;
+    std::memset(&s, 0, sizeof s);
+    s.struct_size = sizeof s;
+    REQUIRE_PBF(pbf_world_get_stats(w, &s));
+    return s;
+}
+
+// A tank of size (lx, ly, lz) at the origin, particle radius r.
+inline pbf_world_desc tank(pbf_backend backend, float r, float lx, float ly, float lz, uint32_t capacity) {
+    pbf_world_desc d = pbf_world_desc_default();
+    d.backend = backend;
+    d.particle_radius = r;
+    d.max_particles = capacity;
+    set3(d.domain_min, 0, 0, 0);
+    set3(d.domain_max, lx, ly, lz);
+    return d;
+}
+
+inline uint32_t fill(pbf_world_id w, float x0, float y0, float z0, float x1, float y1, float z1) {
+    pbf_block_desc b = pbf_block_desc_default();
+    set3(b.box_min, x0, y0, z0);
+    set3(b.box_max, x1, y1, z1);
+    uint32_t emitted = 0;
+    REQUIRE_PBF(pbf_world_emit_block(w, &b, &emitted));
+    return emitted;
+}
+
+inline bool all_finite(const Particles& p) {
+    for (float v : p.pos)
+        if (!std::isfinite(v)) return false;
+    for (float v : p.vel)
+        if (!std::isfinite(v)) return false;
+    return true;
+}
+
+inline bool inside(const Particles& p, const pbf_world_desc& d, float tolerance) {
+    for (uint32_t i = 0; i < p.count; ++i)
+        for (int a = 0; a < 3; ++a) {
+            const float x = p.pos[4 * i + a];
+            if (x < d.domain_min[a] - tolerance || x > d.domain_max[a] + tolerance) return false;
+        }
+    return true;
+}
+
+inline double mean_axis(const Particles& p, int axis) {
+    double s = 0;
+    for (uint32_t i = 0; i < p.count; ++i) s += p.pos[4 * i + axis];
+    return p.count ? s / p.count : 0.0;
+}
+
+}  // namespace scene

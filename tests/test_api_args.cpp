@@ -1,0 +1,354 @@
+// Black-box tests of the C ABI (include/pbf_c_api.h) on the CPU backend. Argument validation: NaN, Inf and out-of-range fields of every desc and call.
+// Fixtures: support.h.
+#include "support.h"
+
+// =============================================================================================
+TEST_CASE("world desc: NaN, Inf and out-of-range fields are refused", "[api][nan][world]") {
+    TestWorld survivor;
+    const uint32_t n = survivor.emit_default_block();
+
+    auto refuse = [&](const pbf_world_desc& d, const char* needle) {
+        pbf_world_id id{9, 9};
+        CHECK_FAILS(pbf_world_create(&d, &id), PBF_ERROR_INVALID_ARGUMENT, needle);
+        CHECK(id.index == 0);
+        CHECK(id.generation == 0);
+    };
+
+    for (float bad : kBad) {
+        INFO("value " << bad_name(bad));
+        {
+            pbf_world_desc d = small_desc();
+            d.particle_radius = bad;
+            refuse(d, "particle_radius");
+        }
+        {
+            pbf_world_desc d = small_desc();
+            d.rest_density = bad;
+            refuse(d, "rest_density");
+        }
+        for (int a = 0; a < 3; ++a) {
+            INFO("axis " << a);
+            pbf_world_desc d = small_desc();
+            d.gravity[a] = bad;
+            refuse(d, "gravity");
+            d = small_desc();
+            d.domain_min[a] = bad;
+            refuse(d, "domain");
+            d = small_desc();
+            d.domain_max[a] = bad;
+            refuse(d, "domain");
+        }
+        // Every float solver parameter.
+        const std::pair<float pbf_solver_params::*, const char*> fields[] = {
+            {&pbf_solver_params::relaxation, "relaxation"},
+            {&pbf_solver_params::scorr_k, "scorr_k"},
+            {&pbf_solver_params::scorr_n, "scorr_n"},
+            {&pbf_solver_params::scorr_dq, "scorr_dq"},
+            {&pbf_solver_params::xsph_c, "xsph_c"},
+            {&pbf_solver_params::vorticity_epsilon, "vorticity_epsilon"},
+            {&pbf_solver_params::ldc_gain, "ldc_gain"},
+            {&pbf_solver_params::max_speed, "max_speed"},
+        };
+        for (const auto& f : fields) {
+            INFO("solver." << f.second);
+            pbf_world_desc d = small_desc();
+            d.solver.*f.first = bad;
+            refuse(d, f.second);
+        }
+    }
+
+    // Out-of-range values.
+    struct Case {
+        const char* what;
+        void (*edit)(pbf_world_desc&);
+        const char* needle;
+    };
+    const Case cases[] = {
+        {"iterations 0", [](pbf_world_desc& d) { d.solver.iterations = 0; }, "iterations"},
+        {"iterations 65", [](pbf_world_desc& d) { d.solver.iterations = 65; }, "iterations"},
+        {"substeps 0", [](pbf_world_desc& d) { d.solver.substeps = 0; }, "substeps"},
+        {"substeps 17", [](pbf_world_desc& d) { d.solver.substeps = 17; }, "substeps"},
+        {"ldc_enabled 2", [](pbf_world_desc& d) { d.solver.ldc_enabled = 2; }, "ldc_enabled"},
+        {"relaxation 0", [](pbf_world_desc& d) { d.solver.relaxation = 0; }, "relaxation"},
+        {"max_speed 0", [](pbf_world_desc& d) { d.solver.max_speed = 0; }, "max_speed"},
+        {"scorr_n 9", [](pbf_world_desc& d) { d.solver.scorr_n = 9; }, "scorr_n"},
+        {"scorr_dq 1", [](pbf_world_desc& d) { d.solver.scorr_dq = 1; }, "scorr_dq"},
+        {"xsph_c -0.1", [](pbf_world_desc& d) { d.solver.xsph_c = -0.1f; }, "xsph_c"},
+        {"ldc_gain 2", [](pbf_world_desc& d) { d.solver.ldc_gain = 2; }, "ldc_gain"},
+        {"max_particles 0", [](pbf_world_desc& d) { d.max_particles = 0; }, "max_particles"},
+        {"max_particles 2^30+1", [](pbf_world_desc& d) { d.max_particles = (1u << 30) + 1; }, "max_particles"},
+        {"backend 7", [](pbf_world_desc& d) { d.backend = static_cast<pbf_backend>(7); }, "backend"},
+        {"backend -1", [](pbf_world_desc& d) { const int32_t v = -1; std::memcpy(&d.backend, &v, sizeof v); }, "backend"},
+        {"cuda_device -1", [](pbf_world_desc& d) { d.cuda_device = -1; }, "cuda_device"},
+        {"particle_radius 0", [](pbf_world_desc& d) { d.particle_radius = 0; }, "particle_radius"},
+        {"particle_radius -1", [](pbf_world_desc& d) { d.particle_radius = -1; }, "particle_radius"},
+        {"rest_density 0", [](pbf_world_desc& d) { d.rest_density = 0; }, "rest_density"},
+        {"inverted domain", [](pbf_world_desc& d) { std::swap(d.domain_min[1], d.domain_max[1]); }, "domain"},
+        {"flat domain", [](pbf_world_desc& d) { d.domain_max[2] = d.domain_min[2] + 0.01f; }, "domain"},
+    };
+    for (const Case& c : cases) {
+        INFO(c.what);
+        pbf_world_desc d = small_desc();
+        c.edit(d);
+        refuse(d, c.needle);
+    }
+    survivor.require_usable(n);
+}
+
+TEST_CASE("block desc: NaN and Inf in every float field are refused", "[api][nan][emit]") {
+    TestWorld w;
+    const uint32_t n = w.emit_default_block();
+    const std::vector<float> before = w.positions();
+    for (float bad : kBad) {
+        for (int a = 0; a < 3; ++a) {
+            INFO(bad_name(bad) << " on axis " << a);
+            for (int field = 0; field < 3; ++field) {
+                pbf_block_desc b = block(0.2f, 0.5f, 0.2f, 0.4f, 0.7f, 0.4f);
+                float* v = field == 0 ? b.box_min : field == 1 ? b.box_max : b.velocity;
+                v[a] = bad;
+                uint32_t emitted = 123;
+                CHECK_FAILS(pbf_world_emit_block(w, &b, &emitted), PBF_ERROR_INVALID_ARGUMENT,
+                            field == 2 ? "velocity" : "box_m");
+                CHECK(emitted == 0u);
+            }
+        }
+    }
+    // An empty or inverted box.
+    for (int a = 0; a < 3; ++a) {
+        pbf_block_desc b = block(0.2f, 0.5f, 0.2f, 0.4f, 0.7f, 0.4f);
+        b.box_max[a] = b.box_min[a];
+        CHECK_FAILS(pbf_world_emit_block(w, &b, nullptr), PBF_ERROR_INVALID_ARGUMENT, "box_max");
+    }
+    CHECK(same_bits(w.positions(), before));
+    w.require_usable(n);
+}
+
+TEST_CASE("emitter desc: NaN, Inf and out-of-range fields are refused", "[api][nan][emitter]") {
+    TestWorld w;
+    const uint32_t n = w.emit_default_block();
+
+    auto refuse = [&](const pbf_emitter_desc& e, const char* needle) {
+        pbf_emitter_id id{9, 9};
+        CHECK_FAILS(pbf_world_create_emitter(w, &e, &id), PBF_ERROR_INVALID_ARGUMENT, needle);
+        CHECK(id.index == 0);
+        CHECK(id.generation == 0);
+        if (id.generation != 0) pbf_world_destroy_emitter(w, id);  // accepted by mistake: keep the world clean
+    };
+
+    for (float bad : kBad) {
+        INFO("value " << bad_name(bad));
+        for (pbf_emitter_type type : {PBF_EMITTER_NOZZLE, PBF_EMITTER_DRAIN}) {
+            INFO((type == PBF_EMITTER_NOZZLE ? "nozzle" : "drain"));
+            const pbf_emitter_desc base = type == PBF_EMITTER_NOZZLE ? nozzle_desc() : drain_desc();
+            for (int a = 0; a < 3; ++a) {
+                INFO("axis " << a);
+                pbf_emitter_desc e = base;
+                e.position[a] = bad;
+                refuse(e, "position");
+                e = base;
+                e.direction[a] = bad;
+                refuse(e, "direction");
+                e = base;
+                e.box_min[a] = bad;
+                refuse(e, "box");
+                e = base;
+                e.box_max[a] = bad;
+                refuse(e, "box");
+            }
+            pbf_emitter_desc e = base;
+            e.speed = bad;
+            refuse(e, "speed");
+            e = base;
+            e.radius = bad;
+            refuse(e, "radius");
+            e = base;
+            e.particles_per_second = bad;
+            refuse(e, "particles_per_second");
+        }
+    }
+
+    // Out-of-range fields: test_validate.cpp compares the check that refuses each.
+    refuse([] { pbf_emitter_desc e = nozzle_desc(); e.speed = 0; return e; }(), "speed");
+
+    // set_enabled and set_transform validate too.
+    pbf_emitter_id nz{}, dr{};
+    pbf_emitter_desc nd = nozzle_desc();
+    nd.enabled = 0;
+    REQUIRE_OK(pbf_world_create_emitter(w, &nd, &nz));
+    const pbf_emitter_desc drain = drain_desc();
+    REQUIRE_OK(pbf_world_create_emitter(w, &drain, &dr));
+    REQUIRE_OK(pbf_emitter_set_enabled(w, dr, 0));
+    CHECK_FAILS(pbf_emitter_set_enabled(w, nz, 2), PBF_ERROR_INVALID_ARGUMENT, "enabled");
+    CHECK_FAILS(pbf_emitter_set_enabled(w, nz, 0xFFFFFFFFu), PBF_ERROR_INVALID_ARGUMENT, "enabled");
+    for (float bad : kBad) {
+        for (int a = 0; a < 3; ++a) {
+            float p[3] = {0, 0.7f, 0}, d[3] = {0, -1, 0};
+            p[a] = bad;
+            CHECK_FAILS(pbf_emitter_set_transform(w, nz, p, d), PBF_ERROR_INVALID_ARGUMENT, "finite");
+            p[a] = 0.1f;
+            d[a] = bad;
+            CHECK_FAILS(pbf_emitter_set_transform(w, nz, p, d), PBF_ERROR_INVALID_ARGUMENT, "finite");
+        }
+    }
+    const float zero[3] = {0, 0, 0}, pos[3] = {0, 0.7f, 0};
+    CHECK_FAILS(pbf_emitter_set_transform(w, nz, pos, zero), PBF_ERROR_INVALID_ARGUMENT, "direction");
+    const float lo[3] = {0.4f, 0, 0.4f}, hi[3] = {0.5f, 0.1f, 0.39f};
+    CHECK_FAILS(pbf_emitter_set_transform(w, dr, lo, hi), PBF_ERROR_INVALID_ARGUMENT, "box_max");
+    // The nozzle is disabled and the drain too: nothing changes the count.
+    w.require_usable(n);
+}
+
+TEST_CASE("collider desc and set_pose: NaN, Inf and out-of-range fields are refused", "[api][nan][collider]") {
+    TestWorld w;
+    const uint32_t n = w.emit_default_block();
+
+    auto refuse = [&](const pbf_collider_desc& c, const char* needle) {
+        pbf_collider_id id{9, 9};
+        CHECK_FAILS(pbf_world_create_collider(w, &c, &id), PBF_ERROR_INVALID_ARGUMENT, needle);
+        CHECK(id.index == 0);
+        CHECK(id.generation == 0);
+        if (id.generation != 0) pbf_world_destroy_collider(w, id);  // accepted by mistake: keep the table free
+    };
+
+    for (float bad : kBad) {
+        INFO("value " << bad_name(bad));
+        for (pbf_collider_shape shape : {PBF_SHAPE_PLANE, PBF_SHAPE_SPHERE, PBF_SHAPE_CAPSULE, PBF_SHAPE_BOX}) {
+            INFO("shape " << int(shape));
+            const pbf_collider_desc base = collider_desc(shape, PBF_MOTION_KINEMATIC);
+            for (int a = 0; a < 3; ++a) {
+                INFO("axis " << a);
+                pbf_collider_desc c = base;
+                c.position[a] = bad;
+                refuse(c, "position");
+                c = base;
+                c.half_extents[a] = bad;
+                refuse(c, "half_extents");
+            }
+            for (int a = 0; a < 4; ++a) {
+                pbf_collider_desc c = base;
+                c.rotation[a] = bad;
+                refuse(c, "rotation");
+            }
+            pbf_collider_desc c = base;
+            c.radius = bad;
+            refuse(c, "radius");
+            c = base;
+            c.half_height = bad;
+            refuse(c, "half_height");
+            c = base;
+            c.friction = bad;
+            refuse(c, "friction");
+        }
+    }
+
+    struct Case {
+        const char* what;
+        pbf_collider_desc (*make)();
+        const char* needle;
+    };
+    const Case cases[] = {
+        {"shape 0", [] { return collider_desc(static_cast<pbf_collider_shape>(0)); }, "shape"},
+        {"shape 99", [] { return collider_desc(static_cast<pbf_collider_shape>(99)); }, "shape"},
+        {"unset shape", [] { return pbf_collider_desc_default(); }, "shape"},
+        {"motion 5", [] { return collider_desc(PBF_SHAPE_SPHERE, static_cast<pbf_collider_motion>(5)); }, "motion"},
+        {"zero quaternion", [] { pbf_collider_desc c = collider_desc(PBF_SHAPE_BOX); c.rotation[3] = 0; return c; }, "rotation"},
+        {"friction 1.5", [] { pbf_collider_desc c = collider_desc(PBF_SHAPE_BOX); c.friction = 1.5f; return c; }, "friction"},
+        {"friction -0.5", [] { pbf_collider_desc c = collider_desc(PBF_SHAPE_BOX); c.friction = -0.5f; return c; }, "friction"},
+        {"sphere radius 0", [] { pbf_collider_desc c = collider_desc(PBF_SHAPE_SPHERE); c.radius = 0; return c; }, "radius"},
+        {"capsule half_height -1", [] { pbf_collider_desc c = collider_desc(PBF_SHAPE_CAPSULE); c.half_height = -1; return c; }, "half_height"},
+        {"box half_extents 0", [] { pbf_collider_desc c = collider_desc(PBF_SHAPE_BOX); c.half_extents[1] = 0; return c; }, "half_extents"},
+    };
+    for (const Case& c : cases) {
+        INFO(c.what);
+        refuse(c.make(), c.needle);
+    }
+
+    // set_pose: NaN and Inf in the position, the quaternion, and a zero quaternion.
+    pbf_collider_id kin{};
+    const pbf_collider_desc kin_desc = collider_desc(PBF_SHAPE_SPHERE, PBF_MOTION_KINEMATIC);
+    REQUIRE_OK(pbf_world_create_collider(w, &kin_desc, &kin));
+    for (float bad : kBad) {
+        INFO("value " << bad_name(bad));
+        for (int a = 0; a < 3; ++a) {
+            float p[3] = {0, 0.6f, 0};
+            const float q[4] = {0, 0, 0, 1};
+            p[a] = bad;
+            CHECK_FAILS(pbf_collider_set_pose(w, kin, p, q), PBF_ERROR_INVALID_ARGUMENT, "position");
+        }
+        for (int a = 0; a < 4; ++a) {
+            const float p[3] = {0, 0.6f, 0};
+            float q[4] = {0, 0, 0, 1};
+            q[a] = bad;
+            CHECK_FAILS(pbf_collider_set_pose(w, kin, p, q), PBF_ERROR_INVALID_ARGUMENT, "rotation");
+        }
+    }
+    const float p[3] = {0, 0.6f, 0}, q0[4] = {0, 0, 0, 0};
+    CHECK_FAILS(pbf_collider_set_pose(w, kin, p, q0), PBF_ERROR_INVALID_ARGUMENT, "rotation");
+    // A valid pose (unnormalised quaternion is normalised) still works.
+    const float q2[4] = {0, 0, 0, 2};
+    REQUIRE_OK(pbf_collider_set_pose(w, kin, p, q2));
+    w.require_usable(n);
+}
+
+TEST_CASE("set_gravity, set_solver_params and step: NaN, Inf and bad dt are refused", "[api][nan][step]") {
+    TestWorld w;
+    const uint32_t n = w.emit_default_block();
+    const std::vector<float> before = w.positions();
+    const pbf_solver_params params_before = w.params();
+
+    for (float bad : kBad) {
+        for (int a = 0; a < 3; ++a) {
+            INFO(bad_name(bad) << " on axis " << a);
+            float g[3] = {0, -9.81f, 0};
+            g[a] = bad;
+            CHECK_FAILS(pbf_world_set_gravity(w, g), PBF_ERROR_INVALID_ARGUMENT, "gravity");
+        }
+        const std::pair<float pbf_solver_params::*, const char*> fields[] = {
+            {&pbf_solver_params::relaxation, "relaxation"},
+            {&pbf_solver_params::scorr_k, "scorr_k"},
+            {&pbf_solver_params::scorr_n, "scorr_n"},
+            {&pbf_solver_params::scorr_dq, "scorr_dq"},
+            {&pbf_solver_params::xsph_c, "xsph_c"},
+            {&pbf_solver_params::vorticity_epsilon, "vorticity_epsilon"},
+            {&pbf_solver_params::ldc_gain, "ldc_gain"},
+            {&pbf_solver_params::max_speed, "max_speed"},
+        };
+        for (const auto& f : fields) {
+            INFO(bad_name(bad) << " in solver." << f.second);
+            pbf_solver_params p = params_before;
+            p.*f.first = bad;
+            CHECK_FAILS(pbf_world_set_solver_params(w, &p), PBF_ERROR_INVALID_ARGUMENT, f.second);
+        }
+    }
+    for (uint32_t it : {0u, 65u}) {
+        pbf_solver_params p = params_before;
+        p.iterations = it;
+        CHECK_FAILS(pbf_world_set_solver_params(w, &p), PBF_ERROR_INVALID_ARGUMENT, "iterations");
+    }
+    for (uint32_t sub : {0u, 17u}) {
+        pbf_solver_params p = params_before;
+        p.substeps = sub;
+        CHECK_FAILS(pbf_world_set_solver_params(w, &p), PBF_ERROR_INVALID_ARGUMENT, "substeps");
+    }
+    {
+        pbf_solver_params p = params_before;
+        p.ldc_enabled = 2;
+        CHECK_FAILS(pbf_world_set_solver_params(w, &p), PBF_ERROR_INVALID_ARGUMENT, "ldc_enabled");
+    }
+
+    const float bad_dts[] = {kNaN, kInf, -kInf, 0.0f, -0.0f, -kDt, -1.0f, 1.0001f, 2.0f, 1e30f};
+    for (float dt : bad_dts) {
+        INFO("dt " << dt);
+        CHECK_FAILS(pbf_world_step(w, dt), PBF_ERROR_INVALID_ARGUMENT, "dt");
+    }
+    // Nothing moved, nothing was applied.
+    CHECK(same_bits(w.positions(), before));
+    CHECK(same_params(w.params(), params_before));
+    pbf_step_stats s{};
+    s.struct_size = sizeof s;
+    REQUIRE_OK(pbf_world_get_stats(w, &s));
+    CHECK(s.step_index == 0u);
+    // The boundary dt = 1 is accepted.
+    REQUIRE_OK(pbf_world_step(w, 1.0f));
+    w.require_usable(n);
+}
