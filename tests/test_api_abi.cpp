@@ -115,7 +115,10 @@ TEST_CASE("desc_init: wrong struct_size and NULL are refused", "[api][struct_siz
     CHECK(d.gravity[1] == Approx(-9.81f));
     CHECK(d.solver.struct_size == sizeof(pbf_solver_params));
     CHECK(d.solver.iterations == 4u);
-    CHECK(d.solver.substeps == 1u);
+    CHECK(d.solver.substeps == 0u);  // automatic
+    CHECK(d.solver.max_substeps == 16u);
+    CHECK(d.solver.substep_travel == Approx(0.5f));
+    CHECK(d.solver.sound_speed == Approx(10.0f));
     CHECK(d.solver.max_speed == Approx(100.0f));
     const pbf_emitter_desc e = pbf_emitter_desc_default();
     CHECK(e.enabled == 1u);

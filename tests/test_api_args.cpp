@@ -66,8 +66,13 @@ TEST_CASE("world desc: NaN, Inf and out-of-range fields are refused", "[api][nan
     const Case cases[] = {
         {"iterations 0", [](pbf_world_desc& d) { d.solver.iterations = 0; }, "iterations"},
         {"iterations 65", [](pbf_world_desc& d) { d.solver.iterations = 65; }, "iterations"},
-        {"substeps 0", [](pbf_world_desc& d) { d.solver.substeps = 0; }, "substeps"},
-        {"substeps 17", [](pbf_world_desc& d) { d.solver.substeps = 17; }, "substeps"},
+        {"substeps 65", [](pbf_world_desc& d) { d.solver.substeps = 65; }, "substeps"},
+        {"max_substeps 0", [](pbf_world_desc& d) { d.solver.max_substeps = 0; }, "max_substeps"},
+        {"max_substeps 65", [](pbf_world_desc& d) { d.solver.max_substeps = 65; }, "max_substeps"},
+        {"substep_travel 0.01", [](pbf_world_desc& d) { d.solver.substep_travel = 0.01f; }, "substep_travel"},
+        {"substep_travel NaN", [](pbf_world_desc& d) { d.solver.substep_travel = NAN; }, "substep_travel"},
+        {"sound_speed 0", [](pbf_world_desc& d) { d.solver.sound_speed = 0.0f; }, "sound_speed"},
+        {"sound_speed Inf", [](pbf_world_desc& d) { d.solver.sound_speed = INFINITY; }, "sound_speed"},
         {"ldc_enabled 2", [](pbf_world_desc& d) { d.solver.ldc_enabled = 2; }, "ldc_enabled"},
         {"relaxation 0", [](pbf_world_desc& d) { d.solver.relaxation = 0; }, "relaxation"},
         {"max_speed 0", [](pbf_world_desc& d) { d.solver.max_speed = 0; }, "max_speed"},
@@ -325,7 +330,7 @@ TEST_CASE("set_gravity, set_solver_params and step: NaN, Inf and bad dt are refu
         p.iterations = it;
         CHECK_FAILS(pbf_world_set_solver_params(w, &p), PBF_ERROR_INVALID_ARGUMENT, "iterations");
     }
-    for (uint32_t sub : {0u, 17u}) {
+    for (uint32_t sub : {65u, 1000u}) {
         pbf_solver_params p = params_before;
         p.substeps = sub;
         CHECK_FAILS(pbf_world_set_solver_params(w, &p), PBF_ERROR_INVALID_ARGUMENT, "substeps");

@@ -482,7 +482,7 @@ namespace Pbf.Interop
         public const string Library = "pbf";
 #endif
 
-        public const uint PBF_VERSION_MAJOR = 1;
+        public const uint PBF_VERSION_MAJOR = 2;
         public const uint PBF_VERSION_MINOR = 0;
         public const uint PBF_VERSION_PATCH = 0;
         /// <summary>The header version these bindings mirror: major in bits 22..31, minor in 12..21, patch in 0..11.</summary>
