@@ -110,22 +110,30 @@ typedef struct pbf_solver_params {
     uint32_t struct_size;
     uint32_t iterations;        /* density-constraint iterations per substep, 1..64 (default 4) */
     uint32_t substeps;          /* substeps per pbf_world_step. 0 (default): automatic, chosen per
-                                   step so that the fastest particle moves at most substep_travel·h
-                                   per substep, up to max_substeps. 1..64: exactly that many. */
+                                   step (from the last finished step's fastest particle, read
+                                   without waiting, the nozzles and the kinematic colliders) so that
+                                   the fastest particle moves at most substep_travel·h per substep
+                                   and gravity alone moves a resting one at most substep_travel·h/64,
+                                   up to max_substeps. 1..64: exactly that many. */
     float relaxation;           /* ε of λ (constraint force mixing), relative to the constraint
                                    gradient norm of a particle at rest density; > 0 (default 1).
                                    Smaller converges faster per iteration but a Jacobi sweep
                                    overshoots and a resting fluid boils. */
-    float scorr_k;              /* tensile instability s_corr = -k (W(r)/W(Δq))^n; >= 0 (default 0.1) */
+    float scorr_k;              /* tensile instability s_corr = -k (W(r)/W(Δq))^n, 0..1 (default 0.1) */
     float scorr_n;              /* exponent n, 1..8 (default 4) */
     float scorr_dq;             /* Δq as a fraction of h, 0..1 (default 0.2) */
-    float xsph_c;               /* XSPH viscosity c, 0..1 (default 0.01) */
+    float xsph_c;               /* XSPH viscosity c per 1/60 s of simulated time, 0..1 (default 0.01):
+                                   a substep of Δt applies 1 - (1 - c)^(60 Δt), so the smoothing
+                                   does not depend on the substep count. */
     float vorticity_epsilon;    /* vorticity confinement ε, in m/s; >= 0 (default 0.0005) */
     uint32_t ldc_enabled;       /* 1: Local Density Calibration before the iterations (default 1) */
     float ldc_gain;             /* LDC strength as K·Δt² (dimensionless; Δt the substep), so the
-                                   paper's K = ldc_gain / Δt². 0..1 (default 0.3). LDC acts on
-                                   compression only: densities below rest count as rest. */
-    float max_speed;            /* particle speed clamp in m/s, > 0 (default 100) */
+                                   paper's K = ldc_gain / (Δt² + τ²), τ = h / sound_speed. 0..1
+                                   (default 0.3). LDC acts on compression only: densities below
+                                   rest count as rest. */
+    float max_speed;            /* particle speed limit in m/s, > 0 (default 100). A substep also
+                                   limits speed to h/Δt (no particle crosses more than h per
+                                   substep); stats count the particle-substeps either limit cut. */
     float adaptive_error_target;/* 0 (default): run exactly `iterations` per substep. > 0: stop a
                                    substep's iterations once the mean compressive density error
                                    max(ρ/ρ0 - 1, 0), measured by the λ pass, is below this (e.g.
@@ -133,13 +141,16 @@ typedef struct pbf_solver_params {
                                    least one iteration. Decided on the device: the step still never
                                    waits. Stats report iterations run. */
     uint32_t max_substeps;      /* cap of the automatic substep count, 1..64 (default 16). A step that
-                                   would need more runs this many, and the speed limit below keeps
+                                   would need more runs this many, and the h/Δt speed limit keeps
                                    every particle within h per substep (stats count the cuts). */
     float substep_travel;       /* automatic substeps: the fastest particle's travel per substep, as a
                                    fraction of h, 0.05..1 (default 0.5) */
-    float sound_speed;          /* m/s, > 0 (default 40): the solver removes a density error no faster
-                                   than over h / sound_speed (the constraint's compliance), so a very
-                                   small dt cannot turn an old error into a large velocity. */
+    float sound_speed;          /* m/s, > 0 (default 10): the response speed of the density
+                                   constraint to an error older than the substep. Such an error
+                                   relaxes over τ = h / sound_speed rather than in one substep, so
+                                   the velocity its removal creates stays near error · sound_speed
+                                   whatever dt is (a tiny dt cannot turn an old error into a large
+                                   velocity); new compression is removed in full every substep. */
 } pbf_solver_params;
 
 /* Fills the library's defaults. Prefer pbf_solver_params_default(). */
@@ -189,8 +200,9 @@ static inline pbf_world_desc pbf_world_desc_default(void) {
 PBF_API pbf_result PBF_CALL pbf_world_create(const pbf_world_desc* desc, pbf_world_id* out_world);
 PBF_API pbf_result PBF_CALL pbf_world_destroy(pbf_world_id world);
 
-/* Advances by dt seconds (0 < dt <= 1), split into solver.substeps substeps. On CUDA the work
- * is queued on the world's stream: the call returns without waiting for the GPU. */
+/* Advances by dt seconds (0 < dt <= 1; successive calls may use any dt), split into substeps
+ * (solver.substeps, or chosen automatically; pbf_step_stats.substeps says how many ran). On CUDA
+ * the work is queued on the world's stream: the call returns without waiting for the GPU. */
 PBF_API pbf_result PBF_CALL pbf_world_step(pbf_world_id world, float dt);
 
 PBF_API pbf_result PBF_CALL pbf_world_get_solver_params(pbf_world_id world, pbf_solver_params* out_params);
@@ -232,8 +244,10 @@ PBF_API pbf_result PBF_CALL pbf_world_get_stats(pbf_world_id world, pbf_step_sta
 
 /* ---- Emitters and drains ------------------------------------------------------------------ */
 /* One-shot fill of an axis-aligned box with particles on a cubic lattice at rest spacing.
- * Emits what fits under max_particles; *out_emitted (may be NULL) says how many. Emitting zero
- * because the world is full returns PBF_ERROR_CAPACITY. */
+ * Lattice points outside the walls (centres closer than particle_radius to the domain's faces)
+ * are dropped; a box with none inside is refused (PBF_ERROR_INVALID_ARGUMENT). Emits what fits
+ * under max_particles; *out_emitted (may be NULL) says how many. Emitting zero because the
+ * world is full returns PBF_ERROR_CAPACITY. */
 typedef struct pbf_block_desc {
     uint32_t struct_size;
     float box_min[3];
@@ -311,7 +325,9 @@ typedef struct pbf_collider_desc {
     float radius;               /* sphere, capsule */
     float half_height;          /* capsule */
     float half_extents[3];      /* box */
-    float friction;             /* 0 (slip) .. 1 (stick) tangential damping on contact (default 0) */
+    float friction;             /* Coulomb friction coefficient μ, 0..1 (default 0, slip): on contact
+                                   the tangential motion relative to the collider is removed up
+                                   to μ times the depth the contact pushed the particle out */
 } pbf_collider_desc;
 PBF_API pbf_result PBF_CALL pbf_collider_desc_init(pbf_collider_desc* desc, uint32_t struct_size);
 static inline pbf_collider_desc pbf_collider_desc_default(void) {

@@ -88,8 +88,8 @@ inline pbf_emitter_desc nozzle_desc() {
     e.position[1] = 0.7f;
     e.position[2] = 0.0f;
     e.speed = 1.0f;
-    e.radius = 0.05f;
-    e.particles_per_second = 600.0f;
+    e.radius = 0.15f;
+    e.particles_per_second = 500.0f;  // the disc carries π 0.15² / 0.05² x 1 / 0.05 = 565 per second
     return e;
 }
 

@@ -126,9 +126,14 @@ TEST_CASE("robustness: particles emitted outside the domain or with extreme fini
     pbf_world_desc d = small_desc();
     d.solver.max_speed = 20.0f;
     TestWorld w(d);
-    // A block above the domain and one beside it, with an absurd but finite velocity.
-    CHECK(w.emit(block(0.0f, 5.0f, 0.0f, 0.11f, 5.11f, 0.11f)) > 0u);
-    pbf_block_desc fast = block(-3.0f, 0.2f, -0.1f, -2.89f, 0.31f, 0.01f);
+    // A block above the domain is refused; one across its side wall is clipped to the walls,
+    // and one inside has an absurd but finite velocity.
+    pbf_block_desc above = block(0.0f, 5.0f, 0.0f, 0.11f, 5.11f, 0.11f);
+    uint32_t none = 3;
+    CHECK(pbf_world_emit_block(w, &above, &none) == PBF_ERROR_INVALID_ARGUMENT);
+    CHECK(none == 0u);
+    CHECK(w.emit(block(-3.0f, 0.2f, -0.1f, -0.39f, 0.31f, 0.01f)) > 0u);
+    pbf_block_desc fast = block(0.1f, 0.2f, -0.1f, 0.21f, 0.31f, 0.01f);
     fast.velocity[0] = 1e30f;
     CHECK(w.emit(fast) > 0u);
     const float g[3] = {1e30f, -1e30f, 0.0f};

@@ -105,7 +105,7 @@ TEST_CASE("CUDA: nozzle, drain and capacity accounting is exact", "[gpu]") {
     e.type = PBF_EMITTER_NOZZLE;
     set3(e.position, 0.3f, 0.45f, 0.15f);
     e.speed = 1.0f;
-    e.radius = 0.05f;
+    e.radius = 0.125f;  // the disc carries π 0.125² / 0.025² x 1 / 0.025 = 3142 per second
     e.particles_per_second = 3000.0f;
     pbf_emitter_id nozzle, drain;
     REQUIRE_PBF(pbf_world_create_emitter(w, &e, &nozzle));

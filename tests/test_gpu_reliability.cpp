@@ -97,7 +97,7 @@ TEST_CASE("CUDA capacity: emitting past capacity is refused cleanly", "[gpu][rel
     pbf_emitter_desc n = pbf_emitter_desc_default();
     n.type = PBF_EMITTER_NOZZLE;
     scene::set3(n.position, 0.25f, 0.45f, 0.25f);
-    n.speed = 1.0f;
+    n.speed = 5000.0f;  // so that the disc carries 10^6 per second
     n.radius = 0.1f;
     n.particles_per_second = 1e6f;
     pbf_emitter_id nozzle{};

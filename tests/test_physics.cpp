@@ -278,3 +278,51 @@ TEST_CASE("particle ids wrap past 0xFFFFFFFE to 0 and never take the dead marker
     CHECK(count == 4u);
     for (uint32_t k = 0; k < 4; ++k) CHECK(ids[k] != kDeadId);
 }
+
+TEST_CASE("collider friction is Coulomb: tangential motion removed up to mu times the contact depth", "[collide]") {
+    Scene sc(0.05f);
+    const float r = sc.s.radius;
+    const Collider floor{kShapePlane, 0.0f, 0.0f, 0.5f, Vec3{0, 0, 0}};
+    const ColliderPose at_origin{Vec3{0, 0, 0}, Mat3{{1, 0, 0, 0, 1, 0, 0, 0, 1}}};
+    const ColliderView set{&floor, &at_origin, &at_origin, 1};
+    // Pushed out by depth 0.2 r while sliding 0.1 r: static friction holds it (0.1 r <= mu 0.2 r).
+    const Vec3 slow = collide(sc.s, set, Vec3{0.1f * r, 0.8f * r, 0.0f}, Vec3{0, r, 0});
+    CHECK(slow.y == Approx(r).margin(1e-6));
+    CHECK(slow.x == Approx(0.0f).margin(1e-6));
+    // Sliding 1.0 r with depth 0.2 r: kinetic friction removes mu x depth = 0.1 r of it.
+    const Vec3 fast = collide(sc.s, set, Vec3{1.0f * r, 0.8f * r, 0.0f}, Vec3{0, r, 0});
+    CHECK(fast.x == Approx(0.9f * r).epsilon(1e-4));
+    // No contact, no friction.
+    const Vec3 free = collide(sc.s, set, Vec3{1.0f * r, 2.0f * r, 0.0f}, Vec3{0, 2.0f * r, 0});
+    CHECK(free.x == Approx(1.0f * r).epsilon(1e-6));
+}
+
+TEST_CASE("boundary density: a rest lattice against a wall has rest density in its first layer", "[boundary]") {
+    // γ is computed from the lattice; with it, Φ at one radius plus the layers present equals rest.
+    const float spacing = 0.05f, h = 2.0f * spacing;
+    const float gamma = boundary_lattice_scale(spacing, h);
+    CHECK(gamma > 0.8f);
+    CHECK(gamma < 1.0f);
+    CHECK(boundary_phi(0.0f) == Approx(0.5f));
+    CHECK(boundary_phi(1.0f) == 0.0f);
+    // Φ' is Φ's derivative.
+    for (float t : {0.1f, 0.25f, 0.5f, 0.8f}) {
+        const float numeric = (boundary_phi(t + 1e-3f) - boundary_phi(t - 1e-3f)) / 2e-3f;
+        CHECK(boundary_phi_slope(t) == Approx(numeric).epsilon(2e-3));
+    }
+    // A half lattice (y >= radius) filling the half-space above a floor at y = 0, through the
+    // density op with the walls on: the first layer's density ratio is 1 within 0.5 %.
+    Scene sc(spacing);
+    sc.s.boundary_scale = gamma;
+    sc.s.boundary_min = Vec3{-100, 0, -100};
+    sc.s.wall_min = Vec3{-100, 0.5f * spacing, -100};
+    const int n = 9;
+    for (int z = 0; z < n; ++z)
+        for (int y = 0; y < 4; ++y)
+            for (int x = 0; x < n; ++x) sc.add(Vec3{x * spacing, (y + 0.5f) * spacing, z * spacing});
+    sc.finish();
+    sc.densities(sc.pos);
+    const uint32_t centre_floor = (n / 2) * 4 * n + 0 * n + n / 2;
+    CHECK(sc.pos[centre_floor].y == Approx(0.5f * spacing));
+    CHECK(sc.density[centre_floor] / sc.s.rest_density == Approx(1.0f).epsilon(5e-3));
+}

@@ -98,7 +98,7 @@ TEST_CASE("nozzle emits particles_per_second, drains remove, accounting is exact
     set3(e.position, 0.15f, 0.45f, 0.15f);
     set3(e.direction, 1, 0, 0);
     e.speed = 1.0f;
-    e.radius = 0.05f;
+    e.radius = 0.08f;  // the disc carries π 0.08² / 0.025² x 1 / 0.025 = 1287 per second
     e.particles_per_second = 1200.0f;
     pbf_emitter_id nozzle;
     REQUIRE_PBF(pbf_world_create_emitter(w, &e, &nozzle));
@@ -147,8 +147,8 @@ TEST_CASE("a nozzle in a nearly full world stops at capacity and corrupts nothin
     pbf_emitter_desc e = pbf_emitter_desc_default();
     e.type = PBF_EMITTER_NOZZLE;
     set3(e.position, 0.3f, 0.4f, 0.15f);
-    e.speed = 1.0f;
-    e.radius = 0.05f;
+    e.speed = 4.0f;
+    e.radius = 0.1f;  // the disc carries π 0.1² / 0.025² x 4 / 0.025 = 8042 per second
     e.particles_per_second = 6000.0f;
     pbf_emitter_id nozzle;
     REQUIRE_PBF(pbf_world_create_emitter(w, &e, &nozzle));

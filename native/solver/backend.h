@@ -133,7 +133,6 @@ public:
     virtual Status read_stats(const WorldConstants& constants, StatsReadback* out) = 0;
     // Milliseconds the last step took on the backend (waits for it).
     virtual Status last_step_ms(float* ms) = 0;
-    virtual Status map_positions(void** data, uint32_t* count) = 0;
     // For zero-copy interop. The world's CUDA stream (null on the CPU backend).
     virtual void* cuda_stream() const = 0;
     // The live buffers in backend memory, without waiting or reading anything back: valid until

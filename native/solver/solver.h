@@ -246,13 +246,6 @@ public:
         return exec_.check("step timer");
     }
 
-    Status map_positions(void** data, uint32_t* count) override {
-        exec_.activate();
-        Status st = read_count(count);
-        *data = pos_;
-        return st;
-    }
-
     void* cuda_stream() const override { return exec_.native_stream(); }
     LiveBuffers live_buffers() override {
         LiveBuffers b;

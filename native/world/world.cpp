@@ -194,7 +194,8 @@ StepContext World::step_context(float sub_dt) const {
 
 // Substeps for a step of dt: fixed, or from the fastest motion expected over the step: the
 // latest finished step's fastest particle (read without waiting), particles emitted since, the
-// nozzles, and the kinematic colliders' surface speed; plus what gravity adds over dt.
+// nozzles, and the kinematic colliders' surface speed; plus what gravity adds over dt; and at
+// least enough that gravity alone moves a resting particle little per substep.
 uint32_t World::substeps_for(float dt) {
     if (params_.substeps > 0) return params_.substeps;
     const StepFeedback fb = backend_->feedback();
@@ -213,8 +214,14 @@ uint32_t World::substeps_for(float dt) {
         const float angle = to_quat(e.rotation).angularDistance(to_quat(e.target_rotation));
         v = std::fmax(v, (length(e.target_position - e.position) + angle * reach) / dt);
     });
-    v += length(gravity_) * dt;
-    const double n = std::ceil(double(v) * dt / (double(params_.substep_travel) * h_));
+    const double g = length(gravity_);
+    v += float(g) * dt;
+    const double travel = double(params_.substep_travel) * h_;
+    double n = std::ceil(double(v) * dt / travel);
+    // Deep fluid at rest: gravity moves every particle g·Δt² per substep and the iterations
+    // must carry that to the floor; a column many layers deep compresses (and its rebound adds
+    // energy) unless g·Δt² stays under travel / 64 (measured on the frame benchmark's tank).
+    if (g > 0.0) n = std::max(n, std::ceil(dt * std::sqrt(64.0 * g / travel) - 1e-6));
     return static_cast<uint32_t>(std::clamp(n, 1.0, double(params_.max_substeps)));
 }
 
@@ -324,37 +331,49 @@ Status World::get_stats(pbf_step_stats* out) {
     return Status{};
 }
 
+void World::set_nozzle_direction(pbf_emitter_desc& d, Vec3 direction) {
+    const Vec3 unit = direction * (1.0f / length(direction));
+    d.direction[0] = unit.x;
+    d.direction[1] = unit.y;
+    d.direction[2] = unit.z;
+}
+
 Status World::emit_block(const pbf_block_desc& d, uint32_t* emitted) {
-    const float s = rest_spacing();
-    // Lattice points x = min + s/2 + k·s inside the box (at least one per axis).
-    auto points = [&](int axis) {
-        const double n = std::floor((d.box_max[axis] - d.box_min[axis]) / s + 1e-4);  // 0.15 / 0.05 is 3, not 2
-        return static_cast<uint32_t>(std::clamp(n, 1.0, double(desc_.max_particles)));
-    };
-    // Lattice points outside the walls (centres closer than one radius to the domain's faces)
-    // are dropped: clamped onto the wall they would pile up on one plane.
-    uint32_t first[3], count[3];
+    const double s = rest_spacing();
+    // Lattice points x = min + s/2 + k·s inside the box (at least one per axis). Points outside
+    // the walls (centres closer than one radius to the domain's faces) are dropped: clamped onto
+    // the wall they would pile up on one plane.
+    const double wall_lo[3] = {constants_.wall_min.x, constants_.wall_min.y, constants_.wall_min.z};
+    const double wall_hi[3] = {constants_.wall_max.x, constants_.wall_max.y, constants_.wall_max.z};
+    double origin[3];
+    uint32_t count[3];
     for (int axis = 0; axis < 3; ++axis) {
-        const double n = points(axis);
-        const double x0 = double(d.box_min[axis]) + 0.5 * s;
-        const double wmin = axis == 0 ? constants_.wall_min.x : axis == 1 ? constants_.wall_min.y : constants_.wall_min.z;
-        const double wmax = axis == 0 ? constants_.wall_max.x : axis == 1 ? constants_.wall_max.y : constants_.wall_max.z;
-        const double k0 = std::max(0.0, std::ceil((wmin - x0) / s - 1e-4));
-        const double k1 = std::min(n - 1.0, std::floor((wmax - x0) / s + 1e-4));
+        const double lo = d.box_min[axis], hi = d.box_max[axis];
+        const double n = std::max(1.0, std::floor((hi - lo) / s + 1e-4));  // 0.15 / 0.05 is 3, not 2
+        double x0 = lo + 0.5 * s;
+        double k0 = std::max(0.0, std::ceil((wall_lo[axis] - x0) / s - 1e-4));
+        double k1 = std::min(n - 1.0, std::floor((wall_hi[axis] - x0) / s + 1e-4));
+        if (std::fabs(lo) > 1e6 * s && k0 <= k1) {
+            // A box so far out that its anchor cannot place a lattice point to float precision:
+            // the lattice starts at the wall instead.
+            x0 = std::max(lo + 0.5 * s, wall_lo[axis]);
+            k0 = 0.0;
+            k1 = std::floor((std::min(hi - 0.5 * s, wall_hi[axis]) - x0) / s + 1e-4);
+        }
         if (!(k0 <= k1)) {
             return Status::error(PBF_ERROR_INVALID_ARGUMENT,
                                  "the block lies outside the walls (particle centres stay one particle_radius "
                                  "inside domain_min..domain_max); nothing was emitted");
         }
-        first[axis] = static_cast<uint32_t>(k0);
-        count[axis] = static_cast<uint32_t>(k1 - k0 + 1.0);
+        origin[axis] = x0 + k0 * s;
+        count[axis] = static_cast<uint32_t>(std::min(k1 - k0 + 1.0, double(desc_.max_particles)));
     }
     BlockEmission b{};
     b.nx = count[0];
     b.ny = count[1];
     b.nz = count[2];
-    b.spacing = s;
-    b.origin = to_vec3(d.box_min) + Vec3{(0.5f + first[0]) * s, (0.5f + first[1]) * s, (0.5f + first[2]) * s};
+    b.spacing = static_cast<float>(s);
+    b.origin = Vec3{float(origin[0]), float(origin[1]), float(origin[2])};
     b.velocity = to_vec3(d.velocity);
     if (uint64_t(b.nx) * b.ny * b.nz > desc_.max_particles) {
         // Emit what fits: the lattice is filled x-first, so whole layers in z are kept.
@@ -371,14 +390,38 @@ Status World::emit_block(const pbf_block_desc& d, uint32_t* emitted) {
     return st;
 }
 
+// A nozzle the solver can honour: its disc centre inside the walls (particles emitted outside
+// would be clamped onto a wall and pile up there), and a rate its disc can carry at rest
+// spacing (faster, particles would be emitted on top of each other).
+Status World::check_nozzle(const pbf_emitter_desc& d, Vec3 position) const {
+    const Vec3 lo = constants_.wall_min, hi = constants_.wall_max;
+    if (position.x < lo.x || position.y < lo.y || position.z < lo.z || position.x > hi.x || position.y > hi.y ||
+        position.z > hi.z)
+        return Status::error(PBF_ERROR_INVALID_ARGUMENT,
+                             "the nozzle's position lies outside the walls (particle centres stay one "
+                             "particle_radius inside domain_min..domain_max)");
+    const double s = rest_spacing();
+    const double disc_points = std::max(1.0, kPi * double(d.radius) * d.radius / (s * s));
+    const double carried = disc_points * d.speed / s;
+    if (d.particles_per_second > carried * 1.0001) {
+        char text[200];
+        std::snprintf(text, sizeof text,
+                      "particles_per_second %g exceeds what the nozzle carries at rest spacing (%.6g: disc area / "
+                      "spacing² x speed / spacing); raise its speed or radius",
+                      double(d.particles_per_second), carried);
+        return Status::error(PBF_ERROR_INVALID_ARGUMENT, text);
+    }
+    return Status{};
+}
+
 Status World::create_emitter(const pbf_emitter_desc& desc, pbf_emitter_id* out) {
     EmitterEntry e;
     e.desc = desc;
-    Vec3 dir = to_vec3(desc.direction);
-    dir = dir * (1.0f / length(dir));
-    e.desc.direction[0] = dir.x;
-    e.desc.direction[1] = dir.y;
-    e.desc.direction[2] = dir.z;
+    if (desc.type == PBF_EMITTER_NOZZLE) {
+        Status st = check_nozzle(desc, to_vec3(desc.position));
+        if (!st.ok()) return st;
+        set_nozzle_direction(e.desc, to_vec3(desc.direction));
+    }
     const auto h = emitters_.insert(e);
     *out = pbf_emitter_id{h.index, h.generation};
     return Status{};
@@ -405,18 +448,5 @@ Status World::create_collider(const pbf_collider_desc& d, pbf_collider_id* out) 
     return colliders_changed();
 }
 
-Status World::map_positions(pbf_mapped_buffer* out) {
-    void* data = nullptr;
-    uint32_t count = 0;
-    Status st = backend_->map_positions(&data, &count);
-    if (!st.ok()) return st;
-    out->memory = backend_->kind() == PBF_BACKEND_CUDA ? PBF_MEMORY_CUDA_DEVICE : PBF_MEMORY_HOST;
-    out->data = data;
-    out->count = count;
-    out->stride_bytes = 16;
-    out->reserved0 = out->reserved1 = 0;
-    mapped_ = true;
-    return Status{};
-}
 
 }  // namespace pbf

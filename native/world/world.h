@@ -72,9 +72,7 @@ public:
     Status copy_positions(float* out, uint32_t max, uint32_t* written) { return backend_->copy_vec4(0, out, max, written); }
     Status copy_velocities(float* out, uint32_t max, uint32_t* written) { return backend_->copy_vec4(1, out, max, written); }
     Status copy_ids(uint32_t* out, uint32_t max, uint32_t* written) { return backend_->copy_ids(out, max, written); }
-    Status map_positions(pbf_mapped_buffer* out);
     void unmap() { mapped_ = false; }
-    void mark_mapped() { mapped_ = true; }  // a mapping made by another layer (device buffers)
     bool mapped() const { return mapped_; }
 
     float rest_spacing() const { return 2.0f * desc_.particle_radius; }
@@ -115,6 +113,8 @@ public:
 private:
     World() = default;
     void update_constants();
+    Status check_nozzle(const pbf_emitter_desc& d, Vec3 position) const;
+    static void set_nozzle_direction(pbf_emitter_desc& d, Vec3 direction);
     uint32_t substeps_for(float dt);
     StepContext step_context(float sub_dt) const;
     Status colliders_changed();

@@ -23,12 +23,10 @@ Status World::set_emitter_transform(pbf_emitter_id id, const float a[3], const f
     EmitterEntry* e = find_emitter(id);
     if (!e) return Status::error(PBF_ERROR_INVALID_HANDLE, "emitter is not live");
     if (e->desc.type == PBF_EMITTER_NOZZLE) {
-        const Vec3 dir = Vec3{b[0], b[1], b[2]} * (1.0f / length(Vec3{b[0], b[1], b[2]}));
-        const float unit[3] = {dir.x, dir.y, dir.z};
-        for (int k = 0; k < 3; ++k) {
-            e->desc.position[k] = a[k];
-            e->desc.direction[k] = unit[k];
-        }
+        Status st = check_nozzle(e->desc, Vec3{a[0], a[1], a[2]});
+        if (!st.ok()) return st;
+        for (int k = 0; k < 3; ++k) e->desc.position[k] = a[k];
+        set_nozzle_direction(e->desc, Vec3{b[0], b[1], b[2]});
     } else {
         for (int k = 0; k < 3; ++k) {
             e->desc.box_min[k] = a[k];

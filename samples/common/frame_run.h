@@ -26,6 +26,7 @@ struct FrameCase {
     double wall_budget_s = 1e9;  // a run past it stops (as unstable: it is crawling)
     float scorr_k = -1.0f;       // < 0: the library's default
     float relaxation = -1.0f;    // < 0: the library's default
+    float substep_travel = -1.0f;  // < 0: the library's default (automatic substeps)
 };
 
 struct FrameResult {
@@ -63,6 +64,7 @@ inline FrameResult run_frames(const FrameCase& fc) {
     d.solver.max_substeps = fc.max_substeps;
     if (fc.scorr_k >= 0.0f) d.solver.scorr_k = fc.scorr_k;
     if (fc.relaxation > 0.0f) d.solver.relaxation = fc.relaxation;
+    if (fc.substep_travel > 0.0f) d.solver.substep_travel = fc.substep_travel;
     pbf_world_id w;
     if (pbf_world_create(&d, &w) != PBF_OK) {
         r.verdict = std::string("create failed: ") + pbf_last_error_message();

@@ -1,0 +1,203 @@
+// Game time steps on the CPU backend through the C API: any dt after a settled pool, blocks and
+// nozzles the solver cannot honour, fast kinematic colliders, automatic substeps.
+#include "support.h"
+
+using namespace scene;
+
+namespace {
+
+struct PoolState {
+    double top_speed = 0.0, kinetic = 0.0;
+    uint32_t distinct = 0, count = 0;
+};
+
+PoolState measure(pbf_world_id w) {
+    const Particles p = read(w);
+    PoolState s;
+    s.count = p.count;
+    std::set<std::array<float, 3>> positions;
+    for (uint32_t i = 0; i < p.count; ++i) {
+        const double v2 = double(p.vel[4 * i]) * p.vel[4 * i] + double(p.vel[4 * i + 1]) * p.vel[4 * i + 1] +
+                          double(p.vel[4 * i + 2]) * p.vel[4 * i + 2];
+        s.top_speed = std::max(s.top_speed, std::sqrt(v2));
+        positions.insert({p.pos[4 * i], p.pos[4 * i + 1], p.pos[4 * i + 2]});
+    }
+    s.kinetic = stats(w).kinetic_energy;
+    s.distinct = uint32_t(positions.size());
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("a settled pool stays at rest after one step of any dt from 1e-5 to 1/30 s", "[realtime]") {
+    // 0.6 x 0.3 x 0.15 m of water at the default particle radius's half (12.5 mm).
+    pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.0125f, 0.6f, 0.6f, 0.15f, 8192);
+    for (uint32_t ldc : {1u, 0u}) {
+        d.solver.ldc_enabled = ldc;
+        pbf_world_id w;
+        REQUIRE_PBF(pbf_world_create(&d, &w));
+        const uint32_t n = fill(w, 0, 0, 0, 0.6f, 0.3f, 0.15f);
+        pbf_world_info info{};
+        info.struct_size = sizeof info;
+        REQUIRE_PBF(pbf_world_get_info(w, &info));
+        const double depth = 0.3, mgd = double(info.particle_mass) * n * 9.81 * depth;
+        for (int k = 0; k < 120; ++k) REQUIRE_PBF(pbf_world_step(w, kDt));
+        for (float dt : {1e-5f, 1e-4f, 1e-3f, 4e-3f, 1.0f / 60.0f, 1.0f / 30.0f}) {
+            REQUIRE_PBF(pbf_world_step(w, dt));
+            const PoolState s = measure(w);
+            INFO("LDC " << ldc << ", one step of " << dt << " s: top speed " << s.top_speed << " m/s, KE "
+                        << s.kinetic / mgd << " M g depth, " << s.distinct << " distinct positions of " << s.count);
+            CHECK(s.count == n);
+            CHECK(s.top_speed < 0.5);
+            CHECK(s.kinetic < 1e-3 * mgd);
+            CHECK(s.distinct == s.count);
+            for (int k = 0; k < 30; ++k) REQUIRE_PBF(pbf_world_step(w, kDt));  // settle again
+        }
+        REQUIRE_PBF(pbf_world_destroy(w));
+    }
+}
+
+TEST_CASE("variable frame times (1e-5 .. 1/30 s, mixed) keep a dam break finite and inside", "[realtime]") {
+    pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.0125f, 0.8f, 0.5f, 0.1f, 4096);
+    pbf_world_id w;
+    REQUIRE_PBF(pbf_world_create(&d, &w));
+    const uint32_t n = fill(w, 0, 0, 0, 0.2f, 0.4f, 0.1f);
+    const float dts[] = {1.0f / 60.0f, 1e-5f, 1.0f / 30.0f, 1e-3f, 1.0f / 144.0f, 1e-4f, 1.0f / 40.0f};
+    double max_speed = 0.0;
+    for (int k = 0; k < 140; ++k) {
+        REQUIRE_PBF(pbf_world_step(w, dts[k % 7]));
+        max_speed = std::max(max_speed, measure(w).top_speed);
+    }
+    const Particles p = read(w);
+    CHECK(p.count == n);
+    CHECK(all_finite(p));
+    CHECK(inside(p, d, 1e-5f));
+    // The column's free fall: sqrt(2 g 0.4) = 2.8 m/s; a step that made energy would exceed it.
+    INFO("fastest particle " << max_speed << " m/s");
+    CHECK(max_speed < 2.0 * 2.8);
+    REQUIRE_PBF(pbf_world_destroy(w));
+}
+
+TEST_CASE("automatic substeps follow the motion and stats report them", "[realtime]") {
+    pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.0125f, 0.8f, 0.5f, 0.1f, 4096);
+    REQUIRE(d.solver.substeps == 0u);
+    pbf_world_id w;
+    REQUIRE_PBF(pbf_world_create(&d, &w));
+    fill(w, 0, 0, 0, 0.2f, 0.4f, 0.1f);
+    CHECK(stats(w).substeps == 0u);  // before the first step
+    REQUIRE_PBF(pbf_world_step(w, kDt));
+    const uint32_t first = stats(w).substeps;
+    uint32_t most = first;
+    for (int k = 0; k < 30; ++k) {
+        REQUIRE_PBF(pbf_world_step(w, kDt));
+        most = std::max(most, stats(w).substeps);
+    }
+    INFO("first step " << first << " substeps, most " << most);
+    CHECK(first >= 1u);
+    CHECK(most > first);  // the falling column speeds up: more substeps
+    CHECK(most <= d.solver.max_substeps);
+    CHECK(stats(w).speed_clamps == 0u);
+    // Fixed substeps are reported as set.
+    pbf_solver_params p;
+    REQUIRE_PBF(pbf_solver_params_init(&p, sizeof p));
+    REQUIRE_PBF(pbf_world_get_solver_params(w, &p));
+    p.substeps = 3;
+    REQUIRE_PBF(pbf_world_set_solver_params(w, &p));
+    REQUIRE_PBF(pbf_world_step(w, kDt));
+    CHECK(stats(w).substeps == 3u);
+    REQUIRE_PBF(pbf_world_destroy(w));
+}
+
+TEST_CASE("a block across the walls is clipped to them; one outside is refused", "[realtime][emit]") {
+    pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.025f, 1.0f, 1.0f, 1.0f, 4096);
+    pbf_world_id w;
+    REQUIRE_PBF(pbf_world_create(&d, &w));
+    // 0.5 m cube with its lower half below the floor and beyond x = 0: lattice points at
+    // -0.225 .. 0.225 in steps of 0.05; those inside the walls (x, y, z >= 0.025) are 5 per axis.
+    pbf_block_desc b = pbf_block_desc_default();
+    set3(b.box_min, -0.25f, -0.25f, -0.25f);
+    set3(b.box_max, 0.25f, 0.25f, 0.25f);
+    uint32_t emitted = 0;
+    REQUIRE_PBF(pbf_world_emit_block(w, &b, &emitted));
+    CHECK(emitted == 5u * 5u * 5u);
+    const Particles p = read(w);
+    std::set<std::array<float, 3>> distinct;
+    for (uint32_t i = 0; i < p.count; ++i) {
+        for (int a = 0; a < 3; ++a) CHECK(p.pos[4 * i + a] >= 0.025f - 1e-5f);
+        distinct.insert({p.pos[4 * i], p.pos[4 * i + 1], p.pos[4 * i + 2]});
+    }
+    CHECK(distinct.size() == p.count);
+    // Entirely outside: refused, nothing emitted.
+    set3(b.box_min, 2.0f, 0.0f, 0.0f);
+    set3(b.box_max, 2.5f, 0.5f, 0.5f);
+    emitted = 7;
+    CHECK(pbf_world_emit_block(w, &b, &emitted) == PBF_ERROR_INVALID_ARGUMENT);
+    CHECK(std::string(pbf_last_error_message()).find("outside the walls") != std::string::npos);
+    CHECK(emitted == 0u);
+    uint32_t count = 0;
+    REQUIRE_PBF(pbf_world_get_particle_count(w, &count));
+    CHECK(count == 125u);
+    REQUIRE_PBF(pbf_world_destroy(w));
+}
+
+TEST_CASE("a nozzle must fit its rate through its disc and sit inside the walls", "[realtime][emit]") {
+    pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.025f, 1.0f, 1.0f, 1.0f, 4096);
+    pbf_world_id w;
+    REQUIRE_PBF(pbf_world_create(&d, &w));
+    pbf_emitter_desc e = pbf_emitter_desc_default();
+    e.type = PBF_EMITTER_NOZZLE;
+    set3(e.position, 0.5f, 0.8f, 0.5f);
+    e.radius = 0.1f;
+    e.speed = 2.0f;
+    // Carried at rest spacing (0.05 m): π 0.1² / 0.05² disc points x 2 / 0.05 per second = 502.
+    e.particles_per_second = 600.0f;
+    pbf_emitter_id id{};
+    CHECK(pbf_world_create_emitter(w, &e, &id) == PBF_ERROR_INVALID_ARGUMENT);
+    CHECK(std::string(pbf_last_error_message()).find("particles_per_second") != std::string::npos);
+    e.particles_per_second = 400.0f;
+    REQUIRE_PBF(pbf_world_create_emitter(w, &e, &id));
+    // Moving it outside the walls is refused and leaves it where it was.
+    const float outside[3] = {0.5f, 3.0f, 0.5f}, down[3] = {0.0f, -1.0f, 0.0f};
+    CHECK(pbf_emitter_set_transform(w, id, outside, down) == PBF_ERROR_INVALID_ARGUMENT);
+    for (int k = 0; k < 30; ++k) REQUIRE_PBF(pbf_world_step(w, kDt));
+    const Particles p = read(w);
+    CHECK(p.count > 150u);  // 400 per second for 0.5 s
+    CHECK(inside(p, d, 1e-5f));
+    REQUIRE_PBF(pbf_world_destroy(w));
+}
+
+TEST_CASE("a thin paddle swept through the fluid faster than its thickness per substep lets none through",
+          "[realtime][collide]") {
+    // A pool 0.3 m deep across a 1 m tank; a plate 2 cm thick spanning the whole cross-section
+    // moves from x = 0.1 to x = 0.7 in 6 steps of 0.1 m (5 plate thicknesses per substep at 1
+    // substep): every particle it met must end up ahead of it.
+    pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.0125f, 1.0f, 0.6f, 0.1f, 16384);
+    d.solver.substeps = 1;
+    pbf_world_id w;
+    REQUIRE_PBF(pbf_world_create(&d, &w));
+    const uint32_t n = fill(w, 0.2f, 0, 0, 1.0f, 0.3f, 0.1f);
+    pbf_collider_desc c = pbf_collider_desc_default();
+    c.shape = PBF_SHAPE_BOX;
+    c.motion = PBF_MOTION_KINEMATIC;
+    set3(c.half_extents, 0.01f, 0.5f, 0.5f);
+    set3(c.position, 0.1f, 0.3f, 0.05f);
+    pbf_collider_id paddle{};
+    REQUIRE_PBF(pbf_world_create_collider(w, &c, &paddle));
+    const float identity[4] = {0, 0, 0, 1};
+    float x = 0.1f;
+    for (int k = 0; k < 6; ++k) {
+        x += 0.1f;
+        const float target[3] = {x, 0.3f, 0.05f};
+        REQUIRE_PBF(pbf_collider_set_pose(w, paddle, target, identity));
+        REQUIRE_PBF(pbf_world_step(w, kDt));
+    }
+    for (int k = 0; k < 10; ++k) REQUIRE_PBF(pbf_world_step(w, kDt));
+    const Particles p = read(w);
+    CHECK(p.count == n);
+    uint32_t behind = 0;
+    for (uint32_t i = 0; i < p.count; ++i)
+        if (p.pos[4 * i] < x + 0.01f) ++behind;
+    INFO(behind << " of " << p.count << " particles behind the paddle at x = " << x);
+    CHECK(behind == 0u);
+    REQUIRE_PBF(pbf_world_destroy(w));
+}
