@@ -145,7 +145,7 @@ typedef struct pbf_solver_params {
                                    every particle within h per substep (stats count the cuts). */
     float substep_travel;       /* automatic substeps: the fastest particle's travel per substep, as a
                                    fraction of h, 0.05..1 (default 0.5) */
-    float sound_speed;          /* m/s, > 0 (default 10): the response speed of the density
+    float sound_speed;          /* m/s, > 0 (default 40): the response speed of the density
                                    constraint to an error older than the substep. Such an error
                                    relaxes over τ = h / sound_speed rather than in one substep, so
                                    the velocity its removal creates stays near error · sound_speed

@@ -118,7 +118,7 @@ TEST_CASE("desc_init: wrong struct_size and NULL are refused", "[api][struct_siz
     CHECK(d.solver.substeps == 0u);  // automatic
     CHECK(d.solver.max_substeps == 16u);
     CHECK(d.solver.substep_travel == Approx(0.5f));
-    CHECK(d.solver.sound_speed == Approx(10.0f));
+    CHECK(d.solver.sound_speed == Approx(40.0f));
     CHECK(d.solver.max_speed == Approx(100.0f));
     const pbf_emitter_desc e = pbf_emitter_desc_default();
     CHECK(e.enabled == 1u);

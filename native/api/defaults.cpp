@@ -29,7 +29,7 @@ PBF_API pbf_result PBF_CALL pbf_solver_params_init(pbf_solver_params* p, uint32_
     p->substeps = 0;
     p->max_substeps = 16;
     p->substep_travel = 0.5f;
-    p->sound_speed = 10.0f;
+    p->sound_speed = 40.0f;
     p->relaxation = 1.0f;
     p->scorr_k = 0.1f;
     p->scorr_n = 4.0f;

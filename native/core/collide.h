@@ -48,25 +48,29 @@ PBF_HD float collider_distance(const Collider& c, const ColliderPose& pose, Vec3
 
 // Where a particle that moved from x_old to p met collider c, seen from the collider (which
 // moved from prev to cur over the substep): the segment is marched in the collider's frame by
-// its distance field (sphere tracing, at most 16 probes). Returns false when it did not meet
-// the collider within `radius`. A particle can otherwise pass through a collider that moves (or
-// that it crosses) more than about its thickness in one substep.
+// its distance field (sphere tracing, at most 16 probes) up to the first point within `radius`
+// of the surface, or, for a particle that started closer than that (in contact), up to the
+// surface itself. Returns false when it did not get there. Without it a particle could pass
+// through a collider that moves (or that it crosses) more than about its thickness in one
+// substep, or be pushed through a thin one from contact and leave by the far face.
 PBF_HD bool swept_contact(const Collider& c, const ColliderPose& prev, const ColliderPose& cur, Vec3 x_old, Vec3 p,
                           float radius, Vec3& hit) {
-    // Both ends in the collider's local frame, then in the end pose's world frame: the collider
-    // stands still there and the particle moves from a to b.
+    // Both ends in the end pose's world frame: the collider stands still there and the particle
+    // moves from a to b.
     const Vec3 a = cur.position + mul(cur.rotation, mul_transpose(prev.rotation, x_old - prev.position));
-    const Vec3 b = p;
-    const Vec3 ab = b - a;
+    const Vec3 ab = p - a;
     const float len = length(ab);
-    if (len <= radius) return false;  // the end-pose projection handles short moves
+    if (len <= 1e-3f * radius) return false;
     Vec3 n;
-    if (collider_distance(c, cur, a, n) < radius) return false;  // started in contact: project
+    const float d_start = collider_distance(c, cur, a, n);
+    if (d_start <= 0.0f) return false;  // started inside: the end-pose projection handles it
+    const float reach = d_start < radius ? 0.5f * d_start : radius;
+    if (collider_distance(c, cur, p, n) > reach && len <= radius) return false;  // a short move that stays clear
     const Vec3 dir = ab * (1.0f / len);
     float t = 0.0f;
     for (int k = 0; k < 16; ++k) {
         const Vec3 x = a + dir * t;
-        const float d = collider_distance(c, cur, x, n) - radius;
+        const float d = collider_distance(c, cur, x, n) - reach;
         if (d <= 1e-4f * radius) {
             hit = x;
             return true;

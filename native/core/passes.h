@@ -307,6 +307,10 @@ struct DeltaOp {
         Vec3 c = xi;
         if (!(control && control->converged)) {  // converged: x* carries over unchanged
             Vec3 dp{0.0f, 0.0f, 0.0f};
+            // s_corr answers an arrangement (clumping) that the substep started with: it relaxes
+            // with the error damping, like any old error, so a tiny Δt does not turn its fixed
+            // push into a large velocity.
+            const float scorr_k = s.scorr_k / (1.0f + ctx.error_damping);
             for_each_listed_neighbor(s.grid, cell_begin, masks, i, [&](uint32_t j) {
                 if (j == i) return;
                 const Vec4 pj = predicted[j];
@@ -314,7 +318,7 @@ struct DeltaOp {
                 const float r2 = length_sq(d);
                 if (r2 >= s.h2) return;
                 const float ratio = poly6(r2, s.h2, s.poly6_coef) * s.scorr_inv_w_dq;
-                const float scorr = -s.scorr_k * scorr_power(ratio, s.scorr_n);
+                const float scorr = -scorr_k * scorr_power(ratio, s.scorr_n);
                 dp += pair_gradient(d, r2, s.h, s.spiky_coef, i, j) * (lambda_i + pj.w + scorr);
             });
             // The boundary's share of ∇C_i, weighted by λ_i alone (the boundary has no λ).

@@ -27,6 +27,7 @@ struct FrameCase {
     float scorr_k = -1.0f;       // < 0: the library's default
     float relaxation = -1.0f;    // < 0: the library's default
     float substep_travel = -1.0f;  // < 0: the library's default (automatic substeps)
+    float sound_speed = -1.0f;     // < 0: the library's default
 };
 
 struct FrameResult {
@@ -65,6 +66,7 @@ inline FrameResult run_frames(const FrameCase& fc) {
     if (fc.scorr_k >= 0.0f) d.solver.scorr_k = fc.scorr_k;
     if (fc.relaxation > 0.0f) d.solver.relaxation = fc.relaxation;
     if (fc.substep_travel > 0.0f) d.solver.substep_travel = fc.substep_travel;
+    if (fc.sound_speed > 0.0f) d.solver.sound_speed = fc.sound_speed;
     pbf_world_id w;
     if (pbf_world_create(&d, &w) != PBF_OK) {
         r.verdict = std::string("create failed: ") + pbf_last_error_message();

@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
     int frames = 120;
     uint32_t na = 0, nz = 0, max_substeps = 16;
     double budget = 60.0;
-    float scorr_k = -1.0f, relaxation = -1.0f, travel = -1.0f;
+    float scorr_k = -1.0f, relaxation = -1.0f, travel = -1.0f, sound_speed = -1.0f;
 
     auto* run = app.add_subcommand("run", "one run; prints its CSV row");
     std::string scene = "dam", scale = "fine", substeps = "auto";
@@ -99,6 +99,7 @@ int main(int argc, char** argv) {
         sub->add_option("--csv", csv_path, "CSV output (default stdout)");
         sub->add_option("--scorr-k", scorr_k, "diagnostic: s_corr k (default: the library's)");
         sub->add_option("--relaxation", relaxation, "diagnostic: relaxation (default: the library's)");
+        sub->add_option("--sound-speed", sound_speed, "diagnostic: the error response speed, m/s (default: the library's)");
         sub->add_option("--travel", travel, "automatic substeps' travel per substep in h (default: the library's)");
     }
     CLI11_PARSE(app, argc, argv);
@@ -123,6 +124,7 @@ int main(int argc, char** argv) {
         c.scorr_k = scorr_k;
         c.relaxation = relaxation;
         c.substep_travel = travel;
+        c.sound_speed = sound_speed;
         return c;
     };
     if (run->parsed()) {
