@@ -102,8 +102,17 @@ namespace Pbf.Tests
         public void SolverParamsAreValidated()
         {
             var p = _world.GetSolverParams();
-            p.Substeps = 17;
-            Scene.ExpectError(Result.InvalidArgument, () => _world.SetSolverParams(p), "pbf_world_set_solver_params", "substeps must be 1..16");
+            p.Substeps = 65;
+            Scene.ExpectError(Result.InvalidArgument, () => _world.SetSolverParams(p), "pbf_world_set_solver_params", "substeps must be 0 (automatic) or 1..64");
+            p = _world.GetSolverParams();
+            p.MaxSubsteps = 0;
+            Scene.ExpectError(Result.InvalidArgument, () => _world.SetSolverParams(p), "max_substeps");
+            p = _world.GetSolverParams();
+            p.SubstepTravel = 0.01f;
+            Scene.ExpectError(Result.InvalidArgument, () => _world.SetSolverParams(p), "substep_travel");
+            p = _world.GetSolverParams();
+            p.SoundSpeed = float.PositiveInfinity;
+            Scene.ExpectError(Result.InvalidArgument, () => _world.SetSolverParams(p), "sound_speed");
             p = _world.GetSolverParams();
             p.ScorrN = float.NaN;
             Scene.ExpectError(Result.InvalidArgument, () => _world.SetSolverParams(p), "scorr_n");
@@ -113,6 +122,7 @@ namespace Pbf.Tests
             // default(SolverParams) never went through pbf_solver_params_init: struct_size is 0.
             Scene.ExpectError(Result.StructSize, () => _world.SetSolverParams(default(SolverParams)), "struct_size is 0");
             Assert.AreEqual(4, _world.GetSolverParams().Iterations, "unchanged");
+            Assert.AreEqual(0, _world.GetSolverParams().Substeps, "unchanged");
         }
 
         [Test]

@@ -41,9 +41,11 @@ namespace Pbf
 
         /// <summary>Density-constraint iterations per substep, 1..64 (default 4).</summary>
         public int Iterations { get { return (int)_raw.iterations; } set { _raw.iterations = (uint)value; } }
-        /// <summary>Substeps per <see cref="World.Step"/>, 1..16 (default 1).</summary>
+        /// <summary>Substeps per <see cref="World.Step"/>. 0 (default): automatic, chosen per step so
+        /// that the fastest particle moves at most <see cref="SubstepTravel"/>·h per substep, up to
+        /// <see cref="MaxSubsteps"/>. 1..64: exactly that many.</summary>
         public int Substeps { get { return (int)_raw.substeps; } set { _raw.substeps = (uint)value; } }
-        /// <summary>Constraint force mixing ε, relative to a rest particle's gradient norm; &gt; 0 (default 0.01).</summary>
+        /// <summary>Constraint force mixing ε, relative to a rest particle's gradient norm; &gt; 0 (default 1).</summary>
         public float Relaxation { get { return _raw.relaxation; } set { _raw.relaxation = value; } }
         /// <summary>Tensile instability k of s_corr = -k (W(r)/W(Δq))^n, 0..1 (default 0.1).</summary>
         public float ScorrK { get { return _raw.scorr_k; } set { _raw.scorr_k = value; } }
@@ -63,6 +65,17 @@ namespace Pbf
         public float MaxSpeed { get { return _raw.max_speed; } set { _raw.max_speed = value; } }
         /// <summary>0: fixed iterations. &gt; 0: stop a substep's iterations once the mean compressive density error is below this (iterations is the cap; at least one runs).</summary>
         public float AdaptiveErrorTarget { get { return _raw.adaptive_error_target; } set { _raw.adaptive_error_target = value; } }
+        /// <summary>Cap of the automatic substep count, 1..64 (default 16). A step that would need more
+        /// runs this many, and the speed limit keeps every particle within h per substep
+        /// (<see cref="StepStats.SpeedClamps"/> counts the cuts).</summary>
+        public int MaxSubsteps { get { return (int)_raw.max_substeps; } set { _raw.max_substeps = (uint)value; } }
+        /// <summary>Automatic substeps: the fastest particle's travel per substep, as a fraction of h,
+        /// 0.05..1 (default 0.5).</summary>
+        public float SubstepTravel { get { return _raw.substep_travel; } set { _raw.substep_travel = value; } }
+        /// <summary>m/s, &gt; 0 (default 10): the solver removes a density error no faster than over
+        /// h / SoundSpeed (the constraint's compliance), so a very small dt cannot turn an old error
+        /// into a large velocity.</summary>
+        public float SoundSpeed { get { return _raw.sound_speed; } set { _raw.sound_speed = value; } }
     }
 
     /// <summary>How to create a <see cref="World"/> (pbf_world_desc). A new WorldDesc holds the
@@ -282,6 +295,11 @@ namespace Pbf
         public float StepTimeMs { get { return _raw.step_time_ms; } }
         /// <summary>Constraint iterations run in the last step, all substeps.</summary>
         public int Iterations { get { return (int)_raw.iterations; } }
+        /// <summary>Substeps the last step ran.</summary>
+        public int Substeps { get { return (int)_raw.substeps; } }
+        /// <summary>Particle-substeps of the last step whose speed a limit cut (max_speed, or the
+        /// h-per-substep cap); 0 in a healthy run.</summary>
+        public long SpeedClamps { get { return _raw.speed_clamps; } }
     }
 
     /// <summary>What a world is and where it runs (pbf_world_info).</summary>

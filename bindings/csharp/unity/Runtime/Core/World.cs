@@ -65,7 +65,8 @@ namespace Pbf
         }
 
         // ---- simulation ----------------------------------------------------------------------
-        /// <summary>Advances by dt seconds (0 &lt; dt &lt;= 1), split into Solver.Substeps substeps.
+        /// <summary>Advances by dt seconds (0 &lt; dt &lt;= 1), split into Solver.Substeps substeps
+        /// (0: automatic; <see cref="StepStats.Substeps"/> says how many ran).
         /// On CUDA it returns without waiting for the GPU.</summary>
         public void Step(float dt) { PbfException.Check(Native.pbf_world_step(Handle, dt)); }
 
