@@ -171,7 +171,11 @@ namespace Pbf.Tests
             Scene.ExpectError(Result.InvalidArgument,
                 () => _world.CreateEmitter(new EmitterDesc((EmitterType)0)), "type must be PBF_EMITTER_NOZZLE or PBF_EMITTER_DRAIN");
 
-            Emitter nozzle = _world.CreateNozzle(Vector3.UnitY, -Vector3.UnitY, 1f, 0.05f, 100f);
+            // A disc of radius 0.05 m at 1 m/s carries π 0.05² / 0.05² x 1 / 0.05 ≈ 62.8 particles/s at rest spacing.
+            Scene.ExpectError(Result.InvalidArgument,
+                () => _world.CreateNozzle(Vector3.UnitY, -Vector3.UnitY, 1f, 0.05f, 100f), "particles_per_second 100 exceeds what the nozzle carries");
+
+            Emitter nozzle = _world.CreateNozzle(Vector3.UnitY, -Vector3.UnitY, 1f, 0.05f, 50f);
             Scene.ExpectError(Result.InvalidArgument, () => nozzle.SetTransform(Vector3.UnitY, Vector3.Zero), "pbf_emitter_set_transform", "nozzle direction must be non-zero");
             Scene.ExpectError(Result.InvalidArgument, () => nozzle.SetTransform(new Vector3(0, float.NaN, 0), Vector3.UnitY), "non-NULL and finite");
             Emitter drain = _world.CreateDrain(-Vector3.One, Vector3.One);
