@@ -6,7 +6,10 @@
 #   3. scripts/check_install.sh: build/ installed into a temporary prefix and used by a small C
 #      program through find_package(pbf) and through pkg-config;
 #   4. scripts/check_windows.sh: the MinGW-w64 pbf.dll (build-mingw/) and the C API tests under
-#      Wine; skipped, and said so, where the MinGW compiler or Wine cannot be installed.
+#      Wine; skipped, and said so, where the MinGW compiler or Wine cannot be installed;
+#   5. scripts/check_packages.sh: the Unity package (as Unity's importer reads it, its committed
+#      plugins against the header) and the NuGet package (packed, validated, consumed under Mono
+#      with build/lib).
 # All run even if one fails; exits non-zero if the build or any suite fails.
 set -uo pipefail
 
@@ -47,11 +50,20 @@ bash scripts/check_windows.sh build-mingw 2>&1 | tee "$windows_log"
 windows_rc=${PIPESTATUS[0]}
 windows_secs=$(( $(date +%s) - start ))
 
+echo
+echo "== packages (scripts/check_packages.sh $build/lib: Unity package, NuGet package)"
+packages_log="$build/run_tests.packages.log"
+start=$(date +%s)
+bash scripts/check_packages.sh "$build/lib" 2>&1 | tee "$packages_log"
+packages_rc=${PIPESTATUS[0]}
+packages_secs=$(( $(date +%s) - start ))
+
 ctest_summary="$(grep -E 'tests passed, [0-9]+ tests? failed out of' "$ctest_log" | tail -n 1)"
 ctest_skipped="$(grep -c '(Skipped)$' "$ctest_log")"
 cs_summary="$(grep -E '^csharp: ' "$cs_log" | tail -n 1)"
 install_summary="$(grep -E '^check_install.sh: ' "$install_log" | tail -n 1)"
 windows_summary="$(grep -E '^check_windows.sh: ' "$windows_log" | tail -n 1)"
+packages_summary="$(grep -E '^packages: ' "$packages_log" | tail -n 1)"
 
 echo
 echo "== summary"
@@ -75,8 +87,14 @@ if [ -n "$windows_summary" ]; then
 else
   echo "windows: no summary line (exit $windows_rc)"
 fi
+if [ -n "$packages_summary" ]; then
+  echo "packages: ${packages_summary#packages: } (${packages_secs} s) [exit $packages_rc]"
+else
+  echo "packages: no summary line (exit $packages_rc)"
+fi
 
-if [ "$ctest_rc" -ne 0 ] || [ "$cs_rc" -ne 0 ] || [ "$install_rc" -ne 0 ] || [ "$windows_rc" -ne 0 ]; then
+if [ "$ctest_rc" -ne 0 ] || [ "$cs_rc" -ne 0 ] || [ "$install_rc" -ne 0 ] || [ "$windows_rc" -ne 0 ] ||
+   [ "$packages_rc" -ne 0 ]; then
   echo "run_tests.sh: FAILED"
   exit 1
 fi

@@ -145,7 +145,7 @@ struct SolverField {
 #define PBF_FIELD(name, u, b, lo, hi, open) {#name, offsetof(pbf_solver_params, name), u, b, lo, hi, open}
 const SolverField kSolverFields[] = {
     PBF_FIELD(iterations, true, false, 1, 64, false),
-    PBF_FIELD(substeps, true, false, 1, 16, false),
+    PBF_FIELD(substeps, true, false, 0, 64, false),  // 0: automatic
     PBF_FIELD(relaxation, false, false, 0, kInf, true),
     PBF_FIELD(scorr_k, false, false, 0, kInf, false),
     PBF_FIELD(scorr_n, false, false, 1, 8, false),
@@ -156,6 +156,9 @@ const SolverField kSolverFields[] = {
     PBF_FIELD(ldc_gain, false, false, 0, 1, false),
     PBF_FIELD(max_speed, false, false, 0, kInf, true),
     PBF_FIELD(adaptive_error_target, false, false, 0, 1, false),
+    PBF_FIELD(max_substeps, true, false, 1, 64, false),
+    PBF_FIELD(substep_travel, false, false, 0.05, 1, false),
+    PBF_FIELD(sound_speed, false, false, 0, kInf, true),
 };
 #undef PBF_FIELD
 

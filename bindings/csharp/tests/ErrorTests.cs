@@ -102,8 +102,17 @@ namespace Pbf.Tests
         public void SolverParamsAreValidated()
         {
             var p = _world.GetSolverParams();
-            p.Substeps = 17;
-            Scene.ExpectError(Result.InvalidArgument, () => _world.SetSolverParams(p), "pbf_world_set_solver_params", "substeps must be 1..16");
+            p.Substeps = 65;
+            Scene.ExpectError(Result.InvalidArgument, () => _world.SetSolverParams(p), "pbf_world_set_solver_params", "substeps must be 0 (automatic) or 1..64");
+            p = _world.GetSolverParams();
+            p.MaxSubsteps = 0;
+            Scene.ExpectError(Result.InvalidArgument, () => _world.SetSolverParams(p), "max_substeps");
+            p = _world.GetSolverParams();
+            p.SubstepTravel = 0.01f;
+            Scene.ExpectError(Result.InvalidArgument, () => _world.SetSolverParams(p), "substep_travel");
+            p = _world.GetSolverParams();
+            p.SoundSpeed = float.PositiveInfinity;
+            Scene.ExpectError(Result.InvalidArgument, () => _world.SetSolverParams(p), "sound_speed");
             p = _world.GetSolverParams();
             p.ScorrN = float.NaN;
             Scene.ExpectError(Result.InvalidArgument, () => _world.SetSolverParams(p), "scorr_n");
@@ -113,6 +122,7 @@ namespace Pbf.Tests
             // default(SolverParams) never went through pbf_solver_params_init: struct_size is 0.
             Scene.ExpectError(Result.StructSize, () => _world.SetSolverParams(default(SolverParams)), "struct_size is 0");
             Assert.AreEqual(4, _world.GetSolverParams().Iterations, "unchanged");
+            Assert.AreEqual(0, _world.GetSolverParams().Substeps, "unchanged");
         }
 
         [Test]
@@ -161,7 +171,11 @@ namespace Pbf.Tests
             Scene.ExpectError(Result.InvalidArgument,
                 () => _world.CreateEmitter(new EmitterDesc((EmitterType)0)), "type must be PBF_EMITTER_NOZZLE or PBF_EMITTER_DRAIN");
 
-            Emitter nozzle = _world.CreateNozzle(Vector3.UnitY, -Vector3.UnitY, 1f, 0.05f, 100f);
+            // A disc of radius 0.05 m at 1 m/s carries π 0.05² / 0.05² x 1 / 0.05 ≈ 62.8 particles/s at rest spacing.
+            Scene.ExpectError(Result.InvalidArgument,
+                () => _world.CreateNozzle(Vector3.UnitY, -Vector3.UnitY, 1f, 0.05f, 100f), "particles_per_second 100 exceeds what the nozzle carries");
+
+            Emitter nozzle = _world.CreateNozzle(Vector3.UnitY, -Vector3.UnitY, 1f, 0.05f, 50f);
             Scene.ExpectError(Result.InvalidArgument, () => nozzle.SetTransform(Vector3.UnitY, Vector3.Zero), "pbf_emitter_set_transform", "nozzle direction must be non-zero");
             Scene.ExpectError(Result.InvalidArgument, () => nozzle.SetTransform(new Vector3(0, float.NaN, 0), Vector3.UnitY), "non-NULL and finite");
             Emitter drain = _world.CreateDrain(-Vector3.One, Vector3.One);

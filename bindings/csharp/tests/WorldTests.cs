@@ -110,6 +110,7 @@ namespace Pbf.Tests
                 Assert.AreEqual(emitted, s.EmittedTotal);
                 Assert.AreEqual(0, s.DrainedTotal);
                 Assert.AreEqual(3 * 2, s.Iterations, "iterations x substeps of the last step");
+                Assert.AreEqual(2, s.Substeps, "fixed substeps");
                 // KE = Σ ½ m v² over the particles' velocities; at least that of the falling
                 // centre of mass, ½ m N (g·t)².
                 float mass = world.Info.ParticleMass;
@@ -130,7 +131,11 @@ namespace Pbf.Tests
         {
             var d = SolverParams.Default;
             Assert.AreEqual(4, d.Iterations);
-            Assert.AreEqual(1, d.Substeps);
+            Assert.AreEqual(0, d.Substeps, "automatic");
+            Assert.AreEqual(16, d.MaxSubsteps);
+            Assert.AreEqual(0.5f, d.SubstepTravel);
+            Assert.AreEqual(10f, d.SoundSpeed);
+            Assert.AreEqual(0f, d.AdaptiveErrorTarget);
             Assert.AreEqual(1.0f, d.Relaxation);
             Assert.AreEqual(0.1f, d.ScorrK);
             Assert.AreEqual(4f, d.ScorrN);
@@ -152,12 +157,36 @@ namespace Pbf.Tests
                 p.Substeps = 3;
                 p.XsphC = 0.5f;
                 p.MaxSpeed = 12.5f;
+                p.MaxSubsteps = 24;
+                p.SubstepTravel = 0.25f;
+                p.SoundSpeed = 20f;
                 world.SetSolverParams(p);
                 var q = world.GetSolverParams();
                 Assert.AreEqual(3, q.Substeps);
                 Assert.AreEqual(0.5f, q.XsphC);
                 Assert.AreEqual(12.5f, q.MaxSpeed);
                 Assert.AreEqual(9, q.Iterations);
+                Assert.AreEqual(24, q.MaxSubsteps);
+                Assert.AreEqual(0.25f, q.SubstepTravel);
+                Assert.AreEqual(20f, q.SoundSpeed);
+            }
+        }
+
+        [Test]
+        public void AutomaticSubstepsAreReportedInStats()
+        {
+            var desc = Scene.CpuDesc();
+            Assert.AreEqual(0, desc.Solver.Substeps, "a new desc asks for automatic substeps");
+            using (var world = World.Create(desc))
+            {
+                Assert.AreEqual(0, world.Stats.Substeps, "all zero before the first step");
+                world.EmitBlock(new Vector3(-0.21f, 0.5f, -0.21f), new Vector3(0.21f, 0.71f, 0.21f));
+                Scene.Steps(world, 3);
+                StepStats s = world.Stats;
+                Assert.GreaterOrEqual(s.Substeps, 1, "automatic substeps run at least one");
+                Assert.LessOrEqual(s.Substeps, world.GetSolverParams().MaxSubsteps);
+                Assert.GreaterOrEqual(s.Iterations, s.Substeps, "at least one iteration per substep");
+                Assert.GreaterOrEqual(s.SpeedClamps, 0L);
             }
         }
 

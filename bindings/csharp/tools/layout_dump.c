@@ -143,6 +143,9 @@ int main(void) {
     FIELD(pbf_solver_params, ldc_gain);
     FIELD(pbf_solver_params, max_speed);
     FIELD(pbf_solver_params, adaptive_error_target);
+    FIELD(pbf_solver_params, max_substeps);
+    FIELD(pbf_solver_params, substep_travel);
+    FIELD(pbf_solver_params, sound_speed);
 
     STRUCT(pbf_world_desc);
     FIELD(pbf_world_desc, struct_size);
@@ -180,6 +183,8 @@ int main(void) {
     FIELD(pbf_step_stats, kinetic_energy);
     FIELD(pbf_step_stats, step_time_ms);
     FIELD(pbf_step_stats, iterations);
+    FIELD(pbf_step_stats, substeps);
+    FIELD(pbf_step_stats, speed_clamps);
     FIELD(pbf_step_stats, reserved0);
 
     STRUCT(pbf_block_desc);

@@ -362,7 +362,8 @@ TEST_CASE("bake: every solver parameter is settable by name and reaches the worl
       "world": { "backend": "cpu", "max_particles": 1000 },
       "solver": { "iterations": 7, "substeps": 3, "relaxation": 2.0, "scorr_k": 0.05, "scorr_n": 3,
                   "scorr_dq": 0.3, "xsph_c": 0.02, "vorticity_epsilon": 0.001, "ldc_enabled": false,
-                  "ldc_gain": 0.2, "max_speed": 50, "adaptive_error_target": 0.01 },
+                  "ldc_gain": 0.2, "max_speed": 50, "adaptive_error_target": 0.01, "max_substeps": 12,
+                  "substep_travel": 0.25, "sound_speed": 20 },
       "blocks": [ { "min": [-0.1, 0, -0.1], "max": [0.1, 0.1, 0.1] } ],
       "frames": { "end": 0 },
       "output": { "directory": ")" + out + R"(", "formats": ["ply"] } })",
@@ -388,6 +389,9 @@ TEST_CASE("bake: every solver parameter is settable by name and reaches the worl
         CHECK(p.ldc_gain == 0.2f);
         CHECK(p.max_speed == 50.0f);
         CHECK(p.adaptive_error_target == 0.01f);
+        CHECK(p.max_substeps == 12u);
+        CHECK(p.substep_travel == 0.25f);
+        CHECK(p.sound_speed == 20.0f);
     };
     CHECK(bake::run_bake(s, o).frames_written == 1);
 }

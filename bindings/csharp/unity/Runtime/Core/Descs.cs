@@ -41,9 +41,13 @@ namespace Pbf
 
         /// <summary>Density-constraint iterations per substep, 1..64 (default 4).</summary>
         public int Iterations { get { return (int)_raw.iterations; } set { _raw.iterations = (uint)value; } }
-        /// <summary>Substeps per <see cref="World.Step"/>, 1..16 (default 1).</summary>
+        /// <summary>Substeps per <see cref="World.Step"/>. 0 (default): automatic, chosen per step
+        /// (from the last finished step's fastest particle, read without waiting, the nozzles and the
+        /// kinematic colliders) so that the fastest particle moves at most <see cref="SubstepTravel"/>·h
+        /// per substep and gravity alone moves a resting one at most SubstepTravel·h/64, up to
+        /// <see cref="MaxSubsteps"/>. 1..64: exactly that many.</summary>
         public int Substeps { get { return (int)_raw.substeps; } set { _raw.substeps = (uint)value; } }
-        /// <summary>Constraint force mixing ε, relative to a rest particle's gradient norm; &gt; 0 (default 0.01).</summary>
+        /// <summary>Constraint force mixing ε, relative to a rest particle's gradient norm; &gt; 0 (default 1).</summary>
         public float Relaxation { get { return _raw.relaxation; } set { _raw.relaxation = value; } }
         /// <summary>Tensile instability k of s_corr = -k (W(r)/W(Δq))^n, 0..1 (default 0.1).</summary>
         public float ScorrK { get { return _raw.scorr_k; } set { _raw.scorr_k = value; } }
@@ -51,18 +55,34 @@ namespace Pbf
         public float ScorrN { get { return _raw.scorr_n; } set { _raw.scorr_n = value; } }
         /// <summary>Δq as a fraction of the kernel radius, in (0, 1) (default 0.2).</summary>
         public float ScorrDq { get { return _raw.scorr_dq; } set { _raw.scorr_dq = value; } }
-        /// <summary>XSPH viscosity c, 0..1 (default 0.01).</summary>
+        /// <summary>XSPH viscosity c per 1/60 s of simulated time, 0..1 (default 0.01): a substep of
+        /// Δt applies 1 - (1 - c)^(60 Δt), so the smoothing does not depend on the substep count.</summary>
         public float XsphC { get { return _raw.xsph_c; } set { _raw.xsph_c = value; } }
         /// <summary>Vorticity confinement ε in m/s, &gt;= 0 (default 0.0005).</summary>
         public float VorticityEpsilon { get { return _raw.vorticity_epsilon; } set { _raw.vorticity_epsilon = value; } }
         /// <summary>Local Density Calibration before the iterations (default on).</summary>
         public bool LdcEnabled { get { return _raw.ldc_enabled != 0; } set { _raw.ldc_enabled = value ? 1u : 0u; } }
-        /// <summary>LDC strength as K·Δt², 0..1 (default 0.3).</summary>
+        /// <summary>LDC strength as K·Δt² (Δt the substep), so K = LdcGain / (Δt² + τ²),
+        /// τ = h / <see cref="SoundSpeed"/>; 0..1 (default 0.3). LDC acts on compression only.</summary>
         public float LdcGain { get { return _raw.ldc_gain; } set { _raw.ldc_gain = value; } }
-        /// <summary>Particle speed clamp in m/s, &gt; 0 (default 100).</summary>
+        /// <summary>Particle speed limit in m/s, &gt; 0 (default 100). A substep also limits speed to
+        /// h/Δt (no particle crosses more than h per substep); <see cref="StepStats.SpeedClamps"/>
+        /// counts the particle-substeps either limit cut.</summary>
         public float MaxSpeed { get { return _raw.max_speed; } set { _raw.max_speed = value; } }
         /// <summary>0: fixed iterations. &gt; 0: stop a substep's iterations once the mean compressive density error is below this (iterations is the cap; at least one runs).</summary>
         public float AdaptiveErrorTarget { get { return _raw.adaptive_error_target; } set { _raw.adaptive_error_target = value; } }
+        /// <summary>Cap of the automatic substep count, 1..64 (default 16). A step that would need more
+        /// runs this many, and the h/Δt speed limit keeps every particle within h per substep
+        /// (<see cref="StepStats.SpeedClamps"/> counts the cuts).</summary>
+        public int MaxSubsteps { get { return (int)_raw.max_substeps; } set { _raw.max_substeps = (uint)value; } }
+        /// <summary>Automatic substeps: the fastest particle's travel per substep, as a fraction of h,
+        /// 0.05..1 (default 0.5).</summary>
+        public float SubstepTravel { get { return _raw.substep_travel; } set { _raw.substep_travel = value; } }
+        /// <summary>m/s, &gt; 0 (default 10): the response speed of the density constraint to an
+        /// error older than the substep. Such an error relaxes over τ = h / SoundSpeed rather than in
+        /// one substep, so the velocity its removal creates stays near error · SoundSpeed whatever dt
+        /// is; new compression is removed in full every substep.</summary>
+        public float SoundSpeed { get { return _raw.sound_speed; } set { _raw.sound_speed = value; } }
     }
 
     /// <summary>How to create a <see cref="World"/> (pbf_world_desc). A new WorldDesc holds the
@@ -255,7 +275,9 @@ namespace Pbf
         public float HalfHeight { get { return _raw.half_height; } set { _raw.half_height = value; } }
         /// <summary>Box.</summary>
         public Vector3 HalfExtents { get { return Convert3.FromNative(_raw.half_extents); } set { _raw.half_extents = Convert3.ToNative(value); } }
-        /// <summary>0 (slip) .. 1 (stick) tangential damping on contact (default 0).</summary>
+        /// <summary>Coulomb friction coefficient μ, 0..1 (default 0, slip): on contact the tangential
+        /// motion relative to the collider is removed up to μ times the depth the contact pushed the
+        /// particle out.</summary>
         public float Friction { get { return _raw.friction; } set { _raw.friction = value; } }
     }
 
@@ -282,6 +304,11 @@ namespace Pbf
         public float StepTimeMs { get { return _raw.step_time_ms; } }
         /// <summary>Constraint iterations run in the last step, all substeps.</summary>
         public int Iterations { get { return (int)_raw.iterations; } }
+        /// <summary>Substeps the last step ran.</summary>
+        public int Substeps { get { return (int)_raw.substeps; } }
+        /// <summary>Particle-substeps of the last step whose speed a limit cut (max_speed, or the
+        /// h-per-substep cap); 0 in a healthy run.</summary>
+        public long SpeedClamps { get { return _raw.speed_clamps; } }
     }
 
     /// <summary>What a world is and where it runs (pbf_world_info).</summary>

@@ -267,6 +267,9 @@ namespace Pbf.Interop
         public float ldc_gain;
         public float max_speed;
         public float adaptive_error_target;
+        public uint max_substeps;
+        public float substep_travel;
+        public float sound_speed;
     }
 
     [StructLayout(LayoutKind.Sequential)]
@@ -313,6 +316,8 @@ namespace Pbf.Interop
         public float kinetic_energy;
         public float step_time_ms;
         public uint iterations;
+        public uint substeps;
+        public uint speed_clamps;
         public uint reserved0;
     }
 

@@ -65,7 +65,9 @@ namespace Pbf
         }
 
         // ---- simulation ----------------------------------------------------------------------
-        /// <summary>Advances by dt seconds (0 &lt; dt &lt;= 1), split into Solver.Substeps substeps.
+        /// <summary>Advances by dt seconds (0 &lt; dt &lt;= 1; successive calls may use any dt), split
+        /// into Solver.Substeps substeps (or chosen automatically; <see cref="StepStats.Substeps"/>
+        /// says how many ran).
         /// On CUDA it returns without waiting for the GPU.</summary>
         public void Step(float dt) { PbfException.Check(Native.pbf_world_step(Handle, dt)); }
 
@@ -114,8 +116,10 @@ namespace Pbf
 
         // ---- emitting ------------------------------------------------------------------------
         /// <summary>Fills the box with particles at rest spacing; returns how many were emitted
-        /// (what fits under MaxParticles). Throws with <see cref="Result.Capacity"/> when the
-        /// world is already full.</summary>
+        /// (what fits under MaxParticles). Lattice points outside the walls (centres closer than
+        /// the particle radius to the domain's faces) are dropped; a box with none inside throws
+        /// with <see cref="Result.InvalidArgument"/>. Throws with <see cref="Result.Capacity"/> when
+        /// the world is already full.</summary>
         public int EmitBlock(BlockDesc desc)
         {
             if (desc == null) throw new ArgumentNullException("desc");
