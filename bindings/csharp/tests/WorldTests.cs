@@ -134,7 +134,7 @@ namespace Pbf.Tests
             Assert.AreEqual(0, d.Substeps, "automatic");
             Assert.AreEqual(16, d.MaxSubsteps);
             Assert.AreEqual(0.5f, d.SubstepTravel);
-            Assert.AreEqual(10f, d.SoundSpeed);
+            Assert.AreEqual(40f, d.SoundSpeed);
             Assert.AreEqual(0f, d.AdaptiveErrorTarget);
             Assert.AreEqual(1.0f, d.Relaxation);
             Assert.AreEqual(0.1f, d.ScorrK);

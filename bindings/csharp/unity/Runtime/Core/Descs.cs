@@ -78,7 +78,7 @@ namespace Pbf
         /// <summary>Automatic substeps: the fastest particle's travel per substep, as a fraction of h,
         /// 0.05..1 (default 0.5).</summary>
         public float SubstepTravel { get { return _raw.substep_travel; } set { _raw.substep_travel = value; } }
-        /// <summary>m/s, &gt; 0 (default 10): the response speed of the density constraint to an
+        /// <summary>m/s, &gt; 0 (default 40): the response speed of the density constraint to an
         /// error older than the substep. Such an error relaxes over τ = h / SoundSpeed rather than in
         /// one substep, so the velocity its removal creates stays near error · SoundSpeed whatever dt
         /// is; new compression is removed in full every substep.</summary>
