@@ -48,7 +48,7 @@ std::string tiny_scene(const std::string& out, const std::string& formats) {
       "solver": { "iterations": 2, "substeps": 2, "ldc_enabled": true },
       "blocks": [ { "min": [0, 0, 0], "max": [0.4, 0.5, 0.2] } ],
       "emitters": [ { "type": "nozzle", "position": [0.8, 0.6, 0.1], "direction": [0, -1, 0],
-                      "rate": 300, "speed": 1.0, "radius": 0.05, "start_frame": 1, "end_frame": 4 } ],
+                      "rate": 300, "speed": 5.0, "radius": 0.05, "start_frame": 1, "end_frame": 4 } ],
       "colliders": [ { "shape": "sphere", "position": [0.7, 0.1, 0.1], "radius": 0.08 } ],
       "frames": { "start": 0, "end": 5, "rate": 30 },
       "output": { "directory": ")" + out + R"(", "name": "tiny", "formats": )" + formats + R"( }
