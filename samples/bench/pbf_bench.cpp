@@ -77,6 +77,7 @@ Result run(const Config& c, int warmup, int steps, bool stages) {
     if (dam) set3(d.domain_max, 4 * a, 2.5f * a, 0.5f * a);
     else set3(d.domain_max, 2 * a, 2 * a, a);
     d.solver.iterations = c.iterations;
+    d.solver.substeps = 1;  // one step = one substep, whatever the automatic rule would pick
     d.solver.ldc_enabled = c.ldc;
     pbf_world_id w;
     if (pbf_world_create(&d, &w) != PBF_OK) {
