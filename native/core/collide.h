@@ -48,7 +48,7 @@ PBF_HD float collider_distance(const Collider& c, const ColliderPose& pose, Vec3
 
 // Where a particle that moved from x_old to p met collider c, seen from the collider (which
 // moved from prev to cur over the substep): the segment is marched in the collider's frame by
-// its distance field (sphere tracing, at most 16 probes) up to the first point within `radius`
+// its distance field (sphere tracing, at most 16 probes, then the last point reached) up to the first point within `radius`
 // of the surface, or, for a particle that started closer than that (in contact), up to the
 // surface itself. Returns false when it did not get there. Without it a particle could pass
 // through a collider that moves (or that it crosses) more than about its thickness in one
@@ -64,8 +64,11 @@ PBF_HD bool swept_contact(const Collider& c, const ColliderPose& prev, const Col
     Vec3 n;
     const float d_start = collider_distance(c, cur, a, n);
     if (d_start <= 0.0f) return false;  // started inside: the end-pose projection handles it
-    const float reach = d_start < radius ? 0.5f * d_start : radius;
-    if (collider_distance(c, cur, p, n) > reach && len <= radius) return false;  // a short move that stays clear
+    // In contact at the start (within the radius, resting or sliding): only a crossing of the
+    // surface itself counts, so a sliding particle keeps sliding.
+    const float reach = d_start < 1.001f * radius ? 0.5f * d_start : radius;
+    // A short move that ends clear of that reach: the end-pose projection handles it.
+    if (len <= radius && collider_distance(c, cur, p, n) > reach) return false;
     const Vec3 dir = ab * (1.0f / len);
     float t = 0.0f;
     for (int k = 0; k < 16; ++k) {
@@ -78,7 +81,10 @@ PBF_HD bool swept_contact(const Collider& c, const ColliderPose& prev, const Col
         t += d;
         if (t >= len) return false;
     }
-    return false;
+    // Out of probes (a path grazing the surface converges slowly): stop at the last point
+    // reached, which is still clear of the surface, rather than let the projection pick a side.
+    hit = a + dir * t;
+    return true;
 }
 
 // Projects predicted position p (the particle was at x_old at the start of the substep).
