@@ -40,8 +40,9 @@ if [ "${#need[@]}" -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $sudo_ apt-get install -y -qq "${need[@]}" >/dev/null
 fi
 
-so="$(ls "$libdir"/libpbf.so.*.*.* 2>/dev/null | head -n 1 || true)"
-[ -n "$so" ] || so="$libdir/libpbf.so"
+# The library the build links as libpbf.so (a build folder can also hold an older major's file).
+so="$(readlink -f "$libdir/libpbf.so" 2>/dev/null || true)"
+[ -n "$so" ] && [ -e "$so" ] || so="$(ls "$libdir"/libpbf.so.*.*.* 2>/dev/null | sort -V | tail -n 1 || true)"
 if [ ! -e "$so" ]; then
   echo "pack_nuget.sh: no libpbf.so in '$libdir' (build libpbf first: scripts/build.sh, or CMake with PBF_WITH_CUDA=OFF)" >&2
   exit 2
