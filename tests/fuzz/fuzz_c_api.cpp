@@ -340,7 +340,7 @@ void check_world(const WorldModel& w, bool deep) {
 void fuzz_params(Reader& in, pbf_solver_params* p) {
     const uint16_t mask = in.u16();
     if (mask & 0x001) p->iterations = in.u32(1, 8);
-    if (mask & 0x002) p->substeps = in.u32(1, 3);
+    if (mask & 0x002) p->substeps = in.u32(0, 3);  // 0: automatic
     if (mask & 0x004) p->relaxation = in.f(0.01f, 10.0f);
     if (mask & 0x008) p->scorr_k = in.f(0.0f, 1.0f);
     if (mask & 0x010) p->scorr_n = in.f(1.0f, 8.0f);
@@ -352,12 +352,17 @@ void fuzz_params(Reader& in, pbf_solver_params* p) {
     if (mask & 0x400) p->max_speed = in.f(0.1f, 200.0f);
     if (mask & 0x800) p->struct_size = in.struct_size(sizeof *p);
     if (mask & 0x1000) p->adaptive_error_target = in.f(0.0f, 0.05f);
+    if (mask & 0x2000) p->max_substeps = in.u32(0, 8);  // 0 is refused
+    if (mask & 0x4000) p->substep_travel = in.f(0.0f, 1.2f);
+    if (mask & 0x8000) p->sound_speed = in.f(-1.0f, 100.0f);
 }
 
 // What check_solver_params accepts (a refused struct is checked to change nothing).
 bool params_valid(const pbf_solver_params& p) {
-    return p.struct_size == sizeof p && p.iterations >= 1 && p.iterations <= 64 && p.substeps >= 1 &&
-           p.substeps <= 16 && std::isfinite(p.relaxation) && p.relaxation > 0 && std::isfinite(p.scorr_k) &&
+    return p.struct_size == sizeof p && p.iterations >= 1 && p.iterations <= 64 && p.substeps <= 64 &&
+           p.max_substeps >= 1 && p.max_substeps <= 64 && std::isfinite(p.substep_travel) &&
+           p.substep_travel >= 0.05f && p.substep_travel <= 1.0f && std::isfinite(p.sound_speed) &&
+           p.sound_speed > 0 && std::isfinite(p.relaxation) && p.relaxation > 0 && std::isfinite(p.scorr_k) &&
            p.scorr_k >= 0 && p.scorr_k <= 1 && std::isfinite(p.scorr_n) && p.scorr_n >= 1 && p.scorr_n <= 8 &&
            std::isfinite(p.scorr_dq) && p.scorr_dq > 0 && p.scorr_dq < 1 && std::isfinite(p.xsph_c) &&
            p.xsph_c >= 0 && p.xsph_c <= 1 && std::isfinite(p.vorticity_epsilon) && p.vorticity_epsilon >= 0 &&
@@ -512,7 +517,8 @@ void op_step(Reader& in, State& s) {
             const double particles = w->any_enabled_source() ? double(w->capacity) : double(before);
             const double candidates =
                 std::min(particles, 27.0 * std::ceil(particles / double(std::max(1u, w->grid_cells))) + 27.0);
-            const double cost = double(w->params.substeps) *
+            // Automatic substeps (0) run up to max_substeps.
+            const double cost = double(w->params.substeps ? w->params.substeps : w->params.max_substeps) *
                                 (particles * candidates * (double(w->params.iterations) * 2.0 + 8.0) +
                                  4.0 * w->grid_cells + 64.0);
             if (cost > s.budget) return;
