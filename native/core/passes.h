@@ -75,14 +75,13 @@ struct IterationControl {
     uint32_t pad;
 };
 
-// One thread: at each substep start (and the step's, which also clears the iteration count).
+// One thread at each adaptive substep's start (the step's start, which also clears the
+// iteration count, is the solver's BeginStepOp).
 struct ResetControlOp {
     IterationControl* control;
-    uint32_t clear_used;
     PBF_HD void operator()(uint32_t) const {
         control->converged = 0;
         control->error_sum = 0.0f;
-        if (clear_used) control->iterations_used = 0;
     }
 };
 

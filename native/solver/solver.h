@@ -308,7 +308,7 @@ private:
         // convergence return at once (iterations is the cap).
         const bool adaptive = s.adaptive_target > 0.0f;
         IterationControl* control = adaptive ? &counters_->control : nullptr;
-        if (adaptive) exec_.for_each(1, ResetControlOp{control, 0u});
+        if (adaptive) exec_.for_each(1, ResetControlOp{control});
         // iterations >= 1 (the API refuses 0): the first λ pass records the neighbour masks and
         // the last Δp pass updates v and x.
         const NeighborMasks masks{masks_, sorted_keys_, config_.capacity};
