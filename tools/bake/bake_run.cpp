@@ -175,7 +175,7 @@ RunResult run_bake(const Scene& s, const RunOptions& o) {
             for (size_t i = 0; i < colliders.size(); ++i) {
                 if (s.colliders[i].desc.motion != PBF_MOTION_KINEMATIC) continue;
                 const Keyframe p = pose_at(s.colliders[i].keys, f);
-                check(pbf_collider_set_pose(world.id, colliders[i], p.position, p.rotation),
+                check(pbf_collider_set_target_pose(world.id, colliders[i], p.position, p.rotation),
                       file + ": /colliders/" + std::to_string(i), "pbf_collider_set_pose");
             }
             check(pbf_world_step(world.id, step_dt), file, "pbf_world_step");

@@ -128,7 +128,7 @@ public sealed class PbfFluidDemo : MonoBehaviour
             _nozzleOn = nozzleEnabled;
         }
         if (_pusher != null && pusher != null)
-            _pusher.SetPose(pusher.position.ToNumerics(), pusher.rotation.ToNumerics());
+            _pusher.SetTargetPose(pusher.position.ToNumerics(), pusher.rotation.ToNumerics());
         _world.Step(Time.fixedDeltaTime);
     }
 
