@@ -46,18 +46,6 @@
 #  endif
 #endif
 
-/* Names kept for source compatibility and due to be removed in the next major version. Define
- * PBF_NO_DEPRECATION_WARNINGS before including this header to silence the compiler's warning. */
-#if defined(PBF_NO_DEPRECATION_WARNINGS)
-#  define PBF_DEPRECATED(message)
-#elif defined(_MSC_VER)
-#  define PBF_DEPRECATED(message) __declspec(deprecated(message))
-#elif defined(__GNUC__) || defined(__clang__)
-#  define PBF_DEPRECATED(message) __attribute__((deprecated(message)))
-#else
-#  define PBF_DEPRECATED(message)
-#endif
-
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -331,11 +319,6 @@ PBF_API pbf_result PBF_CALL pbf_emitter_set_nozzle(pbf_world_id world, pbf_emitt
  * PBF_ERROR_INVALID_ARGUMENT (check EMITTER_KIND). Takes effect at the next step. */
 PBF_API pbf_result PBF_CALL pbf_emitter_set_drain_box(pbf_world_id world, pbf_emitter_id emitter,
                                                       const float box_min[3], const float box_max[3]);
-/* Deprecated since 2.1: pbf_emitter_set_nozzle or pbf_emitter_set_drain_box, by the emitter's
- * type (a, b are a nozzle's position and direction or a drain's box_min and box_max). */
-PBF_DEPRECATED("use pbf_emitter_set_nozzle or pbf_emitter_set_drain_box")
-PBF_API pbf_result PBF_CALL pbf_emitter_set_transform(pbf_world_id world, pbf_emitter_id emitter,
-                                                      const float a[3], const float b[3]);
 
 /* ---- Colliders ---------------------------------------------------------------------------- */
 typedef enum pbf_collider_shape {
@@ -383,10 +366,6 @@ PBF_API pbf_result PBF_CALL pbf_world_destroy_collider(pbf_world_id world, pbf_c
  * by slerp in rotation, one pose per substep). A static collider gives PBF_ERROR_INVALID_STATE. */
 PBF_API pbf_result PBF_CALL pbf_collider_set_target_pose(pbf_world_id world, pbf_collider_id collider,
                                                          const float position[3], const float rotation[4]);
-/* Deprecated since 2.1: the same call as pbf_collider_set_target_pose. */
-PBF_DEPRECATED("use pbf_collider_set_target_pose")
-PBF_API pbf_result PBF_CALL pbf_collider_set_pose(pbf_world_id world, pbf_collider_id collider,
-                                                  const float position[3], const float rotation[4]);
 
 /* ---- Particles ---------------------------------------------------------------------------- */
 /* Storage order: the solver reorders particles every step (by grid cell). All copy-out calls

@@ -29,29 +29,14 @@ PBF_API pbf_result PBF_CALL pbf_world_destroy_collider(pbf_world_id id, pbf_coll
     });
 }
 
-}  // extern "C"
-
-namespace {
-pbf_result set_target_pose(const char* fn, pbf_world_id id, pbf_collider_id c, const float position[3],
-                           const float rotation[4]) {
+PBF_API pbf_result PBF_CALL pbf_collider_set_target_pose(pbf_world_id id, pbf_collider_id c, const float position[3],
+                                                        const float rotation[4]) {
+    const char* fn = "pbf_collider_set_target_pose";
     return guarded(fn, [&]() -> pbf_result {
         PBF_VALIDATE(pbf::api::validate_collider_pose(position, rotation));
         PBF_LOCK_WORLD(w, id);
         return fail(fn, w->set_collider_target(c, position, rotation));
     });
-}
-}  // namespace
-
-extern "C" {
-
-PBF_API pbf_result PBF_CALL pbf_collider_set_target_pose(pbf_world_id id, pbf_collider_id c, const float position[3],
-                                                        const float rotation[4]) {
-    return set_target_pose("pbf_collider_set_target_pose", id, c, position, rotation);
-}
-
-PBF_API pbf_result PBF_CALL pbf_collider_set_pose(pbf_world_id id, pbf_collider_id c, const float position[3],
-                                                 const float rotation[4]) {
-    return set_target_pose("pbf_collider_set_pose", id, c, position, rotation);
 }
 
 }  // extern "C"

@@ -57,9 +57,9 @@ PBF_API pbf_result PBF_CALL pbf_emitter_set_enabled(pbf_world_id id, pbf_emitter
 }  // extern "C"
 
 namespace {
-// Moves a nozzle or a drain; `kind` null accepts either (the deprecated pbf_emitter_set_transform).
+// Moves a nozzle (a, b: position, direction) or a drain (a, b: box_min, box_max) of type `kind`.
 pbf_result move_emitter(const char* fn, pbf_world_id id, pbf_emitter_id e, const float a[3], const float b[3],
-                        const pbf_emitter_type* kind) {
+                        pbf_emitter_type kind) {
     return guarded(fn, [&]() -> pbf_result {
         PBF_VALIDATE(pbf::api::validate_emitter_transform(nullptr, a, b));
         PBF_LOCK_WORLD(w, id);
@@ -76,18 +76,12 @@ extern "C" {
 
 PBF_API pbf_result PBF_CALL pbf_emitter_set_nozzle(pbf_world_id id, pbf_emitter_id e, const float position[3],
                                                   const float direction[3]) {
-    const pbf_emitter_type kind = PBF_EMITTER_NOZZLE;
-    return move_emitter("pbf_emitter_set_nozzle", id, e, position, direction, &kind);
+    return move_emitter("pbf_emitter_set_nozzle", id, e, position, direction, PBF_EMITTER_NOZZLE);
 }
 
 PBF_API pbf_result PBF_CALL pbf_emitter_set_drain_box(pbf_world_id id, pbf_emitter_id e, const float box_min[3],
                                                      const float box_max[3]) {
-    const pbf_emitter_type kind = PBF_EMITTER_DRAIN;
-    return move_emitter("pbf_emitter_set_drain_box", id, e, box_min, box_max, &kind);
-}
-
-PBF_API pbf_result PBF_CALL pbf_emitter_set_transform(pbf_world_id id, pbf_emitter_id e, const float a[3], const float b[3]) {
-    return move_emitter("pbf_emitter_set_transform", id, e, a, b, nullptr);
+    return move_emitter("pbf_emitter_set_drain_box", id, e, box_min, box_max, PBF_EMITTER_DRAIN);
 }
 
 }  // extern "C"

@@ -135,8 +135,8 @@ Verdict validate_emitter_transform(const pbf_emitter_type* type, const float a[3
     return {};
 }
 
-Verdict validate_emitter_kind(const pbf_emitter_type* kind, pbf_emitter_type type) {
-    V(!kind || *kind == type, EMITTER_KIND);
+Verdict validate_emitter_kind(pbf_emitter_type kind, pbf_emitter_type type) {
+    V(kind == type, EMITTER_KIND);
     return {};
 }
 

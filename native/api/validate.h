@@ -136,8 +136,8 @@ Verdict validate_emitter_desc(const pbf_emitter_desc& d);
 // pbf_emitter_set_nozzle/_drain_box: a, b are a nozzle's position and direction or a drain's box (type
 // null: only what holds for both, before the emitter is looked up).
 Verdict validate_emitter_transform(const pbf_emitter_type* type, const float a[3], const float b[3]);
-// pbf_emitter_set_nozzle / _drain_box: the call's kind matches the emitter's type (null: either).
-Verdict validate_emitter_kind(const pbf_emitter_type* kind, pbf_emitter_type type);
+// pbf_emitter_set_nozzle / _drain_box: the call's kind matches the emitter's type.
+Verdict validate_emitter_kind(pbf_emitter_type kind, pbf_emitter_type type);
 Verdict validate_collider_desc(const pbf_collider_desc& d);
 Verdict validate_collider_pose(const float position[3], const float rotation[4]);
 Verdict validate_gl_buffer_desc(const pbf_gl_buffer_desc& d);

@@ -185,22 +185,6 @@ namespace Pbf.Tests
             Scene.ExpectError(Result.InvalidArgument, () => drain.SetNozzle(Vector3.UnitY, -Vector3.UnitY), "pbf_emitter_set_nozzle", "the emitter is of the other type");
         }
 
-#pragma warning disable 618  // the deprecated names, which must keep working until the next major version
-        [Test]
-        public void DeprecatedNamesStillWork()
-        {
-            Emitter drain = _world.CreateDrain(-Vector3.One, Vector3.One);
-            drain.SetTransform(-Vector3.One, 0.5f * Vector3.One);
-            Scene.ExpectError(Result.InvalidArgument, () => drain.SetTransform(Vector3.One, Vector3.Zero), "pbf_emitter_set_transform", "drain box_max must exceed box_min");
-            Collider c = _world.CreateCollider(ColliderDesc.Sphere(new Vector3(0, 1, 0), 0.1f));
-            Scene.ExpectError(Result.InvalidState, () => c.SetPose(Vector3.One, Quaternion.Identity), "pbf_collider_set_target_pose", "only kinematic colliders can be moved");
-            var p = new Float3 { x = 0, y = 1, z = 0 };
-            var q = new Float4 { x = 0, y = 0, z = 0, w = 1 };
-            Assert.AreEqual(pbf_result.PBF_ERROR_INVALID_STATE, Native.pbf_collider_set_pose(_world.Id, c.Id, ref p, ref q));
-            StringAssert.Contains("pbf_collider_set_pose", Native.LastErrorMessage());
-        }
-#pragma warning restore 618
-
         [Test]
         public void ColliderDescsAreValidated()
         {

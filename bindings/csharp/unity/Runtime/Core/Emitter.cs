@@ -49,14 +49,6 @@ namespace Pbf
             PbfException.Check(Native.pbf_emitter_set_drain_box(_world.Handle, _id, ref lo, ref hi));
         }
 
-        /// <summary>Nozzle: a = position, b = direction. Drain: a = box min, b = box max.</summary>
-        [Obsolete("use SetNozzle or SetDrainBox")]
-        public void SetTransform(Vector3 a, Vector3 b)
-        {
-            Float3 na = Convert3.ToNative(a), nb = Convert3.ToNative(b);
-            PbfException.Check(Native.pbf_emitter_set_transform(_world.Handle, _id, ref na, ref nb));
-        }
-
         /// <summary>Removes the emitter from its world. Idempotent; a no-op once the world is disposed.</summary>
         public void Destroy()
         {
@@ -108,10 +100,6 @@ namespace Pbf
             Float4 q = Convert3.ToNative(rotation);
             PbfException.Check(Native.pbf_collider_set_target_pose(_world.Handle, _id, ref p, ref q));
         }
-
-        /// <summary>Deprecated name of <see cref="SetTargetPose"/>.</summary>
-        [Obsolete("use SetTargetPose")]
-        public void SetPose(Vector3 position, Quaternion rotation) { SetTargetPose(position, rotation); }
 
         /// <summary>Removes the collider from its world. Idempotent; a no-op once the world is disposed.</summary>
         public void Destroy()

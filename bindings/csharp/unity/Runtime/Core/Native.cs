@@ -651,10 +651,6 @@ namespace Pbf.Interop
         public static extern pbf_result pbf_emitter_set_drain_box(pbf_world_id world, pbf_emitter_id emitter, ref Float3 box_min, ref Float3 box_max);
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_emitter_set_drain_box(pbf_world_id world, pbf_emitter_id emitter, IntPtr box_min, IntPtr box_max);
-        /// <summary>Deprecated: pbf_emitter_set_nozzle or pbf_emitter_set_drain_box.</summary>
-        [Obsolete("use pbf_emitter_set_nozzle or pbf_emitter_set_drain_box")]
-        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
-        public static extern pbf_result pbf_emitter_set_transform(pbf_world_id world, pbf_emitter_id emitter, ref Float3 a, ref Float3 b);
 
         // Colliders
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
@@ -676,10 +672,6 @@ namespace Pbf.Interop
         public static extern pbf_result pbf_collider_set_target_pose(pbf_world_id world, pbf_collider_id collider, ref Float3 position, ref Float4 rotation);
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_collider_set_target_pose(pbf_world_id world, pbf_collider_id collider, IntPtr position, IntPtr rotation);
-        /// <summary>Deprecated: pbf_collider_set_target_pose.</summary>
-        [Obsolete("use pbf_collider_set_target_pose")]
-        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
-        public static extern pbf_result pbf_collider_set_pose(pbf_world_id world, pbf_collider_id collider, ref Float3 position, ref Float4 rotation);
 
         // Particles
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
