@@ -176,7 +176,7 @@ RunResult run_bake(const Scene& s, const RunOptions& o) {
                 if (s.colliders[i].desc.motion != PBF_MOTION_KINEMATIC) continue;
                 const Keyframe p = pose_at(s.colliders[i].keys, f);
                 check(pbf_collider_set_target_pose(world.id, colliders[i], p.position, p.rotation),
-                      file + ": /colliders/" + std::to_string(i), "pbf_collider_set_pose");
+                      file + ": /colliders/" + std::to_string(i), "pbf_collider_set_target_pose");
             }
             check(pbf_world_step(world.id, step_dt), file, "pbf_world_step");
         }
