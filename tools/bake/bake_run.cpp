@@ -16,7 +16,7 @@ namespace {
 // A failed libpbf call: the scene element, the call, the result and the library's message.
 void check(pbf_result r, const std::string& where, const char* call) {
     if (r == PBF_OK) return;
-    throw Error(where + ": " + call + " failed: " + pbf_result_string(r) + ": " + pbf_last_error_message());
+    throw Error(where + ": " + call + " failed: " + pbf_last_error_message());  // the message names the result
 }
 
 // Destroys the world on every way out.
