@@ -48,6 +48,25 @@ ensure_packages() {  # installs missing Debian packages (quietly)
   "${sudo[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y -q "${missing[@]}" >/dev/null 2>&1
 }
 
+# configure_build DIR TARGET CMAKE_ARGS...: configures DIR with CMAKE_ARGS and builds TARGET ("":
+# all), logs in DIR/ci_cmake.log and DIR/ci_build.log; on failure shows the errors (or the logs'
+# tails where no line says error) and returns 1. Compilers come from CC/CXX, as cmake reads them.
+configure_build() {
+  local dir=$1 target=$2 target_args=()
+  shift 2
+  [ -n "$target" ] && target_args=(--target "$target")
+  mkdir -p "$dir"
+  if ! cmake -S . -B "$dir" "$@" >"$dir/ci_cmake.log" 2>&1 ||
+     ! cmake --build "$dir" "${target_args[@]}" -j"$jobs" >"$dir/ci_build.log" 2>&1; then
+    if grep -q -E 'error|Error' "$dir/ci_cmake.log" "$dir/ci_build.log"; then
+      grep -E 'error|Error' "$dir/ci_cmake.log" "$dir/ci_build.log" | head -30
+    else
+      tail -30 "$dir/ci_cmake.log" "$dir/ci_build.log"
+    fi
+    return 1
+  fi
+}
+
 # ---- 1. fuzz -----------------------------------------------------------------------------------
 if skipped fuzz; then
   note "fuzz:     skipped"
@@ -57,11 +76,8 @@ else
     ensure_packages clang libclang-rt-14-dev libomp-14-dev || true
   fi
   fuzz_log=build-fuzz/ci_fuzz.log
-  mkdir -p build-fuzz
-  if ! CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPBF_BUILD_FUZZ=ON \
-         -DPBF_WITH_CUDA=OFF -DPBF_BUILD_TESTS=OFF -DPBF_BUILD_SAMPLES=OFF >build-fuzz/ci_cmake.log 2>&1 ||
-     ! cmake --build build-fuzz --target pbf_fuzz_c_api -j"$jobs" >build-fuzz/ci_build.log 2>&1; then
-    tail -30 build-fuzz/ci_cmake.log build-fuzz/ci_build.log
+  if ! CC=clang CXX=clang++ configure_build build-fuzz pbf_fuzz_c_api -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+         -DPBF_BUILD_FUZZ=ON -DPBF_WITH_CUDA=OFF -DPBF_BUILD_TESTS=OFF -DPBF_BUILD_SAMPLES=OFF; then
     fail "fuzz:     FAILED to build (build-fuzz/ci_build.log)"
   else
     fuzzer=build-fuzz/tests/fuzz/pbf_fuzz_c_api
@@ -93,11 +109,8 @@ if skipped sanitize; then
 else
   echo
   echo "== sanitize: CPU test suite under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/)"
-  mkdir -p build-asan
-  if ! cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPBF_SANITIZE=ON -DPBF_WITH_CUDA=OFF \
-         -DPBF_BUILD_SAMPLES=OFF >build-asan/ci_cmake.log 2>&1 ||
-     ! cmake --build build-asan -j"$jobs" >build-asan/ci_build.log 2>&1; then
-    grep -E 'error|Error' build-asan/ci_cmake.log build-asan/ci_build.log | head -30
+  if ! configure_build build-asan "" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPBF_SANITIZE=ON -DPBF_WITH_CUDA=OFF \
+         -DPBF_BUILD_SAMPLES=OFF; then
     fail "sanitize: FAILED to build (build-asan/ci_build.log)"
   else
     # allocator_may_return_null: the out-of-memory tests ask for more than the machine has and
@@ -129,11 +142,8 @@ if skipped soak; then
 else
   echo
   echo "== soak: pbf_soak, $soak_steps steps of a nozzle-and-drain world (build-soak/, Release)"
-  mkdir -p build-soak
-  if ! cmake -S . -B build-soak -DCMAKE_BUILD_TYPE=Release -DPBF_WITH_CUDA=OFF -DPBF_BUILD_TESTS=OFF \
-         -DPBF_BUILD_SAMPLES=OFF -DPBF_BUILD_SOAK=ON >build-soak/ci_cmake.log 2>&1 ||
-     ! cmake --build build-soak --target pbf_soak -j"$jobs" >build-soak/ci_build.log 2>&1; then
-    grep -E 'error|Error' build-soak/ci_cmake.log build-soak/ci_build.log | head -30
+  if ! configure_build build-soak pbf_soak -DCMAKE_BUILD_TYPE=Release -DPBF_WITH_CUDA=OFF -DPBF_BUILD_TESTS=OFF \
+         -DPBF_BUILD_SAMPLES=OFF -DPBF_BUILD_SOAK=ON; then
     fail "soak:     FAILED to build (build-soak/ci_build.log)"
   else
     soak_log=build-soak/ci_soak.log
