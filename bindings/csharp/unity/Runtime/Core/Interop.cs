@@ -250,27 +250,17 @@ namespace Pbf
 
     /// <summary>A GL buffer registered with a world (<see cref="World.RegisterGlBuffer"/>). After
     /// <see cref="Unregister"/> the handle is stale: further calls throw <see cref="Result.InvalidHandle"/>.</summary>
-    public sealed class GlBuffer
+    public sealed class GlBuffer : WorldHandle<pbf_gl_buffer_id>
     {
-        readonly World _world;
-        readonly pbf_gl_buffer_id _id;
+        internal GlBuffer(World world, pbf_gl_buffer_id id, CopyMode mode) : base(world, id) { Mode = mode; }
 
-        internal GlBuffer(World world, pbf_gl_buffer_id id, CopyMode mode)
-        {
-            _world = world;
-            _id = id;
-            Mode = mode;
-        }
-
-        public World World { get { return _world; } }
-        public pbf_gl_buffer_id Id { get { return _id; } }
         public CopyMode Mode { get; private set; }
 
         /// <summary>pbf_world_copy_to_gl_buffer: queues a copy of the current particles now.</summary>
-        public void Copy() { PbfException.Check(Native.pbf_world_copy_to_gl_buffer(_world.Handle, _id)); }
+        public void Copy() { PbfException.Check(Native.pbf_world_copy_to_gl_buffer(World.Handle, Id)); }
 
         /// <summary>pbf_world_unregister_gl_buffer (GL context current, as for registration).</summary>
-        public void Unregister() { PbfException.Check(Native.pbf_world_unregister_gl_buffer(_world.Handle, _id)); }
+        public void Unregister() { PbfException.Check(Native.pbf_world_unregister_gl_buffer(World.Handle, Id)); }
     }
 
     /// <summary>Interop state of a world (pbf_interop_info).</summary>
