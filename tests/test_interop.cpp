@@ -61,8 +61,7 @@ bool env_set(const char* name) {
 pbf_world_id small_world(pbf_backend backend, uint32_t capacity = 8192) {
     pbf_world_desc d = tank(backend, 0.0125f, 0.8f, 0.5f, 0.2f, capacity);
     d.solver.substeps = 2;
-    pbf_world_id w;
-    REQUIRE_PBF(pbf_world_create(&d, &w));
+    pbf_world_id w = create(d);
     fill(w, 0, 0, 0, 0.2f, 0.4f, 0.2f);
     return w;
 }
