@@ -122,9 +122,7 @@ namespace Pbf
         public GlBuffer RegisterGlBuffer(GlBufferDesc desc)
         {
             if (desc == null) throw new ArgumentNullException("desc");
-            pbf_gl_buffer_desc raw = desc.ToNative();
-            pbf_gl_buffer_id id;
-            PbfException.Check(Native.pbf_world_register_gl_buffer(Handle, ref raw, out id));
+            var id = CreateNative<pbf_gl_buffer_desc, pbf_gl_buffer_id>(Native.pbf_world_register_gl_buffer, desc.ToNative());
             return new GlBuffer(this, id, desc.Mode);
         }
 
