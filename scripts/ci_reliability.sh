@@ -32,6 +32,13 @@ failed=0
 
 note() { summary+=("$1"); echo "$1"; }
 fail() { note "$1"; failed=1; }
+# verdict PART RC OK FAILED: the part's summary line, "PART: ok: OK" when RC is 0, else
+# "PART: FAILED<FAILED>" (a failure); part names padded to one column.
+verdict() {
+  local label
+  label="$(printf '%-9s' "$1:")"
+  if [ "$2" -eq 0 ]; then note "$label ok: $3"; else fail "$label FAILED$4"; fi
+}
 skipped() { [[ "$skip" == *",$1,"* ]]; }
 
 ensure_packages() {  # installs missing Debian packages (quietly)
@@ -93,12 +100,10 @@ else
       rc=$?
       execs="$(grep -m1 'stat::number_of_executed_units' "$fuzz_log" | awk '{print $2}')"
       rate="$(grep -m1 'stat::average_exec_per_sec' "$fuzz_log" | awk '{print $2}')"
-      if [ "$rc" -ne 0 ]; then
-        grep -v -E '^(INFO|#[0-9]+)' "$fuzz_log" | tail -40
-        fail "fuzz:     FAILED after ${execs:-?} executions: $(ls build-fuzz/artifacts | head -3 | tr '\n' ' ')(build-fuzz/artifacts, $fuzz_log)"
-      else
-        note "fuzz:     ok: ${execs:-?} executions in ${fuzz_seconds} s (${rate:-?}/s), $(ls tests/fuzz/regressions | wc -l) regression inputs replayed, corpus $(ls build-fuzz/corpus | wc -l) units"
-      fi
+      [ "$rc" -eq 0 ] || grep -v -E '^(INFO|#[0-9]+)' "$fuzz_log" | tail -40
+      verdict fuzz "$rc" \
+        "${execs:-?} executions in ${fuzz_seconds} s (${rate:-?}/s), $(ls tests/fuzz/regressions | wc -l) regression inputs replayed, corpus $(ls build-fuzz/corpus | wc -l) units" \
+        " after ${execs:-?} executions: $(ls build-fuzz/artifacts | head -3 | tr '\n' ' ')(build-fuzz/artifacts, $fuzz_log)"
     fi
   fi
 fi
@@ -127,12 +132,9 @@ else
     secs=$(( $(date +%s) - start ))
     line="$(grep -E 'tests passed, [0-9]+ tests? failed out of' "$asan_log" | tail -n 1)"
     findings="$(grep -c -E 'ERROR: (AddressSanitizer|LeakSanitizer)|runtime error:' "$asan_log")"
-    if [ "$rc" -ne 0 ]; then
-      grep -E -A12 'ERROR: (AddressSanitizer|LeakSanitizer)|runtime error:|\*\*\*Failed|FAILED:' "$asan_log" | head -60
-      fail "sanitize: FAILED: ${line:-no ctest summary} ($findings sanitizer reports, $secs s, $asan_log)"
-    else
-      note "sanitize: ok: ${line} under ASan+UBSan, $findings sanitizer reports, $secs s"
-    fi
+    [ "$rc" -eq 0 ] || grep -E -A12 'ERROR: (AddressSanitizer|LeakSanitizer)|runtime error:|\*\*\*Failed|FAILED:' "$asan_log" | head -60
+    verdict sanitize "$rc" "${line} under ASan+UBSan, $findings sanitizer reports, $secs s" \
+      ": ${line:-no ctest summary} ($findings sanitizer reports, $secs s, $asan_log)"
   fi
 fi
 
@@ -148,13 +150,10 @@ else
   else
     soak_log=build-soak/ci_soak.log
     warmup=$(( soak_steps / 4 ))
-    if build-soak/tools/soak/pbf_soak --steps "$soak_steps" --check-every 500 --warmup "$warmup" --quiet \
-         >"$soak_log" 2>&1; then
-      note "soak:     ok: $(grep -m1 'pbf_soak: OK' "$soak_log" | sed 's/^pbf_soak: OK: //')"
-    else
-      tail -20 "$soak_log"
-      fail "soak:     FAILED ($soak_log)"
-    fi
+    build-soak/tools/soak/pbf_soak --steps "$soak_steps" --check-every 500 --warmup "$warmup" --quiet >"$soak_log" 2>&1
+    rc=$?
+    [ "$rc" -eq 0 ] || tail -20 "$soak_log"
+    verdict soak "$rc" "$(grep -m1 'pbf_soak: OK' "$soak_log" | sed 's/^pbf_soak: OK: //')" " ($soak_log)"
   fi
 fi
 
