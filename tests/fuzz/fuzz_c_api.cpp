@@ -249,6 +249,43 @@ int find_live(const std::vector<Live>& live, Id id) {
     return -1;
 }
 
+// A picked world (w: its model, null where none) and a handle picked among the live and dead
+// handles of one of its tables (emitters or colliders; with no model, a forged or another
+// world's handle), with the handle's index among the table's live ones (-1: not live there).
+template <class Id>
+struct Picked {
+    WorldModel* w;
+    pbf_world_id world;
+    Id handle;
+    int live;
+};
+
+template <class Live, class Id>
+Picked<Id> pick_object(Reader& in, State& s, std::vector<Live> WorldModel::*live, std::vector<Id> WorldModel::*dead) {
+    static const std::vector<Live> kNone;
+    static const std::vector<Id> kNoIds;
+    WorldModel* w = nullptr;
+    const pbf_world_id world = pick_world(in, s, &w);
+    const Id handle = pick_handle(in, w ? w->*live : kNone, w ? w->*dead : kNoIds, s);
+    return Picked<Id>{w, world, handle, w ? find_live(w->*live, handle) : -1};
+}
+
+// destroy(world, handle) on a picked world and handle: it succeeds exactly for a live handle,
+// which then joins the table's dead handles; any other is an invalid handle.
+template <class Live, class Id, class Destroy>
+void destroy_picked(Reader& in, State& s, std::vector<Live> WorldModel::*live, std::vector<Id> WorldModel::*dead,
+                    Destroy destroy) {
+    const auto [w, id, h, k] = pick_object(in, s, live, dead);
+    const pbf_result r = checked(destroy(id, h));
+    FUZZ_ASSERT((r == PBF_OK) == (k >= 0));
+    if (r != PBF_OK) {
+        FUZZ_ASSERT(r == PBF_ERROR_INVALID_HANDLE);
+        return;
+    }
+    (w->*dead).push_back(h);
+    (w->*live).erase((w->*live).begin() + k);
+}
+
 // ---- snapshots and invariants ----------------------------------------------------------------
 struct Snapshot {
     uint32_t count = 0;
@@ -734,29 +771,11 @@ void op_create_emitter(Reader& in, State& s) {
 }
 
 void op_destroy_emitter(Reader& in, State& s) {
-    WorldModel* w = nullptr;
-    const pbf_world_id id = pick_world(in, s, &w);
-    static const std::vector<EmitterModel> kNone;
-    static const std::vector<pbf_emitter_id> kNoIds;
-    const pbf_emitter_id e = pick_handle(in, w ? w->emitters : kNone, w ? w->dead_emitters : kNoIds, s);
-    const pbf_result r = checked(pbf_world_destroy_emitter(id, e));
-    const int k = w ? find_live(w->emitters, e) : -1;
-    FUZZ_ASSERT((r == PBF_OK) == (k >= 0));
-    if (r != PBF_OK) {
-        FUZZ_ASSERT(r == PBF_ERROR_INVALID_HANDLE);
-        return;
-    }
-    w->dead_emitters.push_back(e);
-    w->emitters.erase(w->emitters.begin() + k);
+    destroy_picked(in, s, &WorldModel::emitters, &WorldModel::dead_emitters, pbf_world_destroy_emitter);
 }
 
 void op_emitter_update(Reader& in, State& s) {
-    WorldModel* w = nullptr;
-    const pbf_world_id id = pick_world(in, s, &w);
-    static const std::vector<EmitterModel> kNone;
-    static const std::vector<pbf_emitter_id> kNoIds;
-    const pbf_emitter_id e = pick_handle(in, w ? w->emitters : kNone, w ? w->dead_emitters : kNoIds, s);
-    const int k = w ? find_live(w->emitters, e) : -1;
+    const auto [w, id, e, k] = pick_object(in, s, &WorldModel::emitters, &WorldModel::dead_emitters);
     if (in.u8() & 1) {
         const uint32_t enabled = in.u32(0, 1);
         const pbf_result r = checked(pbf_emitter_set_enabled(id, e, enabled));
@@ -820,38 +839,20 @@ void op_create_collider(Reader& in, State& s) {
 }
 
 void op_destroy_collider(Reader& in, State& s) {
-    WorldModel* w = nullptr;
-    const pbf_world_id id = pick_world(in, s, &w);
-    static const std::vector<ColliderModel> kNone;
-    static const std::vector<pbf_collider_id> kNoIds;
-    const pbf_collider_id c = pick_handle(in, w ? w->colliders : kNone, w ? w->dead_colliders : kNoIds, s);
-    const pbf_result r = checked(pbf_world_destroy_collider(id, c));
-    const int k = w ? find_live(w->colliders, c) : -1;
-    FUZZ_ASSERT((r == PBF_OK) == (k >= 0));
-    if (r != PBF_OK) {
-        FUZZ_ASSERT(r == PBF_ERROR_INVALID_HANDLE);
-        return;
-    }
-    w->dead_colliders.push_back(c);
-    w->colliders.erase(w->colliders.begin() + k);
+    destroy_picked(in, s, &WorldModel::colliders, &WorldModel::dead_colliders, pbf_world_destroy_collider);
 }
 
 void op_set_pose(Reader& in, State& s) {
-    WorldModel* w = nullptr;
-    const pbf_world_id id = pick_world(in, s, &w);
-    static const std::vector<ColliderModel> kNone;
-    static const std::vector<pbf_collider_id> kNoIds;
-    const pbf_collider_id c = pick_handle(in, w ? w->colliders : kNone, w ? w->dead_colliders : kNoIds, s);
+    const auto [w, id, c, k] = pick_object(in, s, &WorldModel::colliders, &WorldModel::dead_colliders);
     float p[3], q[4] = {0.0f, 0.0f, 0.0f, 1.0f};
     in.vec3(p, -1.0f, 1.0f);
     const uint8_t mode = in.u8();
     if (mode & 1)
-        for (int k = 0; k < 4; ++k) q[k] = in.f(-1.0f, 1.0f);
+        for (int i = 0; i < 4; ++i) q[i] = in.f(-1.0f, 1.0f);
     const auto hp = std::unique_ptr<float[]>(new float[3]{p[0], p[1], p[2]});
     const auto hq = std::unique_ptr<float[]>(new float[4]{q[0], q[1], q[2], q[3]});
     const bool null_p = (mode & 0xF0) == 0xF0, null_q = (mode & 0x0E) == 0x0E;
     const pbf_result r = checked(pbf_collider_set_target_pose(id, c, null_p ? nullptr : hp.get(), null_q ? nullptr : hq.get()));
-    const int k = w ? find_live(w->colliders, c) : -1;
     if (r == PBF_OK) {
         FUZZ_ASSERT(k >= 0 && w->colliders[k].motion == PBF_MOTION_KINEMATIC);
         FUZZ_ASSERT(!null_p && !null_q && finite3(p) && std::isfinite(q[0]) && std::isfinite(q[1]) &&
