@@ -598,6 +598,20 @@ void op_set_params(Reader& in, State& s) {
     FUZZ_ASSERT(std::memcmp(&now, &w->params, sizeof now) == 0);  // refused: unchanged
 }
 
+// get(world, out) with a poisoned out struct T of fuzzed struct_size, or NULL: a refused call
+// writes nothing, a wrong struct_size is refused. *written: the struct after the call.
+template <class T, class Get>
+pbf_result get_out(Reader& in, pbf_world_id id, bool null_out, Get get, std::unique_ptr<T>* written) {
+    T v;
+    std::memset(&v, 0x3C, sizeof v);
+    v.struct_size = in.struct_size(sizeof v);
+    *written = heap(v);
+    const pbf_result r = checked(get(id, null_out ? nullptr : written->get()));
+    if (r != PBF_OK && !null_out) FUZZ_ASSERT(std::memcmp(written->get(), &v, sizeof v) == 0);
+    if (!null_out && v.struct_size != sizeof v) FUZZ_ASSERT(r == PBF_ERROR_STRUCT_SIZE);
+    return r;
+}
+
 void op_get(Reader& in, State& s) {
     WorldModel* w = nullptr;
     const pbf_world_id id = pick_world(in, s, &w);
@@ -605,33 +619,18 @@ void op_get(Reader& in, State& s) {
     const bool null_out = in.u8() < 16;
     pbf_result r;
     if (which == 0) {
-        pbf_solver_params p;
-        std::memset(&p, 0x3C, sizeof p);
-        p.struct_size = in.struct_size(sizeof p);
-        const auto hp = heap(p);
-        r = checked(pbf_world_get_solver_params(id, null_out ? nullptr : hp.get()));
+        std::unique_ptr<pbf_solver_params> p;
+        r = get_out(in, id, null_out, pbf_world_get_solver_params, &p);
         FUZZ_ASSERT(r != PBF_OK || w != nullptr);
-        if (r != PBF_OK && !null_out) FUZZ_ASSERT(std::memcmp(hp.get(), &p, sizeof p) == 0);
-        if (r == PBF_OK) FUZZ_ASSERT(std::memcmp(hp.get(), &w->params, sizeof p) == 0);
-        if (!null_out && p.struct_size != sizeof p) FUZZ_ASSERT(r == PBF_ERROR_STRUCT_SIZE);
+        if (r == PBF_OK) FUZZ_ASSERT(std::memcmp(p.get(), &w->params, sizeof *p) == 0);
     } else if (which == 1) {
-        pbf_world_info info;
-        std::memset(&info, 0x3C, sizeof info);
-        info.struct_size = in.struct_size(sizeof info);
-        const auto hi = heap(info);
-        r = checked(pbf_world_get_info(id, null_out ? nullptr : hi.get()));
+        std::unique_ptr<pbf_world_info> info;
+        r = get_out(in, id, null_out, pbf_world_get_info, &info);
         FUZZ_ASSERT(r != PBF_OK || w != nullptr);
-        if (r != PBF_OK && !null_out) FUZZ_ASSERT(std::memcmp(hi.get(), &info, sizeof info) == 0);
-        if (r == PBF_OK) FUZZ_ASSERT(hi->max_particles == w->capacity && hi->grid_cells == w->grid_cells);
-        if (!null_out && info.struct_size != sizeof info) FUZZ_ASSERT(r == PBF_ERROR_STRUCT_SIZE);
+        if (r == PBF_OK) FUZZ_ASSERT(info->max_particles == w->capacity && info->grid_cells == w->grid_cells);
     } else if (which == 2) {
-        pbf_step_stats st;
-        std::memset(&st, 0x3C, sizeof st);
-        st.struct_size = in.struct_size(sizeof st);
-        const auto hs = heap(st);
-        r = checked(pbf_world_get_stats(id, null_out ? nullptr : hs.get()));
-        if (r != PBF_OK && !null_out) FUZZ_ASSERT(std::memcmp(hs.get(), &st, sizeof st) == 0);
-        if (!null_out && st.struct_size != sizeof st) FUZZ_ASSERT(r == PBF_ERROR_STRUCT_SIZE);
+        std::unique_ptr<pbf_step_stats> st;
+        r = get_out(in, id, null_out, pbf_world_get_stats, &st);
     } else {
         uint32_t n = 0x12345678u;
         r = checked(pbf_world_get_particle_count(id, null_out ? nullptr : &n));
