@@ -286,6 +286,26 @@ void destroy_picked(Reader& in, State& s, std::vector<Live> WorldModel::*live, s
     (w->*live).erase((w->*live).begin() + k);
 }
 
+// A create call made with fuzzed pointers: its result, the id it wrote, which pointer was NULL.
+template <class Id>
+struct Created {
+    pbf_result r;
+    Id out;
+    bool null_desc, null_out;
+};
+
+// create(world, desc, out) with desc (an exact-size heap copy of d) and out each NULL or not as
+// the input picks: a refused call writes a null id.
+template <class Id, class Desc, class Create>
+Created<Id> create_fuzzed(Reader& in, pbf_world_id world, const Desc& d, Create create) {
+    const uint8_t ptrs = in.u8();
+    Created<Id> c{PBF_OK, Id{0x11111111u, 0x22222222u}, ptrs < 8, (ptrs & 0xF0) == 0xF0};
+    const auto hd = heap(d);
+    c.r = checked(create(world, c.null_desc ? nullptr : hd.get(), c.null_out ? nullptr : &c.out));
+    if (c.r != PBF_OK && !c.null_out) FUZZ_ASSERT(c.out.index == 0 && c.out.generation == 0);
+    return c;
+}
+
 // ---- snapshots and invariants ----------------------------------------------------------------
 struct Snapshot {
     uint32_t count = 0;
@@ -748,21 +768,13 @@ void op_create_emitter(Reader& in, State& s) {
     const pbf_world_id id = pick_world(in, s, &w);
     pbf_emitter_desc e = pbf_emitter_desc_default();
     fill_emitter(in, w, &e);
-    const uint8_t ptrs = in.u8();
-    const bool null_desc = ptrs < 8, null_out = (ptrs & 0xF0) == 0xF0;
     if (g_trace)
         std::fprintf(stderr, "  emitter: type %d pos (%g %g %g) dir (%g %g %g) speed %g radius %g pps %g box (%g %g %g)..(%g %g %g)\n",
                      bits_of(e.type), e.position[0], e.position[1], e.position[2], e.direction[0], e.direction[1],
                      e.direction[2], e.speed, e.radius, e.particles_per_second, e.box_min[0], e.box_min[1],
                      e.box_min[2], e.box_max[0], e.box_max[1], e.box_max[2]);
-    const auto he = heap(e);
-    pbf_emitter_id out{0x11111111u, 0x22222222u};
-    const pbf_result r =
-        checked(pbf_world_create_emitter(id, null_desc ? nullptr : he.get(), null_out ? nullptr : &out));
-    if (r != PBF_OK) {
-        if (!null_out) FUZZ_ASSERT(out.index == 0 && out.generation == 0);
-        return;
-    }
+    const auto [r, out, null_desc, null_out] = create_fuzzed<pbf_emitter_id>(in, id, e, pbf_world_create_emitter);
+    if (r != PBF_OK) return;
     FUZZ_ASSERT(w && !null_desc && !null_out);
     FUZZ_ASSERT(emitter_valid(e));
     FUZZ_ASSERT(out.generation != 0 && find_live(w->emitters, out) < 0);
@@ -816,14 +828,8 @@ void op_create_collider(Reader& in, State& s) {
     for (int k = 0; k < 3; ++k) c.half_extents[k] = (mask & 0x08) ? in.f(-1.0f, 10.0f) : in.f(0.01f, 0.3f);
     if (mask & 0x10) c.friction = in.f(0.0f, 1.0f);
     if (mask & 0x20) c.struct_size = in.struct_size(sizeof c);
-    const uint8_t ptrs = in.u8();
-    const bool null_desc = ptrs < 8, null_out = (ptrs & 0xF0) == 0xF0;
-    const auto hc = heap(c);
-    pbf_collider_id out{0x11111111u, 0x22222222u};
-    const pbf_result r =
-        checked(pbf_world_create_collider(id, null_desc ? nullptr : hc.get(), null_out ? nullptr : &out));
+    const auto [r, out, null_desc, null_out] = create_fuzzed<pbf_collider_id>(in, id, c, pbf_world_create_collider);
     if (r != PBF_OK) {
-        if (!null_out) FUZZ_ASSERT(out.index == 0 && out.generation == 0);
         if (r == PBF_ERROR_CAPACITY) FUZZ_ASSERT(w && w->colliders.size() == 32);
         return;
     }
