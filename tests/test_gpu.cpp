@@ -137,7 +137,7 @@ TEST_CASE("CUDA and CPU agree on render data: after an emission and after a step
     fill(cpu, 0, 0, 0, 0.2f, 0.4f, 0.2f);
     fill(gpu, 0, 0, 0, 0.2f, 0.4f, 0.2f);
     for (int step = 0; step < 2; ++step) {
-        INFO(step ? "after 1 step" : "after the emission");
+        INFO((step ? "after 1 step" : "after the emission"));
         const RenderData a = read_render(cpu), b = read_render(gpu);
         const Particles pa = read(cpu), pb = read(gpu);
         REQUIRE(a.count == b.count);
