@@ -184,8 +184,8 @@ typedef struct pbf_render_params {
                                    world creation (its buffers are allocated then). */
     float smoothing;            /* λ of the Laplacian smoothing, 0..1 (default 0.9; 0: the
                                    positions themselves). Surface particles move inward by up to
-                                   λ times their neighbourhood's offset (about h/3 at a flat
-                                   surface); interior particles of an even fluid stay put. */
+                                   λ times their neighbourhood's offset (0.4 rest spacings at a
+                                   flat surface); interior particles of an even fluid stay put. */
     float max_stretch;          /* k_r: the longest radius of an ellipsoid is at most this many
                                    times its shortest, 1..100 (default 4) */
     float scale;                /* k_s: radius, in particle radii, of a particle whose neighbours
