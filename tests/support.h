@@ -208,13 +208,17 @@ inline Particles read(pbf_world_id w) {
     return p;
 }
 
-inline pbf_step_stats stats(pbf_world_id w) {
-    pbf_step_stats s;
+// An output struct, zeroed with its struct_size set, as get(w, &s) fills it.
+template <class T, class Get>
+inline T read_struct(pbf_world_id w, Get get) {
+    T s;
     std::memset(&s, 0, sizeof s);
     s.struct_size = sizeof s;
-    REQUIRE_PBF(pbf_world_get_stats(w, &s));
+    REQUIRE_PBF(get(w, &s));
     return s;
 }
+
+inline pbf_step_stats stats(pbf_world_id w) { return read_struct<pbf_step_stats>(w, pbf_world_get_stats); }
 
 // A tank of size (lx, ly, lz) at the origin, particle radius r.
 inline pbf_world_desc tank(pbf_backend backend, float r, float lx, float ly, float lz, uint32_t capacity) {
@@ -267,13 +271,7 @@ struct RenderData {
     const float* row(uint32_t i, int k) const { return &aniso[size_t(i) * 12 + size_t(k) * 4]; }
 };
 
-inline pbf_world_info world_info(pbf_world_id w) {
-    pbf_world_info info;
-    std::memset(&info, 0, sizeof info);
-    info.struct_size = sizeof info;
-    REQUIRE_PBF(pbf_world_get_info(w, &info));
-    return info;
-}
+inline pbf_world_info world_info(pbf_world_id w) { return read_struct<pbf_world_info>(w, pbf_world_get_info); }
 
 inline RenderData read_render(pbf_world_id w) {
     RenderData r;
