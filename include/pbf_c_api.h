@@ -253,6 +253,11 @@ PBF_API pbf_result PBF_CALL pbf_world_step(pbf_world_id world, float dt);
 PBF_API pbf_result PBF_CALL pbf_world_get_solver_params(pbf_world_id world, pbf_solver_params* out_params);
 PBF_API pbf_result PBF_CALL pbf_world_set_solver_params(pbf_world_id world, const pbf_solver_params* params);
 PBF_API pbf_result PBF_CALL pbf_world_set_gravity(pbf_world_id world, const float gravity[3]);
+/* The world's render parameters (desc.render), and new ones from the next step or emission on;
+ * the buffers keep their data until then. flags are fixed at creation: params.flags must equal
+ * the world's (PBF_ERROR_INVALID_STATE otherwise). */
+PBF_API pbf_result PBF_CALL pbf_world_get_render_params(pbf_world_id world, pbf_render_params* out_params);
+PBF_API pbf_result PBF_CALL pbf_world_set_render_params(pbf_world_id world, const pbf_render_params* params);
 
 typedef struct pbf_world_info {
     uint32_t struct_size;

@@ -273,3 +273,64 @@ TEST_CASE("render: pbf_world_copy_buffer and render params refuse bad input, and
     off.require_usable(216);
     on.require_usable(216);
 }
+
+TEST_CASE("render: parameters change between steps, flags stay the creation's", "[api][render]") {
+    TestWorld w(render_desc(kBoth));
+    REQUIRE(w.emit(block(-0.25f, 0.25f, -0.25f, 0.25f, 0.75f, 0.25f)) == 1000u);
+    pbf_render_params p = pbf_render_params_default();
+    REQUIRE_OK(pbf_world_get_render_params(w, &p));
+    CHECK(p.flags == kBoth);
+    CHECK(p.smoothing == 0.9f);
+
+    // No smoothing, twice the radii, a tighter stretch: seen from the next step on.
+    const RenderData before = read_render(w);
+    p.smoothing = 0.0f;
+    p.scale = 2.0f;
+    p.isolated_scale = 1.0f;
+    p.max_stretch = 2.0f;
+    REQUIRE_OK(pbf_world_set_render_params(w, &p));
+    pbf_render_params q = pbf_render_params_default();
+    REQUIRE_OK(pbf_world_get_render_params(w, &q));
+    CHECK(std::memcmp(&p, &q, sizeof p) == 0);
+    CHECK(read_render(w).aniso == before.aniso);  // nothing recomputed yet
+    REQUIRE_OK(pbf_world_step(w, kDt));
+    const RenderData r = read_render(w);
+    check_well_formed(r, 2.0f);
+    for (uint32_t i = 0; i < r.count; ++i)
+        for (int a = 0; a < 3; ++a) CHECK(r.smoothed[4 * i + a] == r.pos[4 * i + a]);  // λ = 0: the positions
+    const Box b = bounds(r);
+    int interior = 0;
+    for (uint32_t i = 0; i < r.count; ++i) {
+        if (!inside_by(r, i, b, 2 * kH, {0, 1, 2})) continue;
+        ++interior;
+        CHECK(r.row(i, 0)[3] > 1.5f * kRadius);  // k_s = 2: about two radii after one step of falling
+    }
+    CHECK(interior > 0);
+
+    SECTION("refusals leave the parameters as they were") {
+        pbf_render_params bad = q;
+        bad.flags = PBF_RENDER_ANISOTROPY;
+        CHECK_FAILS(pbf_world_set_render_params(w, &bad), PBF_ERROR_INVALID_STATE, "fixed at world creation");
+        bad = q;
+        bad.max_stretch = 0.0f;
+        CHECK_FAILS(pbf_world_set_render_params(w, &bad), PBF_ERROR_INVALID_ARGUMENT, "render.max_stretch");
+        bad = q;
+        bad.struct_size = 4;
+        CHECK_FAILS(pbf_world_set_render_params(w, &bad), PBF_ERROR_STRUCT_SIZE, "pbf_render_params");
+        CHECK_FAILS(pbf_world_set_render_params(w, nullptr), PBF_ERROR_INVALID_ARGUMENT, "NULL");
+        CHECK_FAILS(pbf_world_get_render_params(w, nullptr), PBF_ERROR_INVALID_ARGUMENT, "NULL");
+        bad = q;
+        CHECK_FAILS(pbf_world_get_render_params(pbf_world_id{5, 5}, &bad), PBF_ERROR_INVALID_HANDLE, "pbf_world_get_render_params");
+        pbf_render_params now = pbf_render_params_default();
+        REQUIRE_OK(pbf_world_get_render_params(w, &now));
+        CHECK(std::memcmp(&now, &q, sizeof q) == 0);
+        // A world without render data keeps it off: its parameters change, its flags cannot.
+        TestWorld off(render_desc(0));
+        pbf_render_params o = pbf_render_params_default();
+        o.flags = kBoth;
+        CHECK_FAILS(pbf_world_set_render_params(off, &o), PBF_ERROR_INVALID_STATE, "this world has 0");
+        o.flags = 0;
+        REQUIRE_OK(pbf_world_set_render_params(off, &o));
+        CHECK(world_info(off).render_bytes == 0u);
+    }
+}

@@ -112,6 +112,31 @@ PBF_API pbf_result PBF_CALL pbf_world_set_gravity(pbf_world_id id, const float g
     });
 }
 
+PBF_API pbf_result PBF_CALL pbf_world_get_render_params(pbf_world_id id, pbf_render_params* out) {
+    const char* fn = "pbf_world_get_render_params";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_CHECK_STRUCT(pbf_render_params, out);
+        PBF_LOCK_WORLD(w, id);
+        *out = w->render_params();
+        return PBF_OK;
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_set_render_params(pbf_world_id id, const pbf_render_params* p) {
+    const char* fn = "pbf_world_set_render_params";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_CHECK_STRUCT(pbf_render_params, p);
+        PBF_VALIDATE(pbf::api::validate_render_params(*p));
+        PBF_LOCK_WORLD(w, id);
+        PBF_REQUIRE(p->flags == w->render_flags(), PBF_ERROR_INVALID_STATE,
+                    std::string(fn) + ": render.flags are fixed at world creation (its buffers are allocated then): "
+                                      "this world has " + std::to_string(w->render_flags()) + ", got " +
+                        std::to_string(p->flags));
+        w->set_render_params(*p);
+        return PBF_OK;
+    });
+}
+
 PBF_API pbf_result PBF_CALL pbf_world_get_info(pbf_world_id id, pbf_world_info* out) {
     const char* fn = "pbf_world_get_info";
     return guarded(fn, [&]() -> pbf_result {

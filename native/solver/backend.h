@@ -150,6 +150,8 @@ public:
     // Copy-out of one buffer in storage order (out holds max_count elements of
     // buffer_element_bytes(source)); the source must exist (live_buffer non-null).
     virtual Status copy_buffer(pbf_buffer source, void* out, uint32_t max_count, uint32_t* written) = 0;
+    // New render constants from the next pass on (flags unchanged: the buffers are the creation's).
+    virtual void set_render_constants(const RenderConstants& render) = 0;
     // Render passes run so far (steps and emissions that computed render data).
     virtual uint64_t render_updates() const = 0;
     // Bytes of the render buffers (0 when the world computes none).

@@ -223,6 +223,11 @@ public:
         return exec_.check("copy-out");
     }
 
+    void set_render_constants(const RenderConstants& render) override {
+        const uint32_t flags = config_.render.flags;
+        config_.render = render;
+        config_.render.flags = flags;
+    }
     uint64_t render_updates() const override { return render_updates_; }
     uint64_t render_bytes() const override { return render_bytes_; }
 

@@ -90,6 +90,9 @@ public:
     // Whether the world has this buffer (the render buffers only when desc.render asked for them).
     bool has_buffer(pbf_buffer source) { return live_buffer(backend_->live_buffers(), source) != nullptr; }
     uint32_t render_flags() const { return desc_.render.flags; }
+    const pbf_render_params& render_params() const { return desc_.render; }
+    // params validated, with the world's flags.
+    void set_render_params(const pbf_render_params& params);
     void unmap() { mapped_ = false; }
     bool mapped() const { return mapped_; }
 

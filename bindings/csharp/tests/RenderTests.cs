@@ -140,6 +140,32 @@ namespace Pbf.Tests
         }
 
         [Test]
+        public void ParamsChangeBetweenStepsFlagsDoNot()
+        {
+            using (var world = RenderWorld(Both))
+            {
+                world.EmitBlock(new Vector3(-0.15f, 0.3f, -0.15f), new Vector3(0.15f, 0.6f, 0.15f), Vector3.Zero);
+                RenderParams p = world.GetRenderParams();
+                Assert.AreEqual(Both, p.Flags);
+                p.Smoothing = 0.0f;
+                world.SetRenderParams(p);
+                Assert.AreEqual(0.0f, world.GetRenderParams().Smoothing);
+                world.Step(Scene.Dt);
+                Vector4[] pos = Scene.Positions(world);
+                var smoothed = new Vector4[pos.Length];
+                world.CopySmoothedPositions(smoothed);
+                for (int i = 0; i < pos.Length; ++i)
+                    Assert.AreEqual(Scene.Xyz(pos[i]), Scene.Xyz(smoothed[i]), "smoothing 0: the positions");
+                p.Flags = RenderFlags.Anisotropy;
+                Scene.ExpectError(Result.InvalidState, () => world.SetRenderParams(p), "fixed at world creation");
+                p.Flags = Both;
+                p.MaxStretch = 0.5f;
+                Scene.ExpectError(Result.InvalidArgument, () => world.SetRenderParams(p), "render.max_stretch");
+                Assert.AreEqual(4.0f, world.GetRenderParams().MaxStretch, "unchanged by the refusals");
+            }
+        }
+
+        [Test]
         public void BadRenderParamsAreRefused()
         {
             WorldDesc d = Scene.CpuDesc();

@@ -622,6 +622,14 @@ namespace Pbf.Interop
         public static extern pbf_result pbf_world_set_gravity(pbf_world_id world, ref Float3 gravity);
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_world_set_gravity(pbf_world_id world, IntPtr gravity);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_get_render_params(pbf_world_id world, ref pbf_render_params out_params);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_get_render_params(pbf_world_id world, IntPtr out_params);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_set_render_params(pbf_world_id world, ref pbf_render_params @params);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_set_render_params(pbf_world_id world, IntPtr @params);
 
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_world_get_info(pbf_world_id world, ref pbf_world_info out_info);

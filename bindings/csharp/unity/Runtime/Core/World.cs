@@ -87,6 +87,23 @@ namespace Pbf
             PbfException.Check(Native.pbf_world_set_solver_params(Handle, ref p));
         }
 
+        /// <summary>A copy of the world's render parameters (its desc's).</summary>
+        public RenderParams GetRenderParams()
+        {
+            var p = new pbf_render_params { struct_size = Native.SizeOf<pbf_render_params>() };
+            PbfException.Check(Native.pbf_world_get_render_params(Handle, ref p));
+            return new RenderParams(p);
+        }
+
+        /// <summary>Replaces the render parameters from the next step or emission on. Flags are
+        /// fixed at creation: a different <see cref="RenderParams.Flags"/> throws
+        /// <see cref="Result.InvalidState"/>.</summary>
+        public void SetRenderParams(RenderParams parameters)
+        {
+            pbf_render_params p = parameters.ToNative();
+            PbfException.Check(Native.pbf_world_set_render_params(Handle, ref p));
+        }
+
         public void SetGravity(Vector3 gravity)
         {
             Float3 g = Convert3.ToNative(gravity);
