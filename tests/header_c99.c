@@ -37,7 +37,15 @@ OFFSET_IS(pbf_solver_params, adaptive_error_target, 48);
 OFFSET_IS(pbf_solver_params, max_substeps, 52);
 OFFSET_IS(pbf_solver_params, substep_travel, 56);
 OFFSET_IS(pbf_solver_params, sound_speed, 60);
-SIZE_IS(pbf_world_desc, 128);
+SIZE_IS(pbf_render_params, 32);
+OFFSET_IS(pbf_render_params, flags, 4);
+OFFSET_IS(pbf_render_params, smoothing, 8);
+OFFSET_IS(pbf_render_params, max_stretch, 12);
+OFFSET_IS(pbf_render_params, scale, 16);
+OFFSET_IS(pbf_render_params, isolated_scale, 20);
+OFFSET_IS(pbf_render_params, min_neighbors, 24);
+OFFSET_IS(pbf_render_params, reserved0, 28);
+SIZE_IS(pbf_world_desc, 160);
 OFFSET_IS(pbf_world_desc, header_version, 4);
 OFFSET_IS(pbf_world_desc, backend, 8);
 OFFSET_IS(pbf_world_desc, cuda_device, 12);
@@ -48,7 +56,8 @@ OFFSET_IS(pbf_world_desc, gravity, 28);
 OFFSET_IS(pbf_world_desc, domain_min, 40);
 OFFSET_IS(pbf_world_desc, domain_max, 52);
 OFFSET_IS(pbf_world_desc, solver, 64);
-SIZE_IS(pbf_world_info, 168);
+OFFSET_IS(pbf_world_desc, render, 128);
+SIZE_IS(pbf_world_info, 192);
 OFFSET_IS(pbf_world_info, backend, 4);
 OFFSET_IS(pbf_world_info, max_particles, 8);
 OFFSET_IS(pbf_world_info, particle_radius, 12);
@@ -58,6 +67,10 @@ OFFSET_IS(pbf_world_info, particle_mass, 24);
 OFFSET_IS(pbf_world_info, grid_cells, 28);
 OFFSET_IS(pbf_world_info, device_bytes, 32);
 OFFSET_IS(pbf_world_info, device_name, 40);
+OFFSET_IS(pbf_world_info, render_flags, 168);
+OFFSET_IS(pbf_world_info, reserved0, 172);
+OFFSET_IS(pbf_world_info, render_bytes, 176);
+OFFSET_IS(pbf_world_info, render_updates, 184);
 SIZE_IS(pbf_step_stats, 64);
 OFFSET_IS(pbf_step_stats, particle_count, 4);
 OFFSET_IS(pbf_step_stats, step_index, 8);
@@ -114,7 +127,7 @@ PBF_STATIC_ASSERT(enum_semaphore_type_is_32_bit, sizeof(pbf_semaphore_type) == 4
 SIZE_IS(pbf_gl_buffer_id, 8);
 SIZE_IS(pbf_external_buffer_id, 8);
 SIZE_IS(pbf_semaphore_id, 8);
-SIZE_IS(pbf_device_buffers, 80);
+SIZE_IS(pbf_device_buffers, 104);
 OFFSET_IS(pbf_device_buffers, memory, 4);
 OFFSET_IS(pbf_device_buffers, positions, 8);
 OFFSET_IS(pbf_device_buffers, velocities, 16);
@@ -128,6 +141,10 @@ OFFSET_IS(pbf_device_buffers, vec4_stride_bytes, 64);
 OFFSET_IS(pbf_device_buffers, id_stride_bytes, 68);
 OFFSET_IS(pbf_device_buffers, cuda_device, 72);
 OFFSET_IS(pbf_device_buffers, reserved0, 76);
+OFFSET_IS(pbf_device_buffers, smoothed_positions, 80);
+OFFSET_IS(pbf_device_buffers, anisotropy, 88);
+OFFSET_IS(pbf_device_buffers, anisotropy_stride_bytes, 96);
+OFFSET_IS(pbf_device_buffers, render_flags, 100);
 SIZE_IS(pbf_gl_buffer_desc, 48);
 OFFSET_IS(pbf_gl_buffer_desc, buffer, 4);
 OFFSET_IS(pbf_gl_buffer_desc, source, 8);
@@ -187,7 +204,8 @@ int pbf_header_c99_defaults_ok(void) {
     pbf_emitter_desc e = pbf_emitter_desc_default();
     pbf_collider_desc c = pbf_collider_desc_default();
     pbf_solver_params p = pbf_solver_params_default();
-    return w.struct_size == sizeof w && w.header_version == PBF_VERSION && b.struct_size == sizeof b &&
+    pbf_render_params r = pbf_render_params_default();
+    return r.struct_size == sizeof r && r.flags == 0 && w.render.struct_size == sizeof r && w.struct_size == sizeof w && w.header_version == PBF_VERSION && b.struct_size == sizeof b &&
            e.struct_size == sizeof e && c.struct_size == sizeof c && p.struct_size == sizeof p &&
            p.iterations == 4;
 }

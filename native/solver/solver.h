@@ -7,6 +7,7 @@
 
 #include "backend.h"
 #include "../core/passes.h"
+#include "../core/render_ops.h"
 
 namespace pbf {
 
@@ -92,6 +93,12 @@ public:
         alloc(collider_shapes_, kMaxColliders);
         alloc(collider_poses_, size_t(kMaxColliders) * (kMaxSubsteps + 1));
         alloc(rest_poses_, kMaxColliders);
+        // Render data only where the world asks for it: nothing at all otherwise.
+        const RenderConstants& r = config.render;
+        if (r.flags & kRenderSmoothed) alloc(smoothed_, n);
+        if (r.flags & kRenderAnisotropy) alloc(anisotropy_, n * 3);
+        render_bytes_ = ((r.flags & kRenderSmoothed) ? n : 0) * sizeof(Vec4) +
+                        ((r.flags & kRenderAnisotropy) ? n * 3 : 0) * sizeof(Vec4);
         feedback_ = exec_.template alloc_host_visible<StepFeedback>(1);
         ok = ok && feedback_ != nullptr;
         if (!ok) {
@@ -111,6 +118,8 @@ public:
         exec_.zero(density_, n * sizeof(float));
         exec_.zero(cell_begin_, (size_t(config.grid.num_cells) + 1) * sizeof(uint32_t));
         exec_.zero(counters_, sizeof(DeviceCounters));
+        if (smoothed_) exec_.zero(smoothed_, n * sizeof(Vec4));
+        if (anisotropy_) exec_.zero(anisotropy_, n * 3 * sizeof(Vec4));
         *feedback_ = StepFeedback{};
         return exec_.check("world initialisation");
     }
@@ -147,6 +156,7 @@ public:
         exec_.max_speed(vel_, &counters_->count, bound_, &counters_->max_speed_bits);
         exec_.for_each(1, PublishFeedbackOp{counters_, feedback_});
         exec_.feedback_published();
+        update_render_data(s);  // last, so its stage time is the pass alone
         exec_.profile_mark(kStageCount);
         exec_.timer_end();
         return exec_.check("pbf_world_step");
@@ -189,6 +199,7 @@ public:
             // Keep the grid valid between API calls (stats and LDC rely on it).
             build_grid(s, false);
             density_valid_ = false;
+            update_render_data(s);  // the particles moved in memory: keep the render data in their order
         }
         *emitted = fit;
         return exec_.check("pbf_world_emit_block");
@@ -199,27 +210,26 @@ public:
         return read_count(count);
     }
 
-    Status copy_vec4(int what, float* out, uint32_t max_count, uint32_t* written) override {
+    Status copy_buffer(pbf_buffer source, void* out, uint32_t max_count, uint32_t* written) override {
         exec_.activate();
+        const void* src = live_buffer(live_buffers(), source);
+        if (!src) return Status::error(PBF_ERROR_INVALID_STATE, "copy-out: the world does not compute this buffer");
         uint32_t count = 0;
         Status st = read_count(&count);
         if (!st.ok()) return st;
         const uint32_t n = std::min(count, max_count);
-        exec_.download(out, what == 0 ? static_cast<const void*>(pos_) : vel_, size_t(n) * sizeof(Vec4));
+        exec_.download(out, src, size_t(n) * buffer_element_bytes(source));
         *written = n;
         return exec_.check("copy-out");
     }
 
-    Status copy_ids(uint32_t* out, uint32_t max_count, uint32_t* written) override {
-        exec_.activate();
-        uint32_t count = 0;
-        Status st = read_count(&count);
-        if (!st.ok()) return st;
-        const uint32_t n = std::min(count, max_count);
-        exec_.download(out, ids_, size_t(n) * sizeof(uint32_t));
-        *written = n;
-        return exec_.check("copy-out");
+    void set_render_constants(const RenderConstants& render) override {
+        const uint32_t flags = config_.render.flags;
+        config_.render = render;
+        config_.render.flags = flags;
     }
+    uint64_t render_updates() const override { return render_updates_; }
+    uint64_t render_bytes() const override { return render_bytes_; }
 
     Status read_stats(const WorldConstants& s, StatsReadback* out) override {
         exec_.activate();
@@ -252,6 +262,8 @@ public:
         b.positions = pos_;
         b.velocities = vel_;
         b.ids = ids_;
+        b.smoothed_positions = smoothed_;
+        b.anisotropy = anisotropy_;
         b.count = &counters_->count;
         b.capacity = config_.capacity;
         b.cuda_device = Exec::kKind == PBF_BACKEND_CUDA ? config_.cuda_device : -1;
@@ -350,6 +362,16 @@ private:
         }
     }
 
+    // Smoothed positions and anisotropy from the current grid (one pass; none when the world
+    // computes no render data). After a step the last substep's masks serve as neighbour lists.
+    void update_render_data(const WorldConstants& s) {
+        if (!config_.render.flags) return;
+        exec_.profile_mark(kStageRender);
+        exec_.for_each(bound_, RenderDataOp{s.grid, s.h2, config_.render, cell_begin_, valid_masks(), pos_, smoothed_,
+                                            anisotropy_});
+        ++render_updates_;
+    }
+
     // Sorts particles by the cell of x (by_predicted false) or of x*, moves their data into
     // that order and rebuilds cell_begin; drops dead particles from the count.
     void build_grid(const WorldConstants& s, bool by_predicted) {
@@ -410,6 +432,8 @@ private:
         exec_.release(collider_shapes_);
         exec_.release(collider_poses_);
         exec_.release(rest_poses_);
+        exec_.release(smoothed_);
+        exec_.release(anisotropy_);
         exec_.release_host_visible(feedback_);
     }
 
@@ -433,6 +457,10 @@ private:
     ColliderPose* collider_poses_ = nullptr;  // (kMaxSubsteps + 1) rows of kMaxColliders
     ColliderPose* rest_poses_ = nullptr;      // kMaxColliders, set between steps
     ColliderView rest_colliders_{};           // the colliders outside a step
+    Vec4* smoothed_ = nullptr;                // render data: null unless the world asks for it
+    Vec4* anisotropy_ = nullptr;              // 3 per particle
+    uint64_t render_bytes_ = 0;
+    uint64_t render_updates_ = 0;
     StepFeedback* feedback_ = nullptr;        // host-visible; written by the step's last op
     StepFeedback last_feedback_{};
     uint32_t bound_ = 0;  // upper bound of the live count known on the host (launch size)

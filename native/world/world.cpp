@@ -73,6 +73,34 @@ float boundary_lattice_scale(float spacing, float h) {
     return static_cast<float>(missing * poly6 / c.kernel_sum / boundary_phi(0.5f * spacing / h));
 }
 
+double rest_render_variance(float spacing, float h) {
+    const double d = spacing, hh = h;
+    const int reach = static_cast<int>(std::ceil(hh / d));
+    double wsum = 0.0, wxx = 0.0;
+    for (int z = -reach; z <= reach; ++z)
+        for (int y = -reach; y <= reach; ++y)
+            for (int x = -reach; x <= reach; ++x) {
+                const double r2 = d * d * double(x * x + y * y + z * z);
+                const double w = render_weight(float(r2), float(hh * hh));
+                wsum += w;
+                wxx += w * d * d * double(x * x);
+            }
+    return wxx / wsum;
+}
+
+RenderConstants render_constants(const pbf_render_params& p, float radius, float h) {
+    RenderConstants r;
+    r.flags = p.flags & (kRenderSmoothed | kRenderAnisotropy);
+    r.min_neighbors = p.min_neighbors;
+    r.smoothing = p.smoothing;
+    r.max_stretch = p.max_stretch;
+    // Yu & Turk scale the covariance by a constant k_s; here k_s is the radius (in particle radii)
+    // of a particle whose neighbourhood is a rest lattice, so the same value suits any radius.
+    r.radius_per_variance = static_cast<float>(p.scale * radius / rest_render_variance(2.0f * radius, h));
+    r.isolated_radius = p.isolated_scale * radius;
+    return r;
+}
+
 std::unique_ptr<World> World::create(const pbf_world_desc& desc, Status* status) {
     std::unique_ptr<World> w(new World());
     w->desc_ = desc;
@@ -132,7 +160,8 @@ std::unique_ptr<World> World::create(const pbf_world_desc& desc, Status* status)
     g.nz = static_cast<int32_t>(std::max(1.0, cells[2]));
     g.num_cells = static_cast<uint32_t>(total);
 
-    BackendConfig config{desc.max_particles, g, desc.cuda_device};
+    BackendConfig config{desc.max_particles, g, desc.cuda_device,
+                         render_constants(desc.render, desc.particle_radius, w->h_)};
     pbf_backend kind = desc.backend;
     if (kind == PBF_BACKEND_AUTO) kind = cuda_device_available(desc.cuda_device) ? PBF_BACKEND_CUDA : PBF_BACKEND_CPU;
     w->backend_ = kind == PBF_BACKEND_CUDA ? create_cuda_backend(config, status) : create_cpu_backend(config, status);
@@ -312,6 +341,10 @@ void World::get_info(pbf_world_info* info) const {
     const std::string name = backend_->device_name();
     std::memset(info->device_name, 0, sizeof info->device_name);
     std::strncpy(info->device_name, name.c_str(), sizeof info->device_name - 1);
+    info->render_flags = desc_.render.flags;
+    info->reserved0 = 0;
+    info->render_bytes = backend_->render_bytes();
+    info->render_updates = backend_->render_updates();
 }
 
 Status World::get_stats(pbf_step_stats* out) {
