@@ -112,9 +112,11 @@ typedef struct pbf_solver_params {
     uint32_t substeps;          /* substeps per pbf_world_step. 0 (default): automatic, chosen per
                                    step (from the last finished step's fastest particle, read
                                    without waiting, the nozzles and the kinematic colliders) so that
-                                   the fastest particle moves at most substep_travel·h per substep
-                                   and gravity alone moves a resting one at most substep_travel·h/64,
-                                   up to max_substeps. 1..64: exactly that many. */
+                                   the fastest particle moves at most substep_travel·h per substep,
+                                   gravity alone moves a resting one at most substep_travel·h/64,
+                                   and a resting column as deep as the fluid's extent along gravity
+                                   compresses at most ~10 % at its bottom (README, Physics), up to
+                                   max_substeps. 1..64: exactly that many. */
     float relaxation;           /* ε of λ (constraint force mixing), relative to the constraint
                                    gradient norm of a particle at rest density; > 0 (default 1).
                                    Smaller converges faster per iteration but a Jacobi sweep

@@ -63,7 +63,7 @@ struct StepFeedback {
     float max_speed = 0.0f;     // fastest particle at the end of the step (m/s)
     uint32_t speed_clamps = 0;  // particle-substeps whose speed a limit cut
     uint32_t steps = 0;         // steps finished (0: no feedback yet)
-    uint32_t pad = 0;
+    float fluid_depth = 0.0f;   // the particles' extent along gravity at the end of the step (m)
 };
 
 struct BlockEmission {

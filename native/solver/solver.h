@@ -20,9 +20,9 @@ struct DeviceCounters {
     unsigned long long emitted_total;
     unsigned long long drained_total;
     IterationControl control;
-    uint32_t speed_clamps;    // particle-substeps a speed limit cut, this step
-    uint32_t max_speed_bits;  // the fastest particle's speed at the end of the step (float bits)
-    uint32_t steps;           // steps finished
+    uint32_t speed_clamps;  // particle-substeps a speed limit cut, this step
+    uint32_t steps;         // steps finished
+    FeedbackBits feedback;  // the fastest particle and the fluid's extent at the end of the step
     uint32_t pad2;
 };
 
@@ -34,21 +34,22 @@ struct BeginStepOp {
         c->control.error_sum = 0.0f;
         c->control.iterations_used = 0;
         c->speed_clamps = 0;
-        c->max_speed_bits = 0;
+        c->feedback = FeedbackBits{0, 0, 0};
     }
 };
 
 // One thread at the end of a step: publishes what the host reads without waiting.
 struct PublishFeedbackOp {
     DeviceCounters* c;
+    HeightFrame frame;
     StepFeedback* out;  // host-visible memory
     PBF_HD void operator()(uint32_t) const {
         ++c->steps;
         StepFeedback f;
-        f.max_speed = float_from_bits(c->max_speed_bits);
+        f.max_speed = float_from_bits(c->feedback.speed);
         f.speed_clamps = c->speed_clamps;
         f.steps = c->steps;
-        f.pad = 0;
+        f.fluid_depth = fluid_depth(frame, c->feedback);
         *out = f;
     }
 };
@@ -153,8 +154,9 @@ public:
         // Between steps the colliders stand at the step's end poses.
         rest_colliders_ = ColliderView{collider_shapes_, collider_poses_ + substeps * count,
                                        collider_poses_ + substeps * count, count};
-        exec_.max_speed(vel_, &counters_->count, bound_, &counters_->max_speed_bits);
-        exec_.for_each(1, PublishFeedbackOp{counters_, feedback_});
+        const HeightFrame frame = height_frame(s);
+        exec_.reduce_feedback(frame, pos_, vel_, &counters_->count, bound_, &counters_->feedback);
+        exec_.for_each(1, PublishFeedbackOp{counters_, frame, feedback_});
         exec_.feedback_published();
         update_render_data(s);  // last, so its stage time is the pass alone
         exec_.profile_mark(kStageCount);

@@ -138,6 +138,7 @@ private:
     Status check_nozzle(const pbf_emitter_desc& d, Vec3 position) const;
     static void set_nozzle_direction(pbf_emitter_desc& d, Vec3 direction);
     uint32_t substeps_for(float dt);
+    double depth_substep_rate(double g, double depth) const;
     StepContext step_context(float sub_dt) const;
     Status colliders_changed();
 
@@ -147,6 +148,7 @@ private:
     Vec3 gravity_{};
     float mass_ = 0.0f, h_ = 0.0f, gradient_norm2_ = 0.0f, boundary_scale_ = 0.0f;
     float emitted_speed_ = 0.0f;  // fastest particle emitted since the last step (block velocity)
+    float emitted_depth_ = 0.0f;  // tallest block emitted since the last step, along gravity (m)
     GridDims grid_{};
     std::unique_ptr<Backend> backend_;
     SlotTable<EmitterEntry> emitters_;

@@ -44,8 +44,9 @@ namespace Pbf
         /// <summary>Substeps per <see cref="World.Step"/>. 0 (default): automatic, chosen per step
         /// (from the last finished step's fastest particle, read without waiting, the nozzles and the
         /// kinematic colliders) so that the fastest particle moves at most <see cref="SubstepTravel"/>·h
-        /// per substep and gravity alone moves a resting one at most SubstepTravel·h/64, up to
-        /// <see cref="MaxSubsteps"/>. 1..64: exactly that many.</summary>
+        /// per substep, gravity alone moves a resting one at most SubstepTravel·h/64, and a resting
+        /// column as deep as the fluid's extent along gravity compresses at most ~10 % at its bottom,
+        /// up to <see cref="MaxSubsteps"/>. 1..64: exactly that many.</summary>
         public int Substeps { get { return (int)_raw.substeps; } set { _raw.substeps = (uint)value; } }
         /// <summary>Constraint force mixing ε, relative to a rest particle's gradient norm; &gt; 0 (default 1).</summary>
         public float Relaxation { get { return _raw.relaxation; } set { _raw.relaxation = value; } }
