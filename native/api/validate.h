@@ -56,6 +56,7 @@ inline uint32_t element_bytes(pbf_buffer source) { return raw(source) == PBF_BUF
     X(WORLD_DOMAIN_FINITE, PBF_ERROR_INVALID_ARGUMENT, "domain bounds must be finite")                               \
     X(WORLD_DOMAIN_SIZE, PBF_ERROR_INVALID_ARGUMENT,                                                                 \
       "domain_max must exceed domain_min by at least 2 particle diameters on every axis")                            \
+    X(WORLD_MAX_COLLIDERS, PBF_ERROR_INVALID_ARGUMENT, "max_colliders must be 1..{a}")                               \
     /* pbf_world_set_gravity */                                                                                      \
     X(GRAVITY, PBF_ERROR_INVALID_ARGUMENT, "gravity must be non-NULL and finite")                                    \
     /* pbf_block_desc */                                                                                             \
@@ -86,6 +87,8 @@ inline uint32_t element_bytes(pbf_buffer source) { return raw(source) == PBF_BUF
     X(COLLIDER_HALF_EXTENTS, PBF_ERROR_INVALID_ARGUMENT, "half_extents must be finite and > 0")                      \
     X(COLLIDER_UNUSED_FINITE, PBF_ERROR_INVALID_ARGUMENT,                                                            \
       "radius, half_height and half_extents must be finite, also where the shape does not use them")                 \
+    X(COLLIDER_DYNAMIC, PBF_ERROR_INVALID_ARGUMENT, "dynamic must be 0 or 1")                                        \
+    X(COLLIDER_CENTER, PBF_ERROR_INVALID_ARGUMENT, "center_of_mass must be finite")                                  \
     /* interop: pbf_gl_buffer_desc, pbf_external_buffer_desc, pbf_semaphore_desc, pbf_external_sync */               \
     X(GL_BUFFER_NAME, PBF_ERROR_INVALID_ARGUMENT, "buffer must be a GL buffer object name (non-zero)")               \
     X(COPY_SOURCE, PBF_ERROR_INVALID_ARGUMENT, "source must be PBF_BUFFER_POSITIONS, _VELOCITIES or _IDS")           \
