@@ -335,7 +335,8 @@ typedef struct pbf_collider_desc {
     uint32_t dynamic;           /* 0 or 1 (default 0). 1: the library records the force and torque
                                    the fluid exerts on the collider each step
                                    (pbf_collider_get_force); the engine integrates its body and
-                                   moves it (motion KINEMATIC, pbf_collider_set_pose). */
+                                   moves it (motion KINEMATIC, pbf_collider_set_pose). A STATIC
+                                   dynamic collider only measures (a load on a fixed wall). */
     float center_of_mass[3];    /* dynamic: the point torques are taken about, in the collider's
                                    own frame (default 0: its position) */
 } pbf_collider_desc;

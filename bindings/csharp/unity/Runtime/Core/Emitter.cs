@@ -91,6 +91,16 @@ namespace Pbf
             PbfException.Check(Native.pbf_collider_set_pose(_world.Handle, _id, ref p, ref q));
         }
 
+        /// <summary>Dynamic colliders only (else <see cref="Result.InvalidState"/>): the fluid's mean
+        /// force and torque over the last step (zero before the first). Waits for that step to finish
+        /// on the backend; on CUDA the first call after a step copies every collider's row at once.</summary>
+        public ColliderForce GetForce()
+        {
+            pbf_collider_force f;
+            PbfException.Check(Native.pbf_collider_get_force(_world.Handle, _id, out f));
+            return new ColliderForce(f);
+        }
+
         /// <summary>Removes the collider from its world. Idempotent; a no-op once the world is disposed.</summary>
         public void Destroy()
         {
