@@ -246,6 +246,22 @@ typedef struct pbf_step_stats {
 } pbf_step_stats;
 PBF_API pbf_result PBF_CALL pbf_world_get_stats(pbf_world_id world, pbf_step_stats* out_stats);
 
+/* Per-stage time of the last step, for tuning (pbf_bench prints it). Off by default: with
+ * profiling on, every stage boundary of a step records a timer (a CUDA event on the CUDA
+ * backend), which costs a little, and pbf_world_get_profile waits for the last step. Stages are
+ * the solver's own and may change between versions: read their names, not their indices. */
+#define PBF_PROFILE_MAX_STAGES 16
+typedef struct pbf_step_profile {
+    uint32_t struct_size;
+    uint32_t stage_count;                   /* stages of this solver, <= PBF_PROFILE_MAX_STAGES */
+    float stage_ms[PBF_PROFILE_MAX_STAGES]; /* ms per stage in the last step, all its substeps;
+                                               all zero while profiling is off */
+} pbf_step_profile;
+PBF_API pbf_result PBF_CALL pbf_world_set_profiling(pbf_world_id world, uint32_t enabled);
+PBF_API pbf_result PBF_CALL pbf_world_get_profile(pbf_world_id world, pbf_step_profile* out_profile);
+/* The name of stage `stage` (e.g. "lambda"), or NULL outside 0..stage_count-1. */
+PBF_API const char* PBF_CALL pbf_profile_stage_name(uint32_t stage);
+
 /* ---- Emitters and drains ------------------------------------------------------------------ */
 /* One-shot fill of an axis-aligned box with particles on a cubic lattice at rest spacing.
  * Lattice points outside the walls (centres closer than particle_radius to the domain's faces)
@@ -299,9 +315,14 @@ PBF_API pbf_result PBF_CALL pbf_world_create_emitter(pbf_world_id world, const p
                                                      pbf_emitter_id* out_emitter);
 PBF_API pbf_result PBF_CALL pbf_world_destroy_emitter(pbf_world_id world, pbf_emitter_id emitter);
 PBF_API pbf_result PBF_CALL pbf_emitter_set_enabled(pbf_world_id world, pbf_emitter_id emitter, uint32_t enabled);
-/* Moves a nozzle (position, direction) or a drain (box_min, box_max: pass the two corners). */
-PBF_API pbf_result PBF_CALL pbf_emitter_set_transform(pbf_world_id world, pbf_emitter_id emitter,
-                                                      const float a[3], const float b[3]);
+/* Moves a nozzle: its disc centre and its direction (normalised by the library). A drain gives
+ * PBF_ERROR_INVALID_ARGUMENT (check EMITTER_KIND). Takes effect at the next step. */
+PBF_API pbf_result PBF_CALL pbf_emitter_set_nozzle(pbf_world_id world, pbf_emitter_id emitter,
+                                                   const float position[3], const float direction[3]);
+/* Moves a drain: the corners of its box (box_max > box_min on every axis). A nozzle gives
+ * PBF_ERROR_INVALID_ARGUMENT (check EMITTER_KIND). Takes effect at the next step. */
+PBF_API pbf_result PBF_CALL pbf_emitter_set_drain_box(pbf_world_id world, pbf_emitter_id emitter,
+                                                      const float box_min[3], const float box_max[3]);
 
 /* ---- Colliders ---------------------------------------------------------------------------- */
 typedef enum pbf_collider_shape {
@@ -335,7 +356,7 @@ typedef struct pbf_collider_desc {
     uint32_t dynamic;           /* 0 or 1 (default 0). 1: the library records the force and torque
                                    the fluid exerts on the collider each step
                                    (pbf_collider_get_force); the engine integrates its body and
-                                   moves it (motion KINEMATIC, pbf_collider_set_pose). A STATIC
+                                   moves it (motion KINEMATIC, pbf_collider_set_target_pose). A STATIC
                                    dynamic collider only measures (a load on a fixed wall). */
     float center_of_mass[3];    /* dynamic: the point torques are taken about, in the collider's
                                    own frame (default 0: its position) */
@@ -351,10 +372,11 @@ static inline pbf_collider_desc pbf_collider_desc_default(void) {
 PBF_API pbf_result PBF_CALL pbf_world_create_collider(pbf_world_id world, const pbf_collider_desc* desc,
                                                       pbf_collider_id* out_collider);
 PBF_API pbf_result PBF_CALL pbf_world_destroy_collider(pbf_world_id world, pbf_collider_id collider);
-/* Kinematic colliders only: the pose reached at the end of the next step. The solver moves the
- * collider from its current pose to this one over that step. */
-PBF_API pbf_result PBF_CALL pbf_collider_set_pose(pbf_world_id world, pbf_collider_id collider,
-                                                  const float position[3], const float rotation[4]);
+/* Kinematic colliders only: the target pose, reached at the end of the next step. The solver
+ * moves the collider from its current pose to this one over that step (linearly in position,
+ * by slerp in rotation, one pose per substep). A static collider gives PBF_ERROR_INVALID_STATE. */
+PBF_API pbf_result PBF_CALL pbf_collider_set_target_pose(pbf_world_id world, pbf_collider_id collider,
+                                                         const float position[3], const float rotation[4]);
 
 /* ---- Two-way coupling --------------------------------------------------------------------- *
  * The fluid's push on a dynamic collider over one step, as its mean force (N) and its torque

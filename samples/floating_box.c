@@ -1,7 +1,7 @@
 /* Two-way coupling, the engine's loop: a crate of 500 kg/m^3 dropped into a pool. The library
  * moves the water; this program plays the engine: after each step it reads the force the water
  * exerted on the crate (pbf_collider_get_force), integrates the crate's body and sets its next
- * pose (pbf_collider_set_pose). C99, public header only.
+ * pose (pbf_collider_set_target_pose). C99, public header only.
  *
  *   floating_box [steps=300]      PBF_BACKEND=cpu|cuda overrides the backend.
  * Prints the crate's height and the force every 30 steps; exits non-zero on any libpbf error. */
@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
         vy += (f.force[1] / mass - g) * dt;
         y += vy * dt;
         const float position[3] = {0.36f, y, 0.36f}, rotation[4] = {0, 0, 0, 1};
-        CHECK(pbf_collider_set_pose(world, crate, position, rotation));
+        CHECK(pbf_collider_set_target_pose(world, crate, position, rotation));
         if (step % 30 == 29)
             printf("t %.2f s  crate bottom %.3f m  water force %.1f N (weight %.1f N)\n", (step + 1) * dt,
                    y - half, f.force[1], mass * g);

@@ -6,7 +6,7 @@
 #   interop  native/interop    zero-copy rendering, beside the world (reaches it through World)
 #   world    native/world      worlds, emitters, colliders; the only door to the solver
 #   solver   native/solver     the step, written once (Solver<Exec>), and the Backend door
-#   exec     native/backend    the executors: CpuExec (OpenMP), CudaExec (CUDA)
+#   exec     native/exec       the executors: CpuExec (OpenMP), CudaExec (CUDA)
 #   core     native/core       per-particle operations, SPH kernels, grid, collisions, constants
 #   common   native/common     Status, handle tables, the transfer counter
 #
@@ -25,10 +25,10 @@ import os, re, sys
 
 root = sys.argv[1]
 native = os.path.join(root, "native")
-rank = {"common": 0, "core": 1, "backend": 2, "solver": 3, "world": 4, "interop": 5, "api": 6}
-name = {"backend": "exec"}
+rank = {"common": 0, "core": 1, "exec": 2, "solver": 3, "world": 4, "interop": 5, "api": 6}
+
 reach = {"api": {"interop", "world"}, "interop": {"world"}, "world": {"solver", "core"},
-         "solver": {"backend", "core"}, "backend": {"core"}, "core": set(), "common": set()}
+         "solver": {"exec", "core"}, "exec": {"core"}, "core": set(), "common": set()}
 include = re.compile(r'^\s*#\s*include\s*"([^"]+)"')
 
 def layer_of(path):
@@ -63,7 +63,7 @@ for dirpath, _, names in os.walk(native):
                 elif there != here and there != "common" and there not in reach[here]:
                     why = "points up" if rank[there] > rank[here] else "goes around a layer's door"
                     bad.append(f"{os.path.relpath(path, root)}:{lineno}: {line.strip()}  "
-                               f"({name.get(here, here)} -> {name.get(there, there)}: {why})")
+                               f"({here} -> {there}: {why})")
 
 if bad:
     print("check_layers: includes against the layering (api > interop > world > solver > exec > core > common):")

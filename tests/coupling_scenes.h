@@ -190,7 +190,7 @@ inline Release release_box(pbf_backend backend, bool ldc, float density, float s
             vy = 0;
         }
         const float pos[3] = {0.36f, float(y), 0.36f}, rot[4] = {0, 0, 0, 1};
-        REQUIRE_PBF(pbf_collider_set_pose(w, box, pos, rot));
+        REQUIRE_PBF(pbf_collider_set_target_pose(w, box, pos, rot));
         r.min_bottom = std::min(r.min_bottom, y - half);
         if (step >= steps - averaged) {  // the particles and the box at the same instant
             const scene::Particles p = scene::read(w);
@@ -228,7 +228,7 @@ inline void paddle(pbf_backend backend, bool ldc, double* paddle_impulse, double
     for (int step = 0; step < 18; ++step) {
         x += 0.5 * kDt;
         const float pos[3] = {float(x), 0.2f, 0.2f}, rot[4] = {0, 0, 0, 1};
-        REQUIRE_PBF(pbf_collider_set_pose(w, paddle, pos, rot));
+        REQUIRE_PBF(pbf_collider_set_target_pose(w, paddle, pos, rot));
         REQUIRE_PBF(pbf_world_step(w, kDt));
         impulse += force(w, paddle).force[0] * kDt;
     }

@@ -106,12 +106,12 @@ inline std::string drive(const World& w, int first_step, int steps) {
         if (w.has_nozzle) {
             const float p[3] = {0.4f + 0.1f * std::sin(t * 2.0f), 0.5f, 0.2f};
             const float d[3] = {-0.3f, -1.0f, 0.1f * std::cos(t)};
-            if (!REL_CALL(err, pbf_emitter_set_transform(w.id, w.nozzle, p, d))) return err;
+            if (!REL_CALL(err, pbf_emitter_set_nozzle(w.id, w.nozzle, p, d))) return err;
         }
         if (w.has_sphere) {
             const float p[3] = {0.3f + 0.1f * std::cos(3.0f * t), 0.1f, 0.2f + 0.05f * std::sin(3.0f * t)};
             const float q[4] = {0.0f, std::sin(t), 0.0f, std::cos(t)};
-            if (!REL_CALL(err, pbf_collider_set_pose(w.id, w.sphere, p, q))) return err;
+            if (!REL_CALL(err, pbf_collider_set_target_pose(w.id, w.sphere, p, q))) return err;
         }
         if (!REL_CALL(err, pbf_world_step(w.id, dt))) return err;
     }

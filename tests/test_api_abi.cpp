@@ -267,15 +267,15 @@ TEST_CASE("NULL desc and out pointers are refused by every create, get and copy 
     const pbf_emitter_desc drain = drain_desc();
     REQUIRE_OK(pbf_world_create_emitter(w, &drain, &e));
     const float a[3] = {0.3f, 0.0f, 0.3f}, b[3] = {0.5f, 0.1f, 0.5f};
-    CHECK_FAILS(pbf_emitter_set_transform(w, e, nullptr, b), PBF_ERROR_INVALID_ARGUMENT, "NULL");
-    CHECK_FAILS(pbf_emitter_set_transform(w, e, a, nullptr), PBF_ERROR_INVALID_ARGUMENT, "NULL");
+    CHECK_FAILS(pbf_emitter_set_drain_box(w, e, nullptr, b), PBF_ERROR_INVALID_ARGUMENT, "NULL");
+    CHECK_FAILS(pbf_emitter_set_drain_box(w, e, a, nullptr), PBF_ERROR_INVALID_ARGUMENT, "NULL");
     REQUIRE_OK(pbf_world_destroy_emitter(w, e));
     pbf_collider_id c{};
     pbf_collider_desc kin = collider_desc(PBF_SHAPE_SPHERE, PBF_MOTION_KINEMATIC);
     REQUIRE_OK(pbf_world_create_collider(w, &kin, &c));
     const float p[3] = {0, 0.5f, 0}, q[4] = {0, 0, 0, 1};
-    CHECK_FAILS(pbf_collider_set_pose(w, c, nullptr, q), PBF_ERROR_INVALID_ARGUMENT, "position");
-    CHECK_FAILS(pbf_collider_set_pose(w, c, p, nullptr), PBF_ERROR_INVALID_ARGUMENT, "rotation");
+    CHECK_FAILS(pbf_collider_set_target_pose(w, c, nullptr, q), PBF_ERROR_INVALID_ARGUMENT, "position");
+    CHECK_FAILS(pbf_collider_set_target_pose(w, c, p, nullptr), PBF_ERROR_INVALID_ARGUMENT, "rotation");
     REQUIRE_OK(pbf_world_destroy_collider(w, c));
 
     // NULL with max_count 0 is fine (nothing to write), and NULL out_written is allowed.

@@ -189,16 +189,16 @@ TEST_CASE("emitter desc: NaN, Inf and out-of-range fields are refused", "[api][n
         for (int a = 0; a < 3; ++a) {
             float p[3] = {0, 0.7f, 0}, d[3] = {0, -1, 0};
             p[a] = bad;
-            CHECK_FAILS(pbf_emitter_set_transform(w, nz, p, d), PBF_ERROR_INVALID_ARGUMENT, "finite");
+            CHECK_FAILS(pbf_emitter_set_nozzle(w, nz, p, d), PBF_ERROR_INVALID_ARGUMENT, "finite");
             p[a] = 0.1f;
             d[a] = bad;
-            CHECK_FAILS(pbf_emitter_set_transform(w, nz, p, d), PBF_ERROR_INVALID_ARGUMENT, "finite");
+            CHECK_FAILS(pbf_emitter_set_nozzle(w, nz, p, d), PBF_ERROR_INVALID_ARGUMENT, "finite");
         }
     }
     const float zero[3] = {0, 0, 0}, pos[3] = {0, 0.7f, 0};
-    CHECK_FAILS(pbf_emitter_set_transform(w, nz, pos, zero), PBF_ERROR_INVALID_ARGUMENT, "direction");
+    CHECK_FAILS(pbf_emitter_set_nozzle(w, nz, pos, zero), PBF_ERROR_INVALID_ARGUMENT, "direction");
     const float lo[3] = {0.4f, 0, 0.4f}, hi[3] = {0.5f, 0.1f, 0.39f};
-    CHECK_FAILS(pbf_emitter_set_transform(w, dr, lo, hi), PBF_ERROR_INVALID_ARGUMENT, "box_max");
+    CHECK_FAILS(pbf_emitter_set_drain_box(w, dr, lo, hi), PBF_ERROR_INVALID_ARGUMENT, "box_max");
     // The nozzle is disabled and the drain too: nothing changes the count.
     w.require_usable(n);
 }
@@ -278,20 +278,20 @@ TEST_CASE("collider desc and set_pose: NaN, Inf and out-of-range fields are refu
             float p[3] = {0, 0.6f, 0};
             const float q[4] = {0, 0, 0, 1};
             p[a] = bad;
-            CHECK_FAILS(pbf_collider_set_pose(w, kin, p, q), PBF_ERROR_INVALID_ARGUMENT, "position");
+            CHECK_FAILS(pbf_collider_set_target_pose(w, kin, p, q), PBF_ERROR_INVALID_ARGUMENT, "position");
         }
         for (int a = 0; a < 4; ++a) {
             const float p[3] = {0, 0.6f, 0};
             float q[4] = {0, 0, 0, 1};
             q[a] = bad;
-            CHECK_FAILS(pbf_collider_set_pose(w, kin, p, q), PBF_ERROR_INVALID_ARGUMENT, "rotation");
+            CHECK_FAILS(pbf_collider_set_target_pose(w, kin, p, q), PBF_ERROR_INVALID_ARGUMENT, "rotation");
         }
     }
     const float p[3] = {0, 0.6f, 0}, q0[4] = {0, 0, 0, 0};
-    CHECK_FAILS(pbf_collider_set_pose(w, kin, p, q0), PBF_ERROR_INVALID_ARGUMENT, "rotation");
+    CHECK_FAILS(pbf_collider_set_target_pose(w, kin, p, q0), PBF_ERROR_INVALID_ARGUMENT, "rotation");
     // A valid pose (unnormalised quaternion is normalised) still works.
     const float q2[4] = {0, 0, 0, 2};
-    REQUIRE_OK(pbf_collider_set_pose(w, kin, p, q2));
+    REQUIRE_OK(pbf_collider_set_target_pose(w, kin, p, q2));
     w.require_usable(n);
 }
 

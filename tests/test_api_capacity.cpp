@@ -138,7 +138,7 @@ TEST_CASE("state: set_pose on a static collider and unmap without map", "[api][s
     pbf_collider_id s{};
     REQUIRE_OK(pbf_world_create_collider(w, &sd, &s));
     const float p[3] = {0, 0.7f, 0}, q[4] = {0, 0, 0, 1};
-    CHECK_FAILS(pbf_collider_set_pose(w, s, p, q), PBF_ERROR_INVALID_STATE, "kinematic");
+    CHECK_FAILS(pbf_collider_set_target_pose(w, s, p, q), PBF_ERROR_INVALID_STATE, "kinematic");
     CHECK_FAILS(pbf_world_unmap(w), PBF_ERROR_INVALID_STATE, "mapped");
     w.require_usable(n);
 }

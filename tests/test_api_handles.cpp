@@ -50,11 +50,11 @@ TEST_CASE("stale handles: every world call after destroy is refused", "[api][han
         CHECK(eo.generation == 0);
         CHECK_FAILS(pbf_world_destroy_emitter(id, e), PBF_ERROR_INVALID_HANDLE, needle);
         CHECK_FAILS(pbf_emitter_set_enabled(id, e, 0), PBF_ERROR_INVALID_HANDLE, needle);
-        CHECK_FAILS(pbf_emitter_set_transform(id, e, g, g), PBF_ERROR_INVALID_HANDLE, needle);
+        CHECK_FAILS(pbf_emitter_set_nozzle(id, e, g, g), PBF_ERROR_INVALID_HANDLE, needle);
         CHECK_FAILS(pbf_world_create_collider(id, &cd, &co), PBF_ERROR_INVALID_HANDLE, needle);
         CHECK(co.generation == 0);
         CHECK_FAILS(pbf_world_destroy_collider(id, c), PBF_ERROR_INVALID_HANDLE, needle);
-        CHECK_FAILS(pbf_collider_set_pose(id, c, g, q), PBF_ERROR_INVALID_HANDLE, needle);
+        CHECK_FAILS(pbf_collider_set_target_pose(id, c, g, q), PBF_ERROR_INVALID_HANDLE, needle);
         u = 7;
         CHECK_FAILS(pbf_world_get_particle_count(id, &u), PBF_ERROR_INVALID_HANDLE, needle);
         u = 7;
@@ -119,7 +119,7 @@ TEST_CASE("stale handles: emitters", "[api][handle][emitter]") {
     REQUIRE_OK(pbf_world_destroy_emitter(w, e1));
     CHECK_FAILS(pbf_world_destroy_emitter(w, e1), PBF_ERROR_INVALID_HANDLE, "emitter");
     CHECK_FAILS(pbf_emitter_set_enabled(w, e1, 1), PBF_ERROR_INVALID_HANDLE, "emitter");
-    CHECK_FAILS(pbf_emitter_set_transform(w, e1, lo, hi), PBF_ERROR_INVALID_HANDLE, "emitter");
+    CHECK_FAILS(pbf_emitter_set_drain_box(w, e1, lo, hi), PBF_ERROR_INVALID_HANDLE, "emitter");
 
     // The slot is reused by e2; e1 must still be refused and e2 must work.
     pbf_emitter_id e2{};
@@ -127,21 +127,21 @@ TEST_CASE("stale handles: emitters", "[api][handle][emitter]") {
     CHECK_FALSE(same_id(e1, e2));
     CHECK_FAILS(pbf_emitter_set_enabled(w, e1, 1), PBF_ERROR_INVALID_HANDLE, "emitter");
     CHECK_FAILS(pbf_world_destroy_emitter(w, e1), PBF_ERROR_INVALID_HANDLE, "emitter");
-    REQUIRE_OK(pbf_emitter_set_transform(w, e2, lo, hi));
+    REQUIRE_OK(pbf_emitter_set_drain_box(w, e2, lo, hi));
     REQUIRE_OK(pbf_emitter_set_enabled(w, e2, 0));
 
     for (pbf_emitter_id forged : {pbf_emitter_id{0, 0}, pbf_emitter_id{12345, 7}, pbf_emitter_id{e2.index, 0},
                                   pbf_emitter_id{e2.index, e2.generation + 1}}) {
         INFO("emitter {" << forged.index << ", " << forged.generation << "}");
         CHECK_FAILS(pbf_emitter_set_enabled(w, forged, 0), PBF_ERROR_INVALID_HANDLE, "emitter");
-        CHECK_FAILS(pbf_emitter_set_transform(w, forged, lo, hi), PBF_ERROR_INVALID_HANDLE, "emitter");
+        CHECK_FAILS(pbf_emitter_set_drain_box(w, forged, lo, hi), PBF_ERROR_INVALID_HANDLE, "emitter");
         CHECK_FAILS(pbf_world_destroy_emitter(w, forged), PBF_ERROR_INVALID_HANDLE, "emitter");
     }
 
     // An emitter handle of world A given to world B (which has no emitters) is refused.
     TestWorld other;
     CHECK_FAILS(pbf_emitter_set_enabled(other, e2, 1), PBF_ERROR_INVALID_HANDLE, "emitter");
-    CHECK_FAILS(pbf_emitter_set_transform(other, e2, lo, hi), PBF_ERROR_INVALID_HANDLE, "emitter");
+    CHECK_FAILS(pbf_emitter_set_drain_box(other, e2, lo, hi), PBF_ERROR_INVALID_HANDLE, "emitter");
     CHECK_FAILS(pbf_world_destroy_emitter(other, e2), PBF_ERROR_INVALID_HANDLE, "emitter");
     REQUIRE_OK(pbf_world_destroy_emitter(w, e2));  // still alive in A
     w.require_usable(n);
@@ -160,24 +160,24 @@ TEST_CASE("stale handles: colliders", "[api][handle][collider]") {
     CHECK(c1.generation != 0);
     REQUIRE_OK(pbf_world_destroy_collider(w, c1));
     CHECK_FAILS(pbf_world_destroy_collider(w, c1), PBF_ERROR_INVALID_HANDLE, "collider");
-    CHECK_FAILS(pbf_collider_set_pose(w, c1, p, q), PBF_ERROR_INVALID_HANDLE, "collider");
+    CHECK_FAILS(pbf_collider_set_target_pose(w, c1, p, q), PBF_ERROR_INVALID_HANDLE, "collider");
 
     pbf_collider_id c2{};
     REQUIRE_OK(pbf_world_create_collider(w, &kd, &c2));
     CHECK_FALSE((c1.index == c2.index && c1.generation == c2.generation));
-    CHECK_FAILS(pbf_collider_set_pose(w, c1, p, q), PBF_ERROR_INVALID_HANDLE, "collider");
+    CHECK_FAILS(pbf_collider_set_target_pose(w, c1, p, q), PBF_ERROR_INVALID_HANDLE, "collider");
     CHECK_FAILS(pbf_world_destroy_collider(w, c1), PBF_ERROR_INVALID_HANDLE, "collider");
-    REQUIRE_OK(pbf_collider_set_pose(w, c2, p, q));
+    REQUIRE_OK(pbf_collider_set_target_pose(w, c2, p, q));
 
     for (pbf_collider_id forged : {pbf_collider_id{0, 0}, pbf_collider_id{12345, 7}, pbf_collider_id{c2.index, 0},
                                    pbf_collider_id{c2.index, c2.generation + 1}}) {
         INFO("collider {" << forged.index << ", " << forged.generation << "}");
-        CHECK_FAILS(pbf_collider_set_pose(w, forged, p, q), PBF_ERROR_INVALID_HANDLE, "collider");
+        CHECK_FAILS(pbf_collider_set_target_pose(w, forged, p, q), PBF_ERROR_INVALID_HANDLE, "collider");
         CHECK_FAILS(pbf_world_destroy_collider(w, forged), PBF_ERROR_INVALID_HANDLE, "collider");
     }
 
     TestWorld other;
-    CHECK_FAILS(pbf_collider_set_pose(other, c2, p, q), PBF_ERROR_INVALID_HANDLE, "collider");
+    CHECK_FAILS(pbf_collider_set_target_pose(other, c2, p, q), PBF_ERROR_INVALID_HANDLE, "collider");
     CHECK_FAILS(pbf_world_destroy_collider(other, c2), PBF_ERROR_INVALID_HANDLE, "collider");
     REQUIRE_OK(pbf_world_destroy_collider(w, c2));
     w.require_usable(n);

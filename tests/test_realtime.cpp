@@ -169,7 +169,7 @@ TEST_CASE("a nozzle must fit its rate through its disc and sit inside the walls"
     REQUIRE_PBF(pbf_world_create_emitter(w, &e, &id));
     // Moving it outside the walls is refused and leaves it where it was.
     const float outside[3] = {0.5f, 3.0f, 0.5f}, down[3] = {0.0f, -1.0f, 0.0f};
-    CHECK(pbf_emitter_set_transform(w, id, outside, down) == PBF_ERROR_INVALID_ARGUMENT);
+    CHECK(pbf_emitter_set_nozzle(w, id, outside, down) == PBF_ERROR_INVALID_ARGUMENT);
     for (int k = 0; k < 30; ++k) REQUIRE_PBF(pbf_world_step(w, kDt));
     const Particles p = read(w);
     CHECK(p.count > 150u);  // 400 per second for 0.5 s
@@ -200,7 +200,7 @@ TEST_CASE("a thin paddle swept through the fluid faster than its thickness per s
     for (int k = 0; k < 3; ++k) {
         x += 0.1f;
         const float target[3] = {x, 0.3f, 0.05f};
-        REQUIRE_PBF(pbf_collider_set_pose(w, paddle, target, identity));
+        REQUIRE_PBF(pbf_collider_set_target_pose(w, paddle, target, identity));
         REQUIRE_PBF(pbf_world_step(w, kDt));
     }
     for (int k = 0; k < 10; ++k) REQUIRE_PBF(pbf_world_step(w, kDt));

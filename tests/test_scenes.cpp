@@ -228,7 +228,7 @@ TEST_CASE("a kinematic box moving through a pool pushes the fluid", "[scene][col
     for (int step = 0; step < 30; ++step) {  // 0.5 s at 0.6 m/s
         x += 0.6f * kDt;
         const float position[3] = {x, 0.15f, 0.1f};
-        REQUIRE_PBF(pbf_collider_set_pose(w, paddle, position, rotation));
+        REQUIRE_PBF(pbf_collider_set_target_pose(w, paddle, position, rotation));
         REQUIRE_PBF(pbf_world_step(w, kDt));
         if (step == 15) {
             const Particles mid = read(w);
@@ -252,7 +252,7 @@ TEST_CASE("a kinematic box moving through a pool pushes the fluid", "[scene][col
     s.radius = 0.05f;
     pbf_collider_id fixed;
     REQUIRE_PBF(pbf_world_create_collider(w, &s, &fixed));
-    CHECK(pbf_collider_set_pose(w, fixed, static_pos, static_rot) == PBF_ERROR_INVALID_STATE);
+    CHECK(pbf_collider_set_target_pose(w, fixed, static_pos, static_rot) == PBF_ERROR_INVALID_STATE);
     REQUIRE_PBF(pbf_world_destroy(w));
 }
 

@@ -133,11 +133,17 @@ TEST_CASE("validate: emitter descs and transforms name the failed check", "[api]
     REQUIRE(pbf_world_create_emitter(w.id, &n, &nz) == PBF_OK);
     REQUIRE(pbf_world_create_emitter(w.id, &d, &dr) == PBF_OK);
     const float zero[3] = {0, 0, 0}, pos[3] = {0, 0.7f, 0}, nan3[3] = {NAN, 0, 0};
-    CHECK_REFUSED_BY(pbf_emitter_set_transform(w.id, nz, pos, zero), Check::NOZZLE_DIRECTION);
-    CHECK_REFUSED_BY(pbf_emitter_set_transform(w.id, nz, pos, nan3), Check::TRANSFORM_FINITE);
-    CHECK_REFUSED_BY(pbf_emitter_set_transform(w.id, nz, pos, nullptr), Check::TRANSFORM_FINITE);
+    CHECK_REFUSED_BY(pbf_emitter_set_nozzle(w.id, nz, pos, zero), Check::NOZZLE_DIRECTION);
+    CHECK_REFUSED_BY(pbf_emitter_set_nozzle(w.id, nz, pos, nan3), Check::TRANSFORM_FINITE);
+    CHECK_REFUSED_BY(pbf_emitter_set_nozzle(w.id, nz, pos, nullptr), Check::TRANSFORM_FINITE);
     const float lo[3] = {0.4f, 0, 0.4f}, hi[3] = {0.5f, 0.1f, 0.39f};
-    CHECK_REFUSED_BY(pbf_emitter_set_transform(w.id, dr, lo, hi), Check::DRAIN_BOX);
+    CHECK_REFUSED_BY(pbf_emitter_set_drain_box(w.id, dr, lo, hi), Check::DRAIN_BOX);
+    // Each mover takes its own type of emitter.
+    const float box_lo[3] = {0.4f, 0, 0.4f}, box_hi[3] = {0.5f, 0.1f, 0.5f}, down[3] = {0, -1, 0};
+    CHECK_REFUSED_BY(pbf_emitter_set_drain_box(w.id, nz, box_lo, box_hi), Check::EMITTER_KIND);
+    CHECK_REFUSED_BY(pbf_emitter_set_nozzle(w.id, dr, pos, down), Check::EMITTER_KIND);
+    CHECK(pbf_emitter_set_nozzle(w.id, nz, pos, down) == PBF_OK);
+    CHECK(pbf_emitter_set_drain_box(w.id, dr, box_lo, box_hi) == PBF_OK);
 }
 
 TEST_CASE("validate: collider descs and poses name the failed check", "[api][validate][collider]") {
@@ -174,5 +180,5 @@ TEST_CASE("validate: collider descs and poses name the failed check", "[api][val
         CHECK_REFUSED_BY(pbf_world_create_collider(w.id, &c, &id), k.check);
     }
     const float pos[3] = {0, 0.5f, 0}, zero_q[4] = {0, 0, 0, 0};
-    CHECK_REFUSED_BY(pbf_collider_set_pose(w.id, pbf_collider_id{1, 1}, pos, zero_q), Check::COLLIDER_POSE);
+    CHECK_REFUSED_BY(pbf_collider_set_target_pose(w.id, pbf_collider_id{1, 1}, pos, zero_q), Check::COLLIDER_POSE);
 }

@@ -30,9 +30,9 @@ PBF_API pbf_result PBF_CALL pbf_world_destroy_collider(pbf_world_id id, pbf_coll
     });
 }
 
-PBF_API pbf_result PBF_CALL pbf_collider_set_pose(pbf_world_id id, pbf_collider_id c, const float position[3],
-                                                 const float rotation[4]) {
-    const char* fn = "pbf_collider_set_pose";
+PBF_API pbf_result PBF_CALL pbf_collider_set_target_pose(pbf_world_id id, pbf_collider_id c, const float position[3],
+                                                        const float rotation[4]) {
+    const char* fn = "pbf_collider_set_target_pose";
     return guarded(fn, [&]() -> pbf_result {
         PBF_VALIDATE(pbf::api::validate_collider_pose(position, rotation));
         PBF_LOCK_WORLD(w, id);

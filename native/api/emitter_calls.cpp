@@ -54,16 +54,34 @@ PBF_API pbf_result PBF_CALL pbf_emitter_set_enabled(pbf_world_id id, pbf_emitter
     });
 }
 
-PBF_API pbf_result PBF_CALL pbf_emitter_set_transform(pbf_world_id id, pbf_emitter_id e, const float a[3], const float b[3]) {
-    const char* fn = "pbf_emitter_set_transform";
+}  // extern "C"
+
+namespace {
+// Moves a nozzle (a, b: position, direction) or a drain (a, b: box_min, box_max) of type `kind`.
+pbf_result move_emitter(const char* fn, pbf_world_id id, pbf_emitter_id e, const float a[3], const float b[3],
+                        pbf_emitter_type kind) {
     return guarded(fn, [&]() -> pbf_result {
         PBF_VALIDATE(pbf::api::validate_emitter_transform(nullptr, a, b));
         PBF_LOCK_WORLD(w, id);
         const pbf::EmitterEntry* entry = w->find_emitter(e);
         PBF_REQUIRE(entry, PBF_ERROR_INVALID_HANDLE, std::string(fn) + ": emitter is not live");
+        PBF_VALIDATE(pbf::api::validate_emitter_kind(kind, entry->desc.type));
         PBF_VALIDATE(pbf::api::validate_emitter_transform(&entry->desc.type, a, b));
         return fail(fn, w->set_emitter_transform(e, a, b));
     });
+}
+}  // namespace
+
+extern "C" {
+
+PBF_API pbf_result PBF_CALL pbf_emitter_set_nozzle(pbf_world_id id, pbf_emitter_id e, const float position[3],
+                                                  const float direction[3]) {
+    return move_emitter("pbf_emitter_set_nozzle", id, e, position, direction, PBF_EMITTER_NOZZLE);
+}
+
+PBF_API pbf_result PBF_CALL pbf_emitter_set_drain_box(pbf_world_id id, pbf_emitter_id e, const float box_min[3],
+                                                     const float box_max[3]) {
+    return move_emitter("pbf_emitter_set_drain_box", id, e, box_min, box_max, PBF_EMITTER_DRAIN);
 }
 
 }  // extern "C"

@@ -139,6 +139,11 @@ Verdict validate_emitter_transform(const pbf_emitter_type* type, const float a[3
     return {};
 }
 
+Verdict validate_emitter_kind(pbf_emitter_type kind, pbf_emitter_type type) {
+    V(kind == type, EMITTER_KIND);
+    return {};
+}
+
 Verdict validate_collider_desc(const pbf_collider_desc& d) {
     V(raw(d.shape) >= PBF_SHAPE_PLANE && raw(d.shape) <= PBF_SHAPE_BOX, COLLIDER_SHAPE);
     V(raw(d.motion) == PBF_MOTION_STATIC || raw(d.motion) == PBF_MOTION_KINEMATIC, COLLIDER_MOTION);

@@ -62,7 +62,7 @@ inline uint32_t element_bytes(pbf_buffer source) { return raw(source) == PBF_BUF
     /* pbf_block_desc */                                                                                             \
     X(BLOCK_FINITE, PBF_ERROR_INVALID_ARGUMENT, "box_min, box_max and velocity must be finite")                      \
     X(BLOCK_BOX, PBF_ERROR_INVALID_ARGUMENT, "box_max must exceed box_min on every axis")                            \
-    /* pbf_emitter_desc, pbf_emitter_set_transform */                                                                \
+    /* pbf_emitter_desc, pbf_emitter_set_nozzle/_drain_box */                                                                \
     X(EMITTER_ENABLED, PBF_ERROR_INVALID_ARGUMENT, "enabled must be 0 or 1")                                         \
     X(EMITTER_TYPE, PBF_ERROR_INVALID_ARGUMENT, "type must be PBF_EMITTER_NOZZLE or PBF_EMITTER_DRAIN")              \
     X(NOZZLE_FINITE, PBF_ERROR_INVALID_ARGUMENT, "nozzle position and direction must be finite")                    \
@@ -76,7 +76,9 @@ inline uint32_t element_bytes(pbf_buffer source) { return raw(source) == PBF_BUF
       "position, direction, speed, radius, particles_per_second, box_min and box_max must be finite, also where "    \
       "the type does not use them")                                                                                  \
     X(TRANSFORM_FINITE, PBF_ERROR_INVALID_ARGUMENT, "both vectors must be non-NULL and finite")                      \
-    /* pbf_collider_desc, pbf_collider_set_pose */                                                                   \
+    X(EMITTER_KIND, PBF_ERROR_INVALID_ARGUMENT,                                                                      \
+      "pbf_emitter_set_nozzle moves nozzles and pbf_emitter_set_drain_box drains: the emitter is of the other type")  \
+    /* pbf_collider_desc, pbf_collider_set_target_pose */                                                                   \
     X(COLLIDER_SHAPE, PBF_ERROR_INVALID_ARGUMENT, "shape must be PBF_SHAPE_PLANE, _SPHERE, _CAPSULE or _BOX")        \
     X(COLLIDER_MOTION, PBF_ERROR_INVALID_ARGUMENT, "motion must be PBF_MOTION_STATIC or PBF_MOTION_KINEMATIC")       \
     X(COLLIDER_POSE, PBF_ERROR_INVALID_ARGUMENT,                                                                     \
@@ -134,9 +136,11 @@ Verdict validate_world_desc(const pbf_world_desc& d);        // all but the nest
 Verdict validate_gravity(const float g[3]);
 Verdict validate_block_desc(const pbf_block_desc& d);
 Verdict validate_emitter_desc(const pbf_emitter_desc& d);
-// pbf_emitter_set_transform: a, b are a nozzle's position and direction or a drain's box (type
+// pbf_emitter_set_nozzle/_drain_box: a, b are a nozzle's position and direction or a drain's box (type
 // null: only what holds for both, before the emitter is looked up).
 Verdict validate_emitter_transform(const pbf_emitter_type* type, const float a[3], const float b[3]);
+// pbf_emitter_set_nozzle / _drain_box: the call's kind matches the emitter's type.
+Verdict validate_emitter_kind(pbf_emitter_type kind, pbf_emitter_type type);
 Verdict validate_collider_desc(const pbf_collider_desc& d);
 Verdict validate_collider_pose(const float position[3], const float rotation[4]);
 Verdict validate_gl_buffer_desc(const pbf_gl_buffer_desc& d);

@@ -4,7 +4,7 @@
 #include <string>
 
 #include "api_common.h"
-#include "internal.h"
+#include "../world/world.h"
 
 using pbf::Status;
 using pbf::World;
@@ -128,6 +128,36 @@ PBF_API pbf_result PBF_CALL pbf_world_get_stats(pbf_world_id id, pbf_step_stats*
     });
 }
 
+// ---- profiling -------------------------------------------------------------------------------
+PBF_API pbf_result PBF_CALL pbf_world_set_profiling(pbf_world_id id, uint32_t enabled) {
+    const char* fn = "pbf_world_set_profiling";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_REQUIRE_ARG(enabled <= 1, "enabled must be 0 or 1");
+        PBF_LOCK_WORLD(w, id);
+        w->set_profiling(enabled != 0);
+        return PBF_OK;
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_get_profile(pbf_world_id id, pbf_step_profile* out) {
+    const char* fn = "pbf_world_get_profile";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_CHECK_STRUCT(pbf_step_profile, out);
+        PBF_LOCK_WORLD(w, id);
+        pbf::StageTimes times;
+        const pbf_result r = fail(w->stage_times(&times));
+        if (r != PBF_OK) return r;
+        static_assert(pbf::kStageCount <= PBF_PROFILE_MAX_STAGES, "pbf_step_profile holds every stage");
+        out->stage_count = pbf::kStageCount;
+        for (int k = 0; k < PBF_PROFILE_MAX_STAGES; ++k) out->stage_ms[k] = k < pbf::kStageCount ? times.ms[k] : 0.0f;
+        return PBF_OK;
+    });
+}
+
+PBF_API const char* PBF_CALL pbf_profile_stage_name(uint32_t stage) {
+    return stage < static_cast<uint32_t>(pbf::kStageCount) ? pbf::World::stage_name(static_cast<int>(stage)) : nullptr;
+}
+
 // ---- particles -------------------------------------------------------------------------------
 PBF_API pbf_result PBF_CALL pbf_world_get_particle_count(pbf_world_id id, uint32_t* out) {
     const char* fn = "pbf_world_get_particle_count";
@@ -178,18 +208,3 @@ PBF_API pbf_result PBF_CALL pbf_world_unmap(pbf_world_id id) {
 }
 
 }  // extern "C"
-
-// ---- internal hooks for pbf_bench (internal.h; not exported) ---------------------------------
-namespace pbf {
-pbf_result internal_set_profiling(pbf_world_id id, bool on) {
-    const char* fn = "internal_set_profiling";
-    PBF_LOCK_WORLD(w, id);
-    w->set_profiling(on);
-    return PBF_OK;
-}
-pbf_result internal_stage_times(pbf_world_id id, StageTimes* out) {
-    const char* fn = "internal_stage_times";
-    PBF_LOCK_WORLD(w, id);
-    return fail(w->stage_times(out));
-}
-}  // namespace pbf

@@ -1,6 +1,6 @@
 // The solver layer's door for the world: what a world asks of its compute backend, and what one
 // substep needs. One implementation, Solver<Exec> (solver.h), runs the same passes on either
-// executor (native/backend): CpuExec (OpenMP) or CudaExec (one stream per world); the factories
+// executor (native/exec): CpuExec (OpenMP) or CudaExec (one stream per world); the factories
 // are in solver_cpu.cpp and solver_cuda.cu.
 #pragma once
 #include <cstdint>
@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "../backend/exec_common.h"
+#include "../exec/exec_common.h"
 #include "../common/status.h"
 #include "../core/params.h"
 #include "pbf_c_api.h"

@@ -1,6 +1,6 @@
 // The step, written once: the order of passes (Meno & Tsuruno Fig. 3 on top of Macklin &
-// Müller 2013), instantiated with CpuExec in cpu_backend.cpp and with CudaExec in
-// cuda_backend.cu. Exec supplies memory, for_each(n, op), a key/value sort and reductions.
+// Müller 2013), instantiated with CpuExec in solver_cpu.cpp and with CudaExec in
+// solver_cuda.cu. Exec supplies memory, for_each(n, op), a key/value sort and reductions.
 #pragma once
 #include <algorithm>
 #include <utility>

@@ -1,6 +1,6 @@
 // The solver on the CPU executor, and the names of its stages. In a build without CUDA, also the
 // refusal of a CUDA backend.
-#include "../backend/cpu_exec.h"
+#include "../exec/cpu_exec.h"
 #include "solver.h"
 
 namespace pbf {

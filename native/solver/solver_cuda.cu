@@ -1,5 +1,5 @@
 // The solver on the CUDA executor.
-#include "../backend/cuda_exec.cuh"
+#include "../exec/cuda_exec.cuh"
 #include "solver.h"
 
 namespace pbf {

@@ -11,6 +11,12 @@
 #include "../core/sph.h"
 
 namespace pbf {
+
+// The core's shape codes are the public ones, so create_collider passes a shape through a cast.
+constexpr bool same_code(ColliderShape core, pbf_collider_shape api) { return uint32_t(core) == uint32_t(api); }
+static_assert(same_code(kShapePlane, PBF_SHAPE_PLANE) && same_code(kShapeSphere, PBF_SHAPE_SPHERE) &&
+                  same_code(kShapeCapsule, PBF_SHAPE_CAPSULE) && same_code(kShapeBox, PBF_SHAPE_BOX),
+              "core/params.h ColliderShape mirrors pbf_collider_shape");
 namespace {
 
 Vec3 to_vec3(const float v[3]) { return Vec3{v[0], v[1], v[2]}; }

@@ -115,6 +115,7 @@ public:
     // Per-stage timing (pbf_bench): on or off, and the last step's milliseconds per stage.
     void set_profiling(bool on);
     Status stage_times(StageTimes* out);
+    static const char* stage_name(int stage);
 
 private:
     World() = default;

@@ -70,5 +70,6 @@ void* World::cuda_stream() const { return backend_->cuda_stream(); }
 Status World::set_cuda_stream(void* stream) { return backend_->set_cuda_stream(stream); }
 void World::set_profiling(bool on) { backend_->set_profiling(on); }
 Status World::stage_times(StageTimes* out) { return backend_->stage_times(out); }
+const char* World::stage_name(int stage) { return pbf::stage_name(stage); }
 
 }  // namespace pbf

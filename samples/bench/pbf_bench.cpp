@@ -19,7 +19,6 @@
 
 #include <CLI/CLI.hpp>
 
-#include "api/internal.h"
 #include "pbf_c_api.h"
 
 namespace {
@@ -48,8 +47,15 @@ struct Result {
     double ms_median = 0, ms_min = 0, ms_max = 0, bytes_per_particle = 0, error_mean = 0, error_max = 0;
     uint32_t count = 0;
     float dt = 0;
-    pbf::StageTimes stages;
+    double stage_ms[PBF_PROFILE_MAX_STAGES] = {};  // per step, averaged
 };
+
+// The solver's stages, as the library names them (pbf_profile_stage_name).
+uint32_t stage_count() {
+    uint32_t n = 0;
+    while (n < PBF_PROFILE_MAX_STAGES && pbf_profile_stage_name(n)) ++n;
+    return n;
+}
 
 void set3(float* d, float x, float y, float z) {
     d[0] = x;
@@ -101,7 +107,7 @@ Result run(const Config& c, int warmup, int steps, bool stages) {
         return r;
     }
     r.count = emitted;
-    if (stages) pbf::internal_set_profiling(w, true);
+    if (stages) pbf_world_set_profiling(w, 1);
 
     pbf_step_stats s;
     std::memset(&s, 0, sizeof s);
@@ -118,9 +124,11 @@ Result run(const Config& c, int warmup, int steps, bool stages) {
         r.error_mean += s.density_error_mean;
         r.error_max = std::max<double>(r.error_max, s.density_error_max);
         if (stages) {
-            pbf::StageTimes t;
-            pbf::internal_stage_times(w, &t);
-            for (int i = 0; i < pbf::kStageCount; ++i) r.stages.ms[i] += t.ms[i] / steps;
+            pbf_step_profile t;
+            std::memset(&t, 0, sizeof t);
+            t.struct_size = sizeof t;
+            if (pbf_world_get_profile(w, &t) == PBF_OK)
+                for (uint32_t i = 0; i < t.stage_count; ++i) r.stage_ms[i] += t.stage_ms[i] / steps;
         }
     }
     r.error_mean /= steps;
@@ -171,7 +179,7 @@ int main(int argc, char** argv) {
     if (csv) {
         std::fprintf(csv, "scene,particles,iterations,ldc,backend,device,ms_median,ms_min,ms_max,particle_steps_per_s,"
                           "bytes_per_particle,density_error_mean,density_error_max,dt");
-        for (int k = 0; k < pbf::kStageCount; ++k) std::fprintf(csv, ",stage_%s_ms", pbf::stage_name(k));
+        for (uint32_t k = 0; k < stage_count(); ++k) std::fprintf(csv, ",stage_%s_ms", pbf_profile_stage_name(k));
         std::fprintf(csv, "\n");
     }
     std::printf("| scene | particles | iter | LDC | backend | device | ms median | min | max | particle-steps/s | "
@@ -202,21 +210,21 @@ int main(int argc, char** argv) {
                             std::fprintf(csv, "%s,%u,%u,%u,%s,%s,%.4f,%.4f,%.4f,%.6g,%.2f,%.6f,%.6f,%.6f", scene.c_str(),
                                          r.count, c.iterations, c.ldc, bname, r.device.c_str(), r.ms_median, r.ms_min,
                                          r.ms_max, rate, r.bytes_per_particle, r.error_mean, r.error_max, r.dt);
-                            for (int k = 0; k < pbf::kStageCount; ++k) std::fprintf(csv, ",%.4f", r.stages.ms[k]);
+                            for (uint32_t k = 0; k < stage_count(); ++k) std::fprintf(csv, ",%.4f", r.stage_ms[k]);
                             std::fprintf(csv, "\n");
                         }
                         if (stages) staged.push_back({c, r});
                     }
     if (stages && !staged.empty()) {
         std::printf("\nPer-stage ms per step (profiled run; stage marks add a little overhead):\n| config |");
-        for (int k = 0; k < pbf::kStageCount; ++k) std::printf(" %s |", pbf::stage_name(k));
+        for (uint32_t k = 0; k < stage_count(); ++k) std::printf(" %s |", pbf_profile_stage_name(k));
         std::printf("\n|---|");
-        for (int k = 0; k < pbf::kStageCount; ++k) std::printf("---|");
+        for (uint32_t k = 0; k < stage_count(); ++k) std::printf("---|");
         std::printf("\n");
         for (const auto& [c, r] : staged) {
             std::printf("| %s %u it%u ldc%u %s |", c.scene.c_str(), r.count, c.iterations, c.ldc,
                         c.backend == PBF_BACKEND_CUDA ? "cuda" : "cpu");
-            for (int k = 0; k < pbf::kStageCount; ++k) std::printf(" %.3f |", r.stages.ms[k]);
+            for (uint32_t k = 0; k < stage_count(); ++k) std::printf(" %.3f |", r.stage_ms[k]);
             std::printf("\n");
         }
     }

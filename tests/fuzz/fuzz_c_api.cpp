@@ -770,11 +770,14 @@ void op_emitter_update(Reader& in, State& s) {
     const uint8_t nulls = in.u8();
     const auto ha = std::unique_ptr<float[]>(new float[3]{a[0], a[1], a[2]});
     const auto hb = std::unique_ptr<float[]>(new float[3]{b[0], b[1], b[2]});
-    const pbf_result r = checked(pbf_emitter_set_transform(id, e, (nulls & 0xF0) == 0xF0 ? nullptr : ha.get(),
-                                                           (nulls & 0x0F) == 0x0F ? nullptr : hb.get()));
+    const bool as_drain = (in.u8() & 1) != 0;  // the call used: set_drain_box or set_nozzle
+    float* pa = (nulls & 0xF0) == 0xF0 ? nullptr : ha.get();
+    float* pb = (nulls & 0x0F) == 0x0F ? nullptr : hb.get();
+    const pbf_result r = checked(as_drain ? pbf_emitter_set_drain_box(id, e, pa, pb) : pbf_emitter_set_nozzle(id, e, pa, pb));
     if (r == PBF_OK) {
-        FUZZ_ASSERT(k >= 0 && finite3(a) && finite3(b) && (nulls & 0xF0) != 0xF0 && (nulls & 0x0F) != 0x0F);
-        if (w->emitters[k].type == PBF_EMITTER_DRAIN) FUZZ_ASSERT(b[0] > a[0] && b[1] > a[1] && b[2] > a[2]);
+        FUZZ_ASSERT(k >= 0 && finite3(a) && finite3(b) && pa && pb);
+        FUZZ_ASSERT((w->emitters[k].type == PBF_EMITTER_DRAIN) == as_drain);
+        if (as_drain) FUZZ_ASSERT(b[0] > a[0] && b[1] > a[1] && b[2] > a[2]);
     }
 }
 
@@ -847,7 +850,7 @@ void op_set_pose(Reader& in, State& s) {
     const auto hp = std::unique_ptr<float[]>(new float[3]{p[0], p[1], p[2]});
     const auto hq = std::unique_ptr<float[]>(new float[4]{q[0], q[1], q[2], q[3]});
     const bool null_p = (mode & 0xF0) == 0xF0, null_q = (mode & 0x0E) == 0x0E;
-    const pbf_result r = checked(pbf_collider_set_pose(id, c, null_p ? nullptr : hp.get(), null_q ? nullptr : hq.get()));
+    const pbf_result r = checked(pbf_collider_set_target_pose(id, c, null_p ? nullptr : hp.get(), null_q ? nullptr : hq.get()));
     const int k = w ? find_live(w->colliders, c) : -1;
     if (r == PBF_OK) {
         FUZZ_ASSERT(k >= 0 && w->colliders[k].motion == PBF_MOTION_KINEMATIC);

@@ -16,7 +16,7 @@ namespace {
 // A failed libpbf call: the scene element, the call, the result and the library's message.
 void check(pbf_result r, const std::string& where, const char* call) {
     if (r == PBF_OK) return;
-    throw Error(where + ": " + call + " failed: " + pbf_result_string(r) + ": " + pbf_last_error_message());
+    throw Error(where + ": " + call + " failed: " + pbf_last_error_message());  // the message names the result
 }
 
 // Destroys the world on every way out.
@@ -175,8 +175,8 @@ RunResult run_bake(const Scene& s, const RunOptions& o) {
             for (size_t i = 0; i < colliders.size(); ++i) {
                 if (s.colliders[i].desc.motion != PBF_MOTION_KINEMATIC) continue;
                 const Keyframe p = pose_at(s.colliders[i].keys, f);
-                check(pbf_collider_set_pose(world.id, colliders[i], p.position, p.rotation),
-                      file + ": /colliders/" + std::to_string(i), "pbf_collider_set_pose");
+                check(pbf_collider_set_target_pose(world.id, colliders[i], p.position, p.rotation),
+                      file + ": /colliders/" + std::to_string(i), "pbf_collider_set_target_pose");
             }
             check(pbf_world_step(world.id, step_dt), file, "pbf_world_step");
         }

@@ -24,7 +24,7 @@ import numpy as np  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
-# Martin & Moyce (1952), n^2 = 2, as tabulated in ../shared/paper/ldc.md.
+# Martin & Moyce (1952), n^2 = 2: their measured surge-front positions, (T, Z) per row.
 MM = np.array([(0.00, 1.00), (0.41, 1.11), (0.84, 1.22), (1.19, 1.44), (1.43, 1.67), (1.63, 1.89),
                (1.83, 2.11), (1.98, 2.33), (2.20, 2.56), (2.32, 2.78), (2.51, 3.00), (2.65, 3.22),
                (2.83, 3.44), (2.98, 3.67), (3.11, 3.89), (3.33, 4.11)])
@@ -1008,7 +1008,7 @@ class Report:
         verdict = ("holds: " if min(its) > 0 and (not cols or min(cols) > 0) and not unstable else
                    "holds for the iterations: " if min(its) > 0 and not unstable else
                    "holds with a caveat: " if min(its) > 0 else "mixed: ") + verdict
-        return [["(issue 6) adaptive iterations: with LDC as the warm start fewer iterations reach a target error η",
+        return [["Adaptive iterations: with LDC as the warm start fewer iterations reach a target error η",
                  "<br>".join(parts), verdict]]
 
     def summary(self, runs, timings, val):

@@ -174,14 +174,14 @@ void animate(const Scene& s, uint64_t step, float dt) {
     const float a = 0.7f * t;
     const float pos[3] = {0.25f + 0.12f * std::cos(a), 0.42f, 0.25f + 0.12f * std::sin(a)};
     const float dir[3] = {0.2f * std::sin(1.3f * t), -1.0f, 0.2f * std::cos(1.1f * t)};
-    CALL(pbf_emitter_set_transform(s.world, s.nozzle, pos, dir));
+    CALL(pbf_emitter_set_nozzle(s.world, s.nozzle, pos, dir));
     const uint64_t cycle = step % 300;  // 5 s at 60 Hz
     if (cycle == 0) CALL(pbf_emitter_set_enabled(s.world, s.nozzle, 1));
     if (cycle == 180) CALL(pbf_emitter_set_enabled(s.world, s.nozzle, 0));
     const float b = 1.9f * t;
     const float sp[3] = {0.25f + 0.1f * std::cos(b), 0.1f, 0.25f + 0.1f * std::sin(b)};
     const float q[4] = {0.0f, std::sin(0.5f * b), 0.0f, std::cos(0.5f * b)};
-    CALL(pbf_collider_set_pose(s.world, s.stirrer, sp, q));
+    CALL(pbf_collider_set_target_pose(s.world, s.stirrer, sp, q));
 }
 
 struct Buffers {

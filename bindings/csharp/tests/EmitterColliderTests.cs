@@ -38,7 +38,7 @@ namespace Pbf.Tests
                 Assert.AreEqual(count, world.ParticleCount, "a disabled nozzle emits nothing");
 
                 // Move it and re-enable: new particles come from the new place.
-                nozzle.SetTransform(new Vector3(0.5f, 1.5f, 0.5f), new Vector3(0, -1, 0));
+                nozzle.SetNozzle(new Vector3(0.5f, 1.5f, 0.5f), new Vector3(0, -1, 0));
                 nozzle.SetEnabled(true);
                 Scene.Steps(world, 8);
                 Assert.That(world.ParticleCount - count, Is.InRange(39, 41), "300/s for 8 steps");
@@ -99,7 +99,7 @@ namespace Pbf.Tests
                 Assert.IsTrue(Scene.Ids(world).All(id => id < 256));
 
                 drain.SetEnabled(false);
-                drain.SetTransform(new Vector3(-1, 0, -1), new Vector3(1, 2, 1));
+                drain.SetDrainBox(new Vector3(-1, 0, -1), new Vector3(1, 2, 1));
                 world.Step(Scene.Dt);
                 Assert.AreEqual(128, world.ParticleCount, "a disabled drain removes nothing");
                 drain.SetEnabled(true);
@@ -158,7 +158,7 @@ namespace Pbf.Tests
                 for (int i = 0; i < 6; ++i)
                 {
                     target -= new Vector3(0.1f, 0, 0);
-                    ball.SetPose(target, Quaternion.Identity);
+                    ball.SetTargetPose(target, Quaternion.Identity);
                     world.Step(Scene.Dt);
                 }
                 float closest = Scene.Positions(world).Min(q => (Scene.Xyz(q) - target).Length());

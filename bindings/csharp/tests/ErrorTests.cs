@@ -176,10 +176,13 @@ namespace Pbf.Tests
                 () => _world.CreateNozzle(Vector3.UnitY, -Vector3.UnitY, 1f, 0.05f, 100f), "particles_per_second 100 exceeds what the nozzle carries");
 
             Emitter nozzle = _world.CreateNozzle(Vector3.UnitY, -Vector3.UnitY, 1f, 0.05f, 50f);
-            Scene.ExpectError(Result.InvalidArgument, () => nozzle.SetTransform(Vector3.UnitY, Vector3.Zero), "pbf_emitter_set_transform", "nozzle direction must be non-zero");
-            Scene.ExpectError(Result.InvalidArgument, () => nozzle.SetTransform(new Vector3(0, float.NaN, 0), Vector3.UnitY), "non-NULL and finite");
+            Scene.ExpectError(Result.InvalidArgument, () => nozzle.SetNozzle(Vector3.UnitY, Vector3.Zero), "pbf_emitter_set_nozzle", "nozzle direction must be non-zero");
+            Scene.ExpectError(Result.InvalidArgument, () => nozzle.SetNozzle(new Vector3(0, float.NaN, 0), Vector3.UnitY), "non-NULL and finite");
             Emitter drain = _world.CreateDrain(-Vector3.One, Vector3.One);
-            Scene.ExpectError(Result.InvalidArgument, () => drain.SetTransform(Vector3.One, Vector3.Zero), "drain box_max must exceed box_min");
+            Scene.ExpectError(Result.InvalidArgument, () => drain.SetDrainBox(Vector3.One, Vector3.Zero), "drain box_max must exceed box_min");
+            // Each mover takes its own type of emitter.
+            Scene.ExpectError(Result.InvalidArgument, () => nozzle.SetDrainBox(-Vector3.One, Vector3.One), "pbf_emitter_set_drain_box", "the emitter is of the other type");
+            Scene.ExpectError(Result.InvalidArgument, () => drain.SetNozzle(Vector3.UnitY, -Vector3.UnitY), "pbf_emitter_set_nozzle", "the emitter is of the other type");
         }
 
         [Test]
@@ -208,11 +211,11 @@ namespace Pbf.Tests
         public void StaticCollidersCannotBePosed()
         {
             Collider c = _world.CreateCollider(ColliderDesc.Sphere(new Vector3(0, 1, 0), 0.1f));
-            Scene.ExpectError(Result.InvalidState, () => c.SetPose(Vector3.One, Quaternion.Identity),
-                "pbf_collider_set_pose", "only kinematic colliders can be moved");
+            Scene.ExpectError(Result.InvalidState, () => c.SetTargetPose(Vector3.One, Quaternion.Identity),
+                "pbf_collider_set_target_pose", "only kinematic colliders can be moved");
             Collider k = _world.CreateCollider(ColliderDesc.Sphere(new Vector3(0, 1, 0), 0.1f, ColliderMotion.Kinematic));
-            k.SetPose(new Vector3(0.1f, 1, 0), Quaternion.Identity);
-            Scene.ExpectError(Result.InvalidArgument, () => k.SetPose(Vector3.One, new Quaternion(0, 0, 0, 0)), "non-zero quaternion");
+            k.SetTargetPose(new Vector3(0.1f, 1, 0), Quaternion.Identity);
+            Scene.ExpectError(Result.InvalidArgument, () => k.SetTargetPose(Vector3.One, new Quaternion(0, 0, 0, 0)), "non-zero quaternion");
         }
 
         [Test]

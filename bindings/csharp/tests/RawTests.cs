@@ -125,9 +125,9 @@ namespace Pbf.Tests
                 pbf_collider_id cid;
                 ExpectRaw(pbf_result.PBF_ERROR_INVALID_ARGUMENT, Native.pbf_world_create_collider(w, IntPtr.Zero, out cid), "pointer is NULL");
                 Emitter nozzle = world.CreateNozzle(Vector3.UnitY, -Vector3.UnitY, 1, 0.05f, 10);
-                ExpectRaw(pbf_result.PBF_ERROR_INVALID_ARGUMENT, Native.pbf_emitter_set_transform(w, nozzle.Id, IntPtr.Zero, IntPtr.Zero), "non-NULL");
+                ExpectRaw(pbf_result.PBF_ERROR_INVALID_ARGUMENT, Native.pbf_emitter_set_nozzle(w, nozzle.Id, IntPtr.Zero, IntPtr.Zero), "non-NULL");
                 Collider k = world.CreateCollider(ColliderDesc.Sphere(Vector3.UnitY, 0.1f, ColliderMotion.Kinematic));
-                ExpectRaw(pbf_result.PBF_ERROR_INVALID_ARGUMENT, Native.pbf_collider_set_pose(w, k.Id, IntPtr.Zero, IntPtr.Zero), "pbf_collider_set_pose");
+                ExpectRaw(pbf_result.PBF_ERROR_INVALID_ARGUMENT, Native.pbf_collider_set_target_pose(w, k.Id, IntPtr.Zero, IntPtr.Zero), "pbf_collider_set_target_pose");
                 ExpectRaw(pbf_result.PBF_ERROR_INVALID_ARGUMENT, Native.pbf_emitter_set_enabled(w, nozzle.Id, 2), "enabled must be 0 or 1");
 
                 // NULL is fine where the header allows it.
@@ -199,7 +199,7 @@ namespace Pbf.Tests
                 Assert.IsTrue(drain.IsDestroyed);
                 drain.Destroy();  // idempotent
                 Scene.ExpectError(Result.InvalidHandle, () => drain.SetEnabled(false), "pbf_emitter_set_enabled", "emitter is not live");
-                Scene.ExpectError(Result.InvalidHandle, () => drain.SetTransform(-Vector3.One, Vector3.One), "pbf_emitter_set_transform", "emitter is not live");
+                Scene.ExpectError(Result.InvalidHandle, () => drain.SetDrainBox(-Vector3.One, Vector3.One), "pbf_emitter_set_drain_box", "emitter is not live");
                 ExpectRaw(pbf_result.PBF_ERROR_INVALID_HANDLE, Native.pbf_world_destroy_emitter(world.Id, drain.Id), "pbf_world_destroy_emitter");
 
                 // A destroyed collider's slot is reused by the next one; the old handle must not reach it.
@@ -208,8 +208,8 @@ namespace Pbf.Tests
                 Collider b = world.CreateCollider(ColliderDesc.Sphere(new Vector3(0, 1, 0), 0.1f, ColliderMotion.Kinematic));
                 Assert.AreEqual(a.Id.index, b.Id.index, "slot reused");
                 Assert.AreNotEqual(a.Id.generation, b.Id.generation);
-                Scene.ExpectError(Result.InvalidHandle, () => a.SetPose(Vector3.One, Quaternion.Identity), "pbf_collider_set_pose", "collider is not live");
-                b.SetPose(new Vector3(0, 1.1f, 0), Quaternion.Identity);
+                Scene.ExpectError(Result.InvalidHandle, () => a.SetTargetPose(Vector3.One, Quaternion.Identity), "pbf_collider_set_target_pose", "collider is not live");
+                b.SetTargetPose(new Vector3(0, 1.1f, 0), Quaternion.Identity);
                 ExpectRaw(pbf_result.PBF_ERROR_INVALID_HANDLE, Native.pbf_world_destroy_collider(world.Id, default(pbf_collider_id)), "collider is not live");
 
                 // Children of a disposed world: ObjectDisposedException, and Destroy is a no-op.
@@ -217,7 +217,7 @@ namespace Pbf.Tests
                 world.Dispose();
                 Assert.IsTrue(nozzle.IsDestroyed);
                 Assert.Throws<ObjectDisposedException>(() => nozzle.SetEnabled(true));
-                Assert.Throws<ObjectDisposedException>(() => b.SetPose(Vector3.One, Quaternion.Identity));
+                Assert.Throws<ObjectDisposedException>(() => b.SetTargetPose(Vector3.One, Quaternion.Identity));
                 nozzle.Destroy();
                 b.Dispose();
             }

@@ -1,4 +1,5 @@
 using System;
+using System.Linq;
 using System.Numerics;
 using System.Threading;
 using NUnit.Framework;
@@ -16,6 +17,29 @@ namespace Pbf.Tests
             Assert.IsTrue(Library.IsCompatible);
             StringAssert.StartsWith(Native.PBF_VERSION_MAJOR + ".", Library.VersionString(Library.Version));
             Assert.AreEqual("1.2.3", Library.VersionString(Native.PBF_MAKE_VERSION(1, 2, 3)));
+        }
+
+        [Test]
+        public void ProfileNamesStagesAndTimesThemWhenOn()
+        {
+            using (var world = Scene.CpuWorld(2048))
+            {
+                world.EmitBlock(new Vector3(-0.1f, 0, -0.1f), new Vector3(0.1f, 0.2f, 0.1f));
+                world.Step(1f / 60f);
+                var off = world.Profile;
+                Assert.GreaterOrEqual(off.Length, 5);
+                Assert.IsTrue(off.All(s => s.Value == 0f), "all zero while profiling is off");
+                CollectionAssert.AllItemsAreUnique(off.Select(s => s.Key));
+                CollectionAssert.Contains(off.Select(s => s.Key), "lambda");
+                Assert.AreEqual(IntPtr.Zero, Native.pbf_profile_stage_name((uint)off.Length));
+
+                world.SetProfiling(true);
+                world.Step(1f / 60f);
+                var on = world.Profile;
+                Assert.IsTrue(on.All(s => s.Value >= 0f));
+                Assert.Greater(on.Sum(s => s.Value), 0f);
+                Assert.LessOrEqual(on.Sum(s => s.Value), world.Stats.StepTimeMs * 1.05f + 0.05f);
+            }
         }
 
         [Test]

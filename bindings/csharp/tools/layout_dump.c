@@ -28,6 +28,7 @@ int main(void) {
     CONST(PBF_VERSION_MINOR);
     CONST(PBF_VERSION_PATCH);
     CONST(PBF_VERSION);
+    CONST(PBF_PROFILE_MAX_STAGES);
     CONST(PBF_INTEROP_SUPPORT_CUDA);
     CONST(PBF_INTEROP_SUPPORT_OPENGL);
     CONST(PBF_INTEROP_SUPPORT_EXTERNAL_FD);
@@ -187,6 +188,11 @@ int main(void) {
     FIELD(pbf_step_stats, substeps);
     FIELD(pbf_step_stats, speed_clamps);
     FIELD(pbf_step_stats, reserved0);
+
+    STRUCT(pbf_step_profile);
+    FIELD(pbf_step_profile, struct_size);
+    FIELD(pbf_step_profile, stage_count);
+    FIELD(pbf_step_profile, stage_ms);
 
     STRUCT(pbf_block_desc);
     FIELD(pbf_block_desc, struct_size);

@@ -283,7 +283,7 @@ namespace Pbf
         public float Friction { get { return _raw.friction; } set { _raw.friction = value; } }
         /// <summary>Default false. True: the library records the force and torque the fluid exerts
         /// on the collider each step (<see cref="Collider.GetForce"/>); the engine integrates its
-        /// body and moves it (Kinematic, <see cref="Collider.SetPose"/>).</summary>
+        /// body and moves it (Kinematic, <see cref="Collider.SetTargetPose"/>).</summary>
         public bool Dynamic { get { return _raw.dynamic != 0; } set { _raw.dynamic = value ? 1u : 0u; } }
         /// <summary>Dynamic: the point torques are taken about, in the collider's own frame (default 0).</summary>
         public Vector3 CenterOfMass { get { return Convert3.FromNative(_raw.center_of_mass); } set { _raw.center_of_mass = Convert3.ToNative(value); } }

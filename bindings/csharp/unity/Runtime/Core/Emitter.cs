@@ -33,11 +33,20 @@ namespace Pbf
             PbfException.Check(Native.pbf_emitter_set_enabled(_world.Handle, _id, enabled ? 1u : 0u));
         }
 
-        /// <summary>Nozzle: a = position, b = direction. Drain: a = box min, b = box max.</summary>
-        public void SetTransform(Vector3 a, Vector3 b)
+        /// <summary>Moves a nozzle: disc centre and direction (normalised by the library). A drain
+        /// throws (<see cref="Result.InvalidArgument"/>).</summary>
+        public void SetNozzle(Vector3 position, Vector3 direction)
         {
-            Float3 na = Convert3.ToNative(a), nb = Convert3.ToNative(b);
-            PbfException.Check(Native.pbf_emitter_set_transform(_world.Handle, _id, ref na, ref nb));
+            Float3 p = Convert3.ToNative(position), d = Convert3.ToNative(direction);
+            PbfException.Check(Native.pbf_emitter_set_nozzle(_world.Handle, _id, ref p, ref d));
+        }
+
+        /// <summary>Moves a drain: the corners of its box. A nozzle throws
+        /// (<see cref="Result.InvalidArgument"/>).</summary>
+        public void SetDrainBox(Vector3 boxMin, Vector3 boxMax)
+        {
+            Float3 lo = Convert3.ToNative(boxMin), hi = Convert3.ToNative(boxMax);
+            PbfException.Check(Native.pbf_emitter_set_drain_box(_world.Handle, _id, ref lo, ref hi));
         }
 
         /// <summary>Removes the emitter from its world. Idempotent; a no-op once the world is disposed.</summary>
@@ -82,13 +91,14 @@ namespace Pbf
         public ColliderMotion Motion { get; private set; }
         public bool IsDestroyed { get { return _destroyed || _world.IsDisposed; } }
 
-        /// <summary>Kinematic colliders only (else <see cref="Result.InvalidState"/>): the pose
-        /// reached at the end of the next step; the solver moves the collider there over that step.</summary>
-        public void SetPose(Vector3 position, Quaternion rotation)
+        /// <summary>Kinematic colliders only (else <see cref="Result.InvalidState"/>): the target
+        /// pose, reached at the end of the next step; the solver moves the collider there over that
+        /// step.</summary>
+        public void SetTargetPose(Vector3 position, Quaternion rotation)
         {
             Float3 p = Convert3.ToNative(position);
             Float4 q = Convert3.ToNative(rotation);
-            PbfException.Check(Native.pbf_collider_set_pose(_world.Handle, _id, ref p, ref q));
+            PbfException.Check(Native.pbf_collider_set_target_pose(_world.Handle, _id, ref p, ref q));
         }
 
         /// <summary>Dynamic colliders only (else <see cref="Result.InvalidState"/>): the fluid's mean

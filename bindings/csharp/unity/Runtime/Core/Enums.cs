@@ -70,7 +70,7 @@ namespace Pbf
     public enum ColliderMotion
     {
         Static = 0,
-        /// <summary>Pose set each frame with <see cref="Collider.SetPose"/>; its motion over a step pushes fluid.</summary>
+        /// <summary>Pose set each frame with <see cref="Collider.SetTargetPose"/>; its motion over a step pushes fluid.</summary>
         Kinematic = 1,
     }
 

@@ -322,6 +322,26 @@ namespace Pbf.Interop
         public uint reserved0;
     }
 
+    /// <summary>float[16] of the header (pbf_step_profile.stage_ms), read by index.</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct Float16
+    {
+        public float f00, f01, f02, f03, f04, f05, f06, f07, f08, f09, f10, f11, f12, f13, f14, f15;
+
+        public const int Length = 16;
+
+        public float this[int i] { get { return MemoryMarshal.CreateSpan(ref f00, Length)[i]; } }
+    }
+
+    /// <summary>pbf_step_profile: per-stage ms of the last step (see World.Profile).</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_step_profile
+    {
+        public uint struct_size;
+        public uint stage_count;
+        public Float16 stage_ms;
+    }
+
     [StructLayout(LayoutKind.Sequential)]
     public struct pbf_block_desc
     {
@@ -510,6 +530,8 @@ namespace Pbf.Interop
 
         // Interop constants
         /// <summary>pbf_get_interop_support bits: streams, events, device pointers.</summary>
+        /// <summary>Stages a pbf_step_profile can hold.</summary>
+        public const uint PBF_PROFILE_MAX_STAGES = 16;
         public const uint PBF_INTEROP_SUPPORT_CUDA = 0x1u;
         /// <summary>pbf_world_register_gl_buffer (CUDA-GL interop).</summary>
         public const uint PBF_INTEROP_SUPPORT_OPENGL = 0x2u;
@@ -589,6 +611,17 @@ namespace Pbf.Interop
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_world_get_stats(pbf_world_id world, IntPtr out_stats);
 
+        // Profiling
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_set_profiling(pbf_world_id world, uint enabled);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_get_profile(pbf_world_id world, ref pbf_step_profile out_profile);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_get_profile(pbf_world_id world, IntPtr out_profile);
+        /// <summary>The stage's name (UTF-8, static), or IntPtr.Zero past the last stage.</summary>
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern IntPtr pbf_profile_stage_name(uint stage);
+
         // Emitters and drains
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_block_desc_init(ref pbf_block_desc desc, uint struct_size);
@@ -620,11 +653,14 @@ namespace Pbf.Interop
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_emitter_set_enabled(pbf_world_id world, pbf_emitter_id emitter, uint enabled);
 
-        /// <summary>Nozzle: a = position, b = direction. Drain: a = box_min, b = box_max.</summary>
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
-        public static extern pbf_result pbf_emitter_set_transform(pbf_world_id world, pbf_emitter_id emitter, ref Float3 a, ref Float3 b);
+        public static extern pbf_result pbf_emitter_set_nozzle(pbf_world_id world, pbf_emitter_id emitter, ref Float3 position, ref Float3 direction);
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
-        public static extern pbf_result pbf_emitter_set_transform(pbf_world_id world, pbf_emitter_id emitter, IntPtr a, IntPtr b);
+        public static extern pbf_result pbf_emitter_set_nozzle(pbf_world_id world, pbf_emitter_id emitter, IntPtr position, IntPtr direction);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_emitter_set_drain_box(pbf_world_id world, pbf_emitter_id emitter, ref Float3 box_min, ref Float3 box_max);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_emitter_set_drain_box(pbf_world_id world, pbf_emitter_id emitter, IntPtr box_min, IntPtr box_max);
 
         // Colliders
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
@@ -643,9 +679,9 @@ namespace Pbf.Interop
         public static extern pbf_result pbf_world_destroy_collider(pbf_world_id world, pbf_collider_id collider);
 
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
-        public static extern pbf_result pbf_collider_set_pose(pbf_world_id world, pbf_collider_id collider, ref Float3 position, ref Float4 rotation);
+        public static extern pbf_result pbf_collider_set_target_pose(pbf_world_id world, pbf_collider_id collider, ref Float3 position, ref Float4 rotation);
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
-        public static extern pbf_result pbf_collider_set_pose(pbf_world_id world, pbf_collider_id collider, IntPtr position, IntPtr rotation);
+        public static extern pbf_result pbf_collider_set_target_pose(pbf_world_id world, pbf_collider_id collider, IntPtr position, IntPtr rotation);
 
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_collider_get_force(pbf_world_id world, pbf_collider_id collider, out pbf_collider_force out_force);

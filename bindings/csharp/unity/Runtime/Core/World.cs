@@ -1,4 +1,5 @@
 using System;
+using System.Collections.Generic;
 using System.Numerics;
 using System.Runtime.InteropServices;
 using System.Threading;
@@ -111,6 +112,29 @@ namespace Pbf
                 var stats = new pbf_step_stats { struct_size = Native.SizeOf<pbf_step_stats>() };
                 PbfException.Check(Native.pbf_world_get_stats(Handle, ref stats));
                 return new StepStats(stats);
+            }
+        }
+
+        /// <summary>Per-stage timing of each step (off by default; on, every stage boundary records a
+        /// timer and reading <see cref="Profile"/> waits for the last step).</summary>
+        public void SetProfiling(bool enabled)
+        {
+            PbfException.Check(Native.pbf_world_set_profiling(Handle, enabled ? 1u : 0u));
+        }
+
+        /// <summary>Milliseconds per solver stage in the last step, by the library's stage names
+        /// (all zero while profiling is off).</summary>
+        public KeyValuePair<string, float>[] Profile
+        {
+            get
+            {
+                var raw = new pbf_step_profile { struct_size = Native.SizeOf<pbf_step_profile>() };
+                PbfException.Check(Native.pbf_world_get_profile(Handle, ref raw));
+                var stages = new KeyValuePair<string, float>[raw.stage_count];
+                for (uint k = 0; k < raw.stage_count; ++k)
+                    stages[k] = new KeyValuePair<string, float>(
+                        Native.Utf8ToString(Native.pbf_profile_stage_name(k)), raw.stage_ms[(int)k]);
+                return stages;
             }
         }
 

@@ -19,7 +19,8 @@ public sealed class PbfFluidDemo : MonoBehaviour
     public float particleRadius = 0.025f;
     public Vector3 domainMin = new Vector3(-1.0f, 0.0f, -0.5f);
     public Vector3 domainMax = new Vector3(1.0f, 1.5f, 0.5f);
-    [Range(1, 16)] public int substeps = 2;
+    [Tooltip("Substeps per step: 0 picks them automatically from the motion (the library's default), 1..64 fixes them.")]
+    [Range(0, 64)] public int substeps = 0;
     [Range(1, 64)] public int iterations = 4;
 
     [Header("Scene")]
@@ -128,7 +129,7 @@ public sealed class PbfFluidDemo : MonoBehaviour
             _nozzleOn = nozzleEnabled;
         }
         if (_pusher != null && pusher != null)
-            _pusher.SetPose(pusher.position.ToNumerics(), pusher.rotation.ToNumerics());
+            _pusher.SetTargetPose(pusher.position.ToNumerics(), pusher.rotation.ToNumerics());
         _world.Step(Time.fixedDeltaTime);
     }
 

@@ -1,4 +1,4 @@
-// Built instead of cuda_backend.cu when libpbf is configured without CUDA.
+// Built instead of cuda_exec.cu when libpbf is configured without CUDA.
 #include "exec_common.h"
 
 namespace pbf {
