@@ -32,6 +32,13 @@ failed=0
 
 note() { summary+=("$1"); echo "$1"; }
 fail() { note "$1"; failed=1; }
+# verdict PART RC OK FAILED: the part's summary line, "PART: ok: OK" when RC is 0, else
+# "PART: FAILED<FAILED>" (a failure); part names padded to one column.
+verdict() {
+  local label
+  label="$(printf '%-9s' "$1:")"
+  if [ "$2" -eq 0 ]; then note "$label ok: $3"; else fail "$label FAILED$4"; fi
+}
 skipped() { [[ "$skip" == *",$1,"* ]]; }
 
 ensure_packages() {  # installs missing Debian packages (quietly)
@@ -48,6 +55,25 @@ ensure_packages() {  # installs missing Debian packages (quietly)
   "${sudo[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y -q "${missing[@]}" >/dev/null 2>&1
 }
 
+# configure_build DIR TARGET CMAKE_ARGS...: configures DIR with CMAKE_ARGS and builds TARGET ("":
+# all), logs in DIR/ci_cmake.log and DIR/ci_build.log; on failure shows the errors (or the logs'
+# tails where no line says error) and returns 1. Compilers come from CC/CXX, as cmake reads them.
+configure_build() {
+  local dir=$1 target=$2 target_args=()
+  shift 2
+  [ -n "$target" ] && target_args=(--target "$target")
+  mkdir -p "$dir"
+  if ! cmake -S . -B "$dir" "$@" >"$dir/ci_cmake.log" 2>&1 ||
+     ! cmake --build "$dir" "${target_args[@]}" -j"$jobs" >"$dir/ci_build.log" 2>&1; then
+    if grep -q -E 'error|Error' "$dir/ci_cmake.log" "$dir/ci_build.log"; then
+      grep -E 'error|Error' "$dir/ci_cmake.log" "$dir/ci_build.log" | head -30
+    else
+      tail -30 "$dir/ci_cmake.log" "$dir/ci_build.log"
+    fi
+    return 1
+  fi
+}
+
 # ---- 1. fuzz -----------------------------------------------------------------------------------
 if skipped fuzz; then
   note "fuzz:     skipped"
@@ -57,11 +83,8 @@ else
     ensure_packages clang libclang-rt-14-dev libomp-14-dev || true
   fi
   fuzz_log=build-fuzz/ci_fuzz.log
-  mkdir -p build-fuzz
-  if ! CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPBF_BUILD_FUZZ=ON \
-         -DPBF_WITH_CUDA=OFF -DPBF_BUILD_TESTS=OFF -DPBF_BUILD_SAMPLES=OFF >build-fuzz/ci_cmake.log 2>&1 ||
-     ! cmake --build build-fuzz --target pbf_fuzz_c_api -j"$jobs" >build-fuzz/ci_build.log 2>&1; then
-    tail -30 build-fuzz/ci_cmake.log build-fuzz/ci_build.log
+  if ! CC=clang CXX=clang++ configure_build build-fuzz pbf_fuzz_c_api -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+         -DPBF_BUILD_FUZZ=ON -DPBF_WITH_CUDA=OFF -DPBF_BUILD_TESTS=OFF -DPBF_BUILD_SAMPLES=OFF; then
     fail "fuzz:     FAILED to build (build-fuzz/ci_build.log)"
   else
     fuzzer=build-fuzz/tests/fuzz/pbf_fuzz_c_api
@@ -77,12 +100,10 @@ else
       rc=$?
       execs="$(grep -m1 'stat::number_of_executed_units' "$fuzz_log" | awk '{print $2}')"
       rate="$(grep -m1 'stat::average_exec_per_sec' "$fuzz_log" | awk '{print $2}')"
-      if [ "$rc" -ne 0 ]; then
-        grep -v -E '^(INFO|#[0-9]+)' "$fuzz_log" | tail -40
-        fail "fuzz:     FAILED after ${execs:-?} executions: $(ls build-fuzz/artifacts | head -3 | tr '\n' ' ')(build-fuzz/artifacts, $fuzz_log)"
-      else
-        note "fuzz:     ok: ${execs:-?} executions in ${fuzz_seconds} s (${rate:-?}/s), $(ls tests/fuzz/regressions | wc -l) regression inputs replayed, corpus $(ls build-fuzz/corpus | wc -l) units"
-      fi
+      [ "$rc" -eq 0 ] || grep -v -E '^(INFO|#[0-9]+)' "$fuzz_log" | tail -40
+      verdict fuzz "$rc" \
+        "${execs:-?} executions in ${fuzz_seconds} s (${rate:-?}/s), $(ls tests/fuzz/regressions | wc -l) regression inputs replayed, corpus $(ls build-fuzz/corpus | wc -l) units" \
+        " after ${execs:-?} executions: $(ls build-fuzz/artifacts | head -3 | tr '\n' ' ')(build-fuzz/artifacts, $fuzz_log)"
     fi
   fi
 fi
@@ -93,11 +114,8 @@ if skipped sanitize; then
 else
   echo
   echo "== sanitize: CPU test suite under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/)"
-  mkdir -p build-asan
-  if ! cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPBF_SANITIZE=ON -DPBF_WITH_CUDA=OFF \
-         -DPBF_BUILD_SAMPLES=OFF >build-asan/ci_cmake.log 2>&1 ||
-     ! cmake --build build-asan -j"$jobs" >build-asan/ci_build.log 2>&1; then
-    grep -E 'error|Error' build-asan/ci_cmake.log build-asan/ci_build.log | head -30
+  if ! configure_build build-asan "" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPBF_SANITIZE=ON -DPBF_WITH_CUDA=OFF \
+         -DPBF_BUILD_SAMPLES=OFF; then
     fail "sanitize: FAILED to build (build-asan/ci_build.log)"
   else
     # allocator_may_return_null: the out-of-memory tests ask for more than the machine has and
@@ -114,12 +132,9 @@ else
     secs=$(( $(date +%s) - start ))
     line="$(grep -E 'tests passed, [0-9]+ tests? failed out of' "$asan_log" | tail -n 1)"
     findings="$(grep -c -E 'ERROR: (AddressSanitizer|LeakSanitizer)|runtime error:' "$asan_log")"
-    if [ "$rc" -ne 0 ]; then
-      grep -E -A12 'ERROR: (AddressSanitizer|LeakSanitizer)|runtime error:|\*\*\*Failed|FAILED:' "$asan_log" | head -60
-      fail "sanitize: FAILED: ${line:-no ctest summary} ($findings sanitizer reports, $secs s, $asan_log)"
-    else
-      note "sanitize: ok: ${line} under ASan+UBSan, $findings sanitizer reports, $secs s"
-    fi
+    [ "$rc" -eq 0 ] || grep -E -A12 'ERROR: (AddressSanitizer|LeakSanitizer)|runtime error:|\*\*\*Failed|FAILED:' "$asan_log" | head -60
+    verdict sanitize "$rc" "${line} under ASan+UBSan, $findings sanitizer reports, $secs s" \
+      ": ${line:-no ctest summary} ($findings sanitizer reports, $secs s, $asan_log)"
   fi
 fi
 
@@ -129,22 +144,16 @@ if skipped soak; then
 else
   echo
   echo "== soak: pbf_soak, $soak_steps steps of a nozzle-and-drain world (build-soak/, Release)"
-  mkdir -p build-soak
-  if ! cmake -S . -B build-soak -DCMAKE_BUILD_TYPE=Release -DPBF_WITH_CUDA=OFF -DPBF_BUILD_TESTS=OFF \
-         -DPBF_BUILD_SAMPLES=OFF -DPBF_BUILD_SOAK=ON >build-soak/ci_cmake.log 2>&1 ||
-     ! cmake --build build-soak --target pbf_soak -j"$jobs" >build-soak/ci_build.log 2>&1; then
-    grep -E 'error|Error' build-soak/ci_cmake.log build-soak/ci_build.log | head -30
+  if ! configure_build build-soak pbf_soak -DCMAKE_BUILD_TYPE=Release -DPBF_WITH_CUDA=OFF -DPBF_BUILD_TESTS=OFF \
+         -DPBF_BUILD_SAMPLES=OFF -DPBF_BUILD_SOAK=ON; then
     fail "soak:     FAILED to build (build-soak/ci_build.log)"
   else
     soak_log=build-soak/ci_soak.log
     warmup=$(( soak_steps / 4 ))
-    if build-soak/tools/soak/pbf_soak --steps "$soak_steps" --check-every 500 --warmup "$warmup" --quiet \
-         >"$soak_log" 2>&1; then
-      note "soak:     ok: $(grep -m1 'pbf_soak: OK' "$soak_log" | sed 's/^pbf_soak: OK: //')"
-    else
-      tail -20 "$soak_log"
-      fail "soak:     FAILED ($soak_log)"
-    fi
+    build-soak/tools/soak/pbf_soak --steps "$soak_steps" --check-every 500 --warmup "$warmup" --quiet >"$soak_log" 2>&1
+    rc=$?
+    [ "$rc" -eq 0 ] || tail -20 "$soak_log"
+    verdict soak "$rc" "$(grep -m1 'pbf_soak: OK' "$soak_log" | sed 's/^pbf_soak: OK: //')" " ($soak_log)"
   fi
 fi
 

@@ -41,9 +41,9 @@ if [ "${#need[@]}" -gt 0 ]; then
 fi
 
 # The library the build links as libpbf.so (a build folder can also hold an older major's file).
-so="$(readlink -f "$libdir/libpbf.so" 2>/dev/null || true)"
-[ -n "$so" ] && [ -e "$so" ] || so="$(ls "$libdir"/libpbf.so.*.*.* 2>/dev/null | sort -V | tail -n 1 || true)"
-if [ ! -e "$so" ]; then
+source scripts/native_libs.sh
+so="$(find_libpbf "$libdir")"
+if [ -z "$so" ]; then
   echo "pack_nuget.sh: no libpbf.so in '$libdir' (build libpbf first: scripts/build.sh, or CMake with PBF_WITH_CUDA=OFF)" >&2
   exit 2
 fi
@@ -59,8 +59,7 @@ mcs -langversion:7.2 -target:library -optimize+ -warnaserror+ -nowarn:1591 -r:Sy
 cp bindings/csharp/Pbf.dll.config "$stage/lib/netstandard2.1/"
 
 echo "== runtimes/linux-x64/native/libpbf.so <- $so"
-cp -L "$so" "$stage/runtimes/linux-x64/native/libpbf.so"
-strip --strip-unneeded "$stage/runtimes/linux-x64/native/libpbf.so"
+copy_stripped "$so" "$stage/runtimes/linux-x64/native/libpbf.so"
 
 if [ ! -f "$dll" ] && [ "${PBF_NUGET_BUILD_WINDOWS:-1}" != "0" ] && [ -f scripts/build_windows_dll.sh ] \
    && [ "$dll" = "build-mingw/lib/pbf.dll" ]; then
@@ -70,10 +69,7 @@ fi
 optional=()
 if [ -f "$dll" ]; then
   echo "== runtimes/win-x64/native/pbf.dll <- $dll"
-  cp "$dll" "$stage/runtimes/win-x64/native/pbf.dll"
-  if command -v x86_64-w64-mingw32-strip >/dev/null 2>&1; then
-    x86_64-w64-mingw32-strip --strip-unneeded "$stage/runtimes/win-x64/native/pbf.dll"
-  fi
+  copy_stripped "$dll" "$stage/runtimes/win-x64/native/pbf.dll"
 else
   echo "################################################################################" >&2
   echo "pack_nuget.sh: WARNING: no Windows DLL ($dll)$( [ -f scripts/build_windows_dll.sh ] || echo ', and no scripts/build_windows_dll.sh to build it'):" >&2

@@ -22,48 +22,45 @@ if ! bash scripts/build.sh "$build"; then
   exit 1
 fi
 
-echo
-echo "== ctest (C/C++ tests; [gpu] tests are Skipped without a CUDA device)"
-ctest_log="$build/run_tests.ctest.log"
-ctest --test-dir "$build" --output-on-failure --no-tests=error -j2 2>&1 | tee "$ctest_log"
-ctest_rc=${PIPESTATUS[0]}
+# suite KEY TITLE CMD...: runs CMD, its output shown and kept in $build/run_tests.KEY.log; sets
+# KEY_rc (its exit status) and KEY_secs (its wall time).
+suite() {
+  local key=$1 title=$2 start
+  shift 2
+  echo
+  echo "== $title"
+  start=$(date +%s)
+  "$@" 2>&1 | tee "$build/run_tests.$key.log"
+  printf -v "${key}_rc" '%s' "${PIPESTATUS[0]}"
+  printf -v "${key}_secs" '%s' "$(( $(date +%s) - start ))"
+}
 
-echo
-echo "== C# bindings (bindings/csharp/run_tests.sh $build/lib)"
-cs_log="$build/run_tests.csharp.log"
-bash bindings/csharp/run_tests.sh "$build/lib" 2>&1 | tee "$cs_log"
-cs_rc=${PIPESTATUS[0]}
+# summary_line LABEL KEY PREFIX [timed]: the last line of KEY's log that starts with PREFIX,
+# without it, with KEY's wall time when timed, and its exit status.
+summary_line() {
+  local label=$1 key=$2 prefix=$3 timed=${4:-} line rc_var="${2}_rc" secs_var="${2}_secs" secs=""
+  line="$(grep -E "^$prefix" "$build/run_tests.$key.log" | tail -n 1)"
+  [ -n "$timed" ] && secs=" (${!secs_var} s)"
+  if [ -n "$line" ]; then
+    echo "$label ${line#"$prefix"}$secs [exit ${!rc_var}]"
+  else
+    echo "$label no summary line (exit ${!rc_var})"
+  fi
+}
 
-echo
-echo "== install and consume (scripts/check_install.sh $build)"
-install_log="$build/run_tests.install.log"
-start=$(date +%s)
-bash scripts/check_install.sh "$build" 2>&1 | tee "$install_log"
-install_rc=${PIPESTATUS[0]}
-install_secs=$(( $(date +%s) - start ))
+suite ctest "ctest (C/C++ tests; [gpu] tests are Skipped without a CUDA device)" \
+  ctest --test-dir "$build" --output-on-failure --no-tests=error -j2
+suite csharp "C# bindings (bindings/csharp/run_tests.sh $build/lib)" \
+  bash bindings/csharp/run_tests.sh "$build/lib"
+suite install "install and consume (scripts/check_install.sh $build)" \
+  bash scripts/check_install.sh "$build"
+suite windows "Windows (scripts/check_windows.sh: MinGW-w64 pbf.dll, C API tests under Wine)" \
+  bash scripts/check_windows.sh build-mingw
+suite packages "packages (scripts/check_packages.sh $build/lib: Unity package, NuGet package)" \
+  bash scripts/check_packages.sh "$build/lib"
 
-echo
-echo "== Windows (scripts/check_windows.sh: MinGW-w64 pbf.dll, C API tests under Wine)"
-windows_log="$build/run_tests.windows.log"
-start=$(date +%s)
-bash scripts/check_windows.sh build-mingw 2>&1 | tee "$windows_log"
-windows_rc=${PIPESTATUS[0]}
-windows_secs=$(( $(date +%s) - start ))
-
-echo
-echo "== packages (scripts/check_packages.sh $build/lib: Unity package, NuGet package)"
-packages_log="$build/run_tests.packages.log"
-start=$(date +%s)
-bash scripts/check_packages.sh "$build/lib" 2>&1 | tee "$packages_log"
-packages_rc=${PIPESTATUS[0]}
-packages_secs=$(( $(date +%s) - start ))
-
-ctest_summary="$(grep -E 'tests passed, [0-9]+ tests? failed out of' "$ctest_log" | tail -n 1)"
-ctest_skipped="$(grep -c '(Skipped)$' "$ctest_log")"
-cs_summary="$(grep -E '^csharp: ' "$cs_log" | tail -n 1)"
-install_summary="$(grep -E '^check_install.sh: ' "$install_log" | tail -n 1)"
-windows_summary="$(grep -E '^check_windows.sh: ' "$windows_log" | tail -n 1)"
-packages_summary="$(grep -E '^packages: ' "$packages_log" | tail -n 1)"
+ctest_summary="$(grep -E 'tests passed, [0-9]+ tests? failed out of' "$build/run_tests.ctest.log" | tail -n 1)"
+ctest_skipped="$(grep -c '(Skipped)$' "$build/run_tests.ctest.log")"
 
 echo
 echo "== summary"
@@ -72,28 +69,12 @@ if [ -n "$ctest_summary" ]; then
 else
   echo "ctest:  no summary line (exit $ctest_rc)"
 fi
-if [ -n "$cs_summary" ]; then
-  echo "csharp: ${cs_summary#csharp: } [exit $cs_rc]"
-else
-  echo "csharp: no summary line (exit $cs_rc)"
-fi
-if [ -n "$install_summary" ]; then
-  echo "install: ${install_summary#check_install.sh: } (${install_secs} s) [exit $install_rc]"
-else
-  echo "install: no summary line (exit $install_rc)"
-fi
-if [ -n "$windows_summary" ]; then
-  echo "windows: ${windows_summary#check_windows.sh: } (${windows_secs} s) [exit $windows_rc]"
-else
-  echo "windows: no summary line (exit $windows_rc)"
-fi
-if [ -n "$packages_summary" ]; then
-  echo "packages: ${packages_summary#packages: } (${packages_secs} s) [exit $packages_rc]"
-else
-  echo "packages: no summary line (exit $packages_rc)"
-fi
+summary_line csharp: csharp "csharp: "
+summary_line install: install "check_install.sh: " timed
+summary_line windows: windows "check_windows.sh: " timed
+summary_line packages: packages "packages: " timed
 
-if [ "$ctest_rc" -ne 0 ] || [ "$cs_rc" -ne 0 ] || [ "$install_rc" -ne 0 ] || [ "$windows_rc" -ne 0 ] ||
+if [ "$ctest_rc" -ne 0 ] || [ "$csharp_rc" -ne 0 ] || [ "$install_rc" -ne 0 ] || [ "$windows_rc" -ne 0 ] ||
    [ "$packages_rc" -ne 0 ]; then
   echo "run_tests.sh: FAILED"
   exit 1

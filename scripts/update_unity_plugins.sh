@@ -13,8 +13,7 @@
 # include/ or the CMake build that a release should carry: the check warns when the plugins are
 # older than the sources, and fails when their exports or version differ from the header's.
 set -euo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-cd "$root"
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
 pkg="bindings/csharp/unity"
 dest="$pkg/Plugins/x86_64"
 
@@ -25,11 +24,10 @@ if [ -z "$libdir" ]; then
   cmake --build build-unity-plugins -j"${PBF_JOBS:-2}" --target pbf
   libdir=build-unity-plugins/lib
 fi
-so="$(ls "$libdir"/libpbf.so.*.*.* 2>/dev/null | head -n 1 || true)"
-[ -n "$so" ] || so="$libdir/libpbf.so"
-[ -e "$so" ] || { echo "update_unity_plugins.sh: no libpbf.so in $libdir" >&2; exit 2; }
-cp -L "$so" "$dest/libpbf.so"
-strip --strip-unneeded "$dest/libpbf.so"
+source scripts/native_libs.sh
+so="$(find_libpbf "$libdir")"
+[ -n "$so" ] || { echo "update_unity_plugins.sh: no libpbf.so in $libdir" >&2; exit 2; }
+copy_stripped "$so" "$dest/libpbf.so"
 echo "Plugins/x86_64/libpbf.so <- $so"
 
 dll="${2:-build-mingw/lib/pbf.dll}"
@@ -37,10 +35,7 @@ if [ ! -f "$dll" ] && [ -z "${2:-}" ] && [ -f scripts/build_windows_dll.sh ]; th
   bash scripts/build_windows_dll.sh build-mingw
 fi
 if [ -f "$dll" ]; then
-  cp "$dll" "$dest/pbf.dll"
-  if command -v x86_64-w64-mingw32-strip >/dev/null 2>&1; then
-    x86_64-w64-mingw32-strip --strip-unneeded "$dest/pbf.dll"
-  fi
+  copy_stripped "$dll" "$dest/pbf.dll"
   echo "Plugins/x86_64/pbf.dll <- $dll"
 else
   echo "update_unity_plugins.sh: WARNING: no $dll (and no scripts/build_windows_dll.sh to build it):" >&2

@@ -227,6 +227,34 @@ inline pbf_world_desc tank(pbf_backend backend, float r, float lx, float ly, flo
     return d;
 }
 
+// Creates the world of desc d (REQUIRE: it succeeds); the caller destroys it.
+inline pbf_world_id create(const pbf_world_desc& d) {
+    pbf_world_id w{0, 0};
+    REQUIRE_PBF(pbf_world_create(&d, &w));
+    return w;
+}
+
+// A nozzle at (x, y, z), pointing down (the default direction), with the given speed, disc
+// radius and rate.
+inline pbf_emitter_desc nozzle_at(float x, float y, float z, float speed, float radius, float particles_per_second) {
+    pbf_emitter_desc e = pbf_emitter_desc_default();
+    e.type = PBF_EMITTER_NOZZLE;
+    set3(e.position, x, y, z);
+    e.speed = speed;
+    e.radius = radius;
+    e.particles_per_second = particles_per_second;
+    return e;
+}
+
+// A drain removing what enters the box (x0, y0, z0)-(x1, y1, z1).
+inline pbf_emitter_desc drain_box(float x0, float y0, float z0, float x1, float y1, float z1) {
+    pbf_emitter_desc e = pbf_emitter_desc_default();
+    e.type = PBF_EMITTER_DRAIN;
+    set3(e.box_min, x0, y0, z0);
+    set3(e.box_max, x1, y1, z1);
+    return e;
+}
+
 inline uint32_t fill(pbf_world_id w, float x0, float y0, float z0, float x1, float y1, float z1) {
     pbf_block_desc b = pbf_block_desc_default();
     set3(b.box_min, x0, y0, z0);

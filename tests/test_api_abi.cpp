@@ -2,6 +2,29 @@
 // Fixtures: support.h.
 #include "support.h"
 
+namespace {
+
+// init(&desc, size) refuses sizeof + delta (naming struct_size) and 0 (naming the struct).
+template <class Desc, class Init>
+void check_init_size_refused(Init init, int delta, const char* name) {
+    Desc d;
+    CHECK_FAILS(init(&d, uint32_t(sizeof d + delta)), PBF_ERROR_STRUCT_SIZE, "struct_size");
+    CHECK_FAILS(init(&d, 0), PBF_ERROR_STRUCT_SIZE, name);
+}
+
+// get(w, &out) refuses an out struct whose struct_size is `size` (the rest zero), naming `name`,
+// and leaves its `field` unwritten.
+template <class Out, class Field, class Get>
+void check_out_size_refused(pbf_world_id w, Get get, uint32_t size, Field Out::*field, const char* name) {
+    Out out;
+    std::memset(&out, 0, sizeof out);
+    out.struct_size = size;
+    CHECK_FAILS(get(w, &out), PBF_ERROR_STRUCT_SIZE, name);
+    CHECK(out.*field == Field{});
+}
+
+}  // namespace
+
 // =============================================================================================
 TEST_CASE("version: library matches the header, every result code has a name", "[api][version]") {
     CHECK(pbf_get_version() == PBF_VERSION);
@@ -70,26 +93,10 @@ TEST_CASE("desc_init: wrong struct_size and NULL are refused", "[api][struct_siz
                         "struct_size");
             CHECK_FAILS(pbf_world_desc_init(&d, 0, PBF_VERSION), PBF_ERROR_STRUCT_SIZE, "struct_size");
         }
-        {
-            pbf_solver_params p;
-            CHECK_FAILS(pbf_solver_params_init(&p, uint32_t(sizeof p + delta)), PBF_ERROR_STRUCT_SIZE, "struct_size");
-            CHECK_FAILS(pbf_solver_params_init(&p, 0), PBF_ERROR_STRUCT_SIZE, "pbf_solver_params");
-        }
-        {
-            pbf_block_desc b;
-            CHECK_FAILS(pbf_block_desc_init(&b, uint32_t(sizeof b + delta)), PBF_ERROR_STRUCT_SIZE, "struct_size");
-            CHECK_FAILS(pbf_block_desc_init(&b, 0), PBF_ERROR_STRUCT_SIZE, "pbf_block_desc");
-        }
-        {
-            pbf_emitter_desc e;
-            CHECK_FAILS(pbf_emitter_desc_init(&e, uint32_t(sizeof e + delta)), PBF_ERROR_STRUCT_SIZE, "struct_size");
-            CHECK_FAILS(pbf_emitter_desc_init(&e, 0), PBF_ERROR_STRUCT_SIZE, "pbf_emitter_desc");
-        }
-        {
-            pbf_collider_desc c;
-            CHECK_FAILS(pbf_collider_desc_init(&c, uint32_t(sizeof c + delta)), PBF_ERROR_STRUCT_SIZE, "struct_size");
-            CHECK_FAILS(pbf_collider_desc_init(&c, 0), PBF_ERROR_STRUCT_SIZE, "pbf_collider_desc");
-        }
+        check_init_size_refused<pbf_solver_params>(pbf_solver_params_init, delta, "pbf_solver_params");
+        check_init_size_refused<pbf_block_desc>(pbf_block_desc_init, delta, "pbf_block_desc");
+        check_init_size_refused<pbf_emitter_desc>(pbf_emitter_desc_init, delta, "pbf_emitter_desc");
+        check_init_size_refused<pbf_collider_desc>(pbf_collider_desc_init, delta, "pbf_collider_desc");
     }
     CHECK_FAILS(pbf_world_desc_init(nullptr, sizeof(pbf_world_desc), PBF_VERSION), PBF_ERROR_INVALID_ARGUMENT, "NULL");
     CHECK_FAILS(pbf_solver_params_init(nullptr, sizeof(pbf_solver_params)), PBF_ERROR_INVALID_ARGUMENT, "NULL");
@@ -158,11 +165,8 @@ TEST_CASE("struct_size: every desc and out struct with a wrong size is refused",
             pbf_solver_params p = w.params();
             p.struct_size = size_of(sizeof p);
             CHECK_FAILS(pbf_world_set_solver_params(w, &p), PBF_ERROR_STRUCT_SIZE, "pbf_solver_params.struct_size");
-            pbf_solver_params out;
-            std::memset(&out, 0, sizeof out);
-            out.struct_size = size_of(sizeof out);
-            CHECK_FAILS(pbf_world_get_solver_params(w, &out), PBF_ERROR_STRUCT_SIZE, "pbf_solver_params.struct_size");
-            CHECK(out.iterations == 0u);  // not written
+            check_out_size_refused(w, pbf_world_get_solver_params, size_of(sizeof(pbf_solver_params)),
+                                   &pbf_solver_params::iterations, "pbf_solver_params.struct_size");
         }
         {  // block desc
             pbf_block_desc b = block(0.2f, 0.5f, 0.2f, 0.3f, 0.6f, 0.3f);
@@ -186,29 +190,14 @@ TEST_CASE("struct_size: every desc and out struct with a wrong size is refused",
             CHECK_FAILS(pbf_world_create_collider(w, &c, &id), PBF_ERROR_STRUCT_SIZE, "pbf_collider_desc.struct_size");
             CHECK(id.generation == 0);
         }
-        {  // world info
-            pbf_world_info info;
-            std::memset(&info, 0, sizeof info);
-            info.struct_size = size_of(sizeof info);
-            CHECK_FAILS(pbf_world_get_info(w, &info), PBF_ERROR_STRUCT_SIZE, "pbf_world_info.struct_size");
-            CHECK(info.max_particles == 0u);
-        }
-        {  // step stats
-            pbf_step_stats s;
-            std::memset(&s, 0, sizeof s);
-            s.struct_size = size_of(sizeof s);
-            CHECK_FAILS(pbf_world_get_stats(w, &s), PBF_ERROR_STRUCT_SIZE, "pbf_step_stats.struct_size");
-            CHECK(s.particle_count == 0u);
-        }
-        {  // mapped buffer
-            pbf_mapped_buffer m;
-            std::memset(&m, 0, sizeof m);
-            m.struct_size = size_of(sizeof m);
-            CHECK_FAILS(pbf_world_map_positions(w, &m), PBF_ERROR_STRUCT_SIZE, "pbf_mapped_buffer.struct_size");
-            CHECK(m.data == nullptr);
-            // Nothing got mapped by the refused call.
-            CHECK_FAILS(pbf_world_unmap(w), PBF_ERROR_INVALID_STATE, "mapped");
-        }
+        // Out structs: refused, and not written.
+        check_out_size_refused(w, pbf_world_get_info, size_of(sizeof(pbf_world_info)), &pbf_world_info::max_particles,
+                               "pbf_world_info.struct_size");
+        check_out_size_refused(w, pbf_world_get_stats, size_of(sizeof(pbf_step_stats)),
+                               &pbf_step_stats::particle_count, "pbf_step_stats.struct_size");
+        check_out_size_refused(w, pbf_world_map_positions, size_of(sizeof(pbf_mapped_buffer)), &pbf_mapped_buffer::data,
+                               "pbf_mapped_buffer.struct_size");
+        CHECK_FAILS(pbf_world_unmap(w), PBF_ERROR_INVALID_STATE, "mapped");  // nothing got mapped
     }
     CHECK(same_params(w.params(), params_before));
     CHECK(same_bits(w.positions(), pos_before));

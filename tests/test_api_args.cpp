@@ -2,6 +2,57 @@
 // Fixtures: support.h.
 #include "support.h"
 
+namespace {
+
+// Every float solver parameter, with the name its refusal mentions.
+const std::pair<float pbf_solver_params::*, const char*> kSolverFloats[] = {
+    {&pbf_solver_params::relaxation, "relaxation"},
+    {&pbf_solver_params::scorr_k, "scorr_k"},
+    {&pbf_solver_params::scorr_n, "scorr_n"},
+    {&pbf_solver_params::scorr_dq, "scorr_dq"},
+    {&pbf_solver_params::xsph_c, "xsph_c"},
+    {&pbf_solver_params::vorticity_epsilon, "vorticity_epsilon"},
+    {&pbf_solver_params::ldc_gain, "ldc_gain"},
+    {&pbf_solver_params::max_speed, "max_speed"},
+};
+
+// Each of NaN, +Inf and -Inf in each of the N floats of `field` (a vector or a quaternion) of a
+// copy of `base` is refused: refuse(copy, needle).
+template <class Desc, size_t N, class Refuse>
+void refuse_bad_elements(const Desc& base, float (Desc::*field)[N], const char* needle, Refuse refuse) {
+    for (float bad : kBad)
+        for (size_t a = 0; a < N; ++a) {
+            INFO("value " << bad_name(bad) << ", element " << a);
+            Desc d = base;
+            (d.*field)[a] = bad;
+            refuse(d, needle);
+        }
+}
+
+// Each of NaN, +Inf and -Inf in the float `field` of a copy of `base` is refused.
+template <class Desc, class Refuse>
+void refuse_bad_value(const Desc& base, float Desc::*field, const char* needle, Refuse refuse) {
+    for (float bad : kBad) {
+        INFO("value " << bad_name(bad));
+        Desc d = base;
+        d.*field = bad;
+        refuse(d, needle);
+    }
+}
+
+// create(w, &desc, &id) fails as an invalid argument naming `needle` and writes a null Id; an
+// object created by mistake is destroyed again, to keep the world's table free.
+template <class Id, class Desc, class Create, class Destroy>
+void check_create_refused(pbf_world_id w, Create create, Destroy destroy, const Desc& desc, const char* needle) {
+    Id id{9, 9};
+    CHECK_FAILS(create(w, &desc, &id), PBF_ERROR_INVALID_ARGUMENT, needle);
+    CHECK(id.index == 0);
+    CHECK(id.generation == 0);
+    if (id.generation != 0) destroy(w, id);
+}
+
+}  // namespace
+
 // =============================================================================================
 TEST_CASE("world desc: NaN, Inf and out-of-range fields are refused", "[api][nan][world]") {
     TestWorld survivor;
@@ -14,48 +65,19 @@ TEST_CASE("world desc: NaN, Inf and out-of-range fields are refused", "[api][nan
         CHECK(id.generation == 0);
     };
 
-    for (float bad : kBad) {
-        INFO("value " << bad_name(bad));
-        {
-            pbf_world_desc d = small_desc();
-            d.particle_radius = bad;
-            refuse(d, "particle_radius");
-        }
-        {
-            pbf_world_desc d = small_desc();
-            d.rest_density = bad;
-            refuse(d, "rest_density");
-        }
-        for (int a = 0; a < 3; ++a) {
-            INFO("axis " << a);
-            pbf_world_desc d = small_desc();
-            d.gravity[a] = bad;
-            refuse(d, "gravity");
-            d = small_desc();
-            d.domain_min[a] = bad;
-            refuse(d, "domain");
-            d = small_desc();
-            d.domain_max[a] = bad;
-            refuse(d, "domain");
-        }
-        // Every float solver parameter.
-        const std::pair<float pbf_solver_params::*, const char*> fields[] = {
-            {&pbf_solver_params::relaxation, "relaxation"},
-            {&pbf_solver_params::scorr_k, "scorr_k"},
-            {&pbf_solver_params::scorr_n, "scorr_n"},
-            {&pbf_solver_params::scorr_dq, "scorr_dq"},
-            {&pbf_solver_params::xsph_c, "xsph_c"},
-            {&pbf_solver_params::vorticity_epsilon, "vorticity_epsilon"},
-            {&pbf_solver_params::ldc_gain, "ldc_gain"},
-            {&pbf_solver_params::max_speed, "max_speed"},
-        };
-        for (const auto& f : fields) {
-            INFO("solver." << f.second);
-            pbf_world_desc d = small_desc();
+    const pbf_world_desc base = small_desc();
+    refuse_bad_value(base, &pbf_world_desc::particle_radius, "particle_radius", refuse);
+    refuse_bad_value(base, &pbf_world_desc::rest_density, "rest_density", refuse);
+    refuse_bad_elements(base, &pbf_world_desc::gravity, "gravity", refuse);
+    refuse_bad_elements(base, &pbf_world_desc::domain_min, "domain", refuse);
+    refuse_bad_elements(base, &pbf_world_desc::domain_max, "domain", refuse);
+    for (float bad : kBad)
+        for (const auto& f : kSolverFloats) {
+            INFO(bad_name(bad) << " in solver." << f.second);
+            pbf_world_desc d = base;
             d.solver.*f.first = bad;
             refuse(d, f.second);
         }
-    }
 
     // Out-of-range values.
     struct Case {
@@ -133,43 +155,19 @@ TEST_CASE("emitter desc: NaN, Inf and out-of-range fields are refused", "[api][n
     const uint32_t n = w.emit_default_block();
 
     auto refuse = [&](const pbf_emitter_desc& e, const char* needle) {
-        pbf_emitter_id id{9, 9};
-        CHECK_FAILS(pbf_world_create_emitter(w, &e, &id), PBF_ERROR_INVALID_ARGUMENT, needle);
-        CHECK(id.index == 0);
-        CHECK(id.generation == 0);
-        if (id.generation != 0) pbf_world_destroy_emitter(w, id);  // accepted by mistake: keep the world clean
+        check_create_refused<pbf_emitter_id>(w, pbf_world_create_emitter, pbf_world_destroy_emitter, e, needle);
     };
 
-    for (float bad : kBad) {
-        INFO("value " << bad_name(bad));
-        for (pbf_emitter_type type : {PBF_EMITTER_NOZZLE, PBF_EMITTER_DRAIN}) {
-            INFO((type == PBF_EMITTER_NOZZLE ? "nozzle" : "drain"));
-            const pbf_emitter_desc base = type == PBF_EMITTER_NOZZLE ? nozzle_desc() : drain_desc();
-            for (int a = 0; a < 3; ++a) {
-                INFO("axis " << a);
-                pbf_emitter_desc e = base;
-                e.position[a] = bad;
-                refuse(e, "position");
-                e = base;
-                e.direction[a] = bad;
-                refuse(e, "direction");
-                e = base;
-                e.box_min[a] = bad;
-                refuse(e, "box");
-                e = base;
-                e.box_max[a] = bad;
-                refuse(e, "box");
-            }
-            pbf_emitter_desc e = base;
-            e.speed = bad;
-            refuse(e, "speed");
-            e = base;
-            e.radius = bad;
-            refuse(e, "radius");
-            e = base;
-            e.particles_per_second = bad;
-            refuse(e, "particles_per_second");
-        }
+    for (pbf_emitter_type type : {PBF_EMITTER_NOZZLE, PBF_EMITTER_DRAIN}) {
+        INFO((type == PBF_EMITTER_NOZZLE ? "nozzle" : "drain"));
+        const pbf_emitter_desc base = type == PBF_EMITTER_NOZZLE ? nozzle_desc() : drain_desc();
+        refuse_bad_elements(base, &pbf_emitter_desc::position, "position", refuse);
+        refuse_bad_elements(base, &pbf_emitter_desc::direction, "direction", refuse);
+        refuse_bad_elements(base, &pbf_emitter_desc::box_min, "box", refuse);
+        refuse_bad_elements(base, &pbf_emitter_desc::box_max, "box", refuse);
+        refuse_bad_value(base, &pbf_emitter_desc::speed, "speed", refuse);
+        refuse_bad_value(base, &pbf_emitter_desc::radius, "radius", refuse);
+        refuse_bad_value(base, &pbf_emitter_desc::particles_per_second, "particles_per_second", refuse);
     }
 
     // Out-of-range fields: test_validate.cpp compares the check that refuses each.
@@ -208,42 +206,18 @@ TEST_CASE("collider desc and set_pose: NaN, Inf and out-of-range fields are refu
     const uint32_t n = w.emit_default_block();
 
     auto refuse = [&](const pbf_collider_desc& c, const char* needle) {
-        pbf_collider_id id{9, 9};
-        CHECK_FAILS(pbf_world_create_collider(w, &c, &id), PBF_ERROR_INVALID_ARGUMENT, needle);
-        CHECK(id.index == 0);
-        CHECK(id.generation == 0);
-        if (id.generation != 0) pbf_world_destroy_collider(w, id);  // accepted by mistake: keep the table free
+        check_create_refused<pbf_collider_id>(w, pbf_world_create_collider, pbf_world_destroy_collider, c, needle);
     };
 
-    for (float bad : kBad) {
-        INFO("value " << bad_name(bad));
-        for (pbf_collider_shape shape : {PBF_SHAPE_PLANE, PBF_SHAPE_SPHERE, PBF_SHAPE_CAPSULE, PBF_SHAPE_BOX}) {
-            INFO("shape " << int(shape));
-            const pbf_collider_desc base = collider_desc(shape, PBF_MOTION_KINEMATIC);
-            for (int a = 0; a < 3; ++a) {
-                INFO("axis " << a);
-                pbf_collider_desc c = base;
-                c.position[a] = bad;
-                refuse(c, "position");
-                c = base;
-                c.half_extents[a] = bad;
-                refuse(c, "half_extents");
-            }
-            for (int a = 0; a < 4; ++a) {
-                pbf_collider_desc c = base;
-                c.rotation[a] = bad;
-                refuse(c, "rotation");
-            }
-            pbf_collider_desc c = base;
-            c.radius = bad;
-            refuse(c, "radius");
-            c = base;
-            c.half_height = bad;
-            refuse(c, "half_height");
-            c = base;
-            c.friction = bad;
-            refuse(c, "friction");
-        }
+    for (pbf_collider_shape shape : {PBF_SHAPE_PLANE, PBF_SHAPE_SPHERE, PBF_SHAPE_CAPSULE, PBF_SHAPE_BOX}) {
+        INFO("shape " << int(shape));
+        const pbf_collider_desc base = collider_desc(shape, PBF_MOTION_KINEMATIC);
+        refuse_bad_elements(base, &pbf_collider_desc::position, "position", refuse);
+        refuse_bad_elements(base, &pbf_collider_desc::half_extents, "half_extents", refuse);
+        refuse_bad_elements(base, &pbf_collider_desc::rotation, "rotation", refuse);
+        refuse_bad_value(base, &pbf_collider_desc::radius, "radius", refuse);
+        refuse_bad_value(base, &pbf_collider_desc::half_height, "half_height", refuse);
+        refuse_bad_value(base, &pbf_collider_desc::friction, "friction", refuse);
     }
 
     struct Case {
@@ -308,17 +282,7 @@ TEST_CASE("set_gravity, set_solver_params and step: NaN, Inf and bad dt are refu
             g[a] = bad;
             CHECK_FAILS(pbf_world_set_gravity(w, g), PBF_ERROR_INVALID_ARGUMENT, "gravity");
         }
-        const std::pair<float pbf_solver_params::*, const char*> fields[] = {
-            {&pbf_solver_params::relaxation, "relaxation"},
-            {&pbf_solver_params::scorr_k, "scorr_k"},
-            {&pbf_solver_params::scorr_n, "scorr_n"},
-            {&pbf_solver_params::scorr_dq, "scorr_dq"},
-            {&pbf_solver_params::xsph_c, "xsph_c"},
-            {&pbf_solver_params::vorticity_epsilon, "vorticity_epsilon"},
-            {&pbf_solver_params::ldc_gain, "ldc_gain"},
-            {&pbf_solver_params::max_speed, "max_speed"},
-        };
-        for (const auto& f : fields) {
+        for (const auto& f : kSolverFloats) {
             INFO(bad_name(bad) << " in solver." << f.second);
             pbf_solver_params p = params_before;
             p.*f.first = bad;

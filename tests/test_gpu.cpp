@@ -12,8 +12,7 @@ pbf_world_id dam_break(pbf_backend backend, uint32_t iterations) {
     pbf_world_desc d = tank(backend, 0.0125f, 0.8f, 0.5f, 0.2f, 8192);
     d.solver.substeps = 2;
     d.solver.iterations = iterations;
-    pbf_world_id w;
-    REQUIRE_PBF(pbf_world_create(&d, &w));
+    pbf_world_id w = create(d);
     pbf_world_info info;
     std::memset(&info, 0, sizeof info);
     info.struct_size = sizeof info;
@@ -71,8 +70,7 @@ TEST_CASE("CUDA and CPU agree: per particle after 1 step, in aggregate over 100 
 TEST_CASE("CUDA resting tank: mean compressive density error <= 1% at 4 iterations", "[gpu]") {
     pbf_world_desc d = tank(PBF_BACKEND_CUDA, 0.0125f, 0.6f, 0.6f, 0.3f, 8192);
     d.solver.substeps = 4;
-    pbf_world_id w;
-    REQUIRE_PBF(pbf_world_create(&d, &w));
+    pbf_world_id w = create(d);
     const uint32_t n = fill(w, 0, 0, 0, 0.6f, 0.3f, 0.3f);
     double error = 0;
     for (int step = 0; step < 120; ++step) {
@@ -99,20 +97,12 @@ TEST_CASE("CUDA resting tank: mean compressive density error <= 1% at 4 iteratio
 
 TEST_CASE("CUDA: nozzle, drain and capacity accounting is exact", "[gpu]") {
     pbf_world_desc d = tank(PBF_BACKEND_CUDA, 0.0125f, 0.6f, 0.6f, 0.3f, 1000);
-    pbf_world_id w;
-    REQUIRE_PBF(pbf_world_create(&d, &w));
-    pbf_emitter_desc e = pbf_emitter_desc_default();
-    e.type = PBF_EMITTER_NOZZLE;
-    set3(e.position, 0.3f, 0.45f, 0.15f);
-    e.speed = 1.0f;
-    e.radius = 0.125f;  // the disc carries π 0.125² / 0.025² x 1 / 0.025 = 3142 per second
-    e.particles_per_second = 3000.0f;
+    pbf_world_id w = create(d);
+    // The disc carries π 0.125² / 0.025² x 1 / 0.025 = 3142 per second.
+    const pbf_emitter_desc e = nozzle_at(0.3f, 0.45f, 0.15f, 1.0f, 0.125f, 3000.0f);
     pbf_emitter_id nozzle, drain;
     REQUIRE_PBF(pbf_world_create_emitter(w, &e, &nozzle));
-    pbf_emitter_desc dr = pbf_emitter_desc_default();
-    dr.type = PBF_EMITTER_DRAIN;
-    set3(dr.box_min, 0.0f, 0.0f, 0.0f);
-    set3(dr.box_max, 0.6f, 0.05f, 0.3f);
+    const pbf_emitter_desc dr = drain_box(0.0f, 0.0f, 0.0f, 0.6f, 0.05f, 0.3f);
     REQUIRE_PBF(pbf_world_create_emitter(w, &dr, &drain));
     for (int step = 0; step < 120; ++step) {
         REQUIRE_PBF(pbf_world_step(w, kDt));

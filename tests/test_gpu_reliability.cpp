@@ -94,12 +94,8 @@ TEST_CASE("CUDA capacity: emitting past capacity is refused cleanly", "[gpu][rel
     const scene::Particles again = scene::read(w);
     CHECK(again.ids == full.ids);
     CHECK(std::memcmp(again.pos.data(), full.pos.data(), full.pos.size() * sizeof(float)) == 0);
-    pbf_emitter_desc n = pbf_emitter_desc_default();
-    n.type = PBF_EMITTER_NOZZLE;
-    scene::set3(n.position, 0.25f, 0.45f, 0.25f);
-    n.speed = 5000.0f;  // so that the disc carries 10^6 per second
-    n.radius = 0.1f;
-    n.particles_per_second = 1e6f;
+    // Speed 5000 m/s so that the disc carries 10^6 per second.
+    const pbf_emitter_desc n = scene::nozzle_at(0.25f, 0.45f, 0.25f, 5000.0f, 0.1f, 1e6f);
     pbf_emitter_id nozzle{};
     REQUIRE_PBF(pbf_world_create_emitter(w, &n, &nozzle));
     for (int k = 0; k < 20; ++k) {

@@ -46,6 +46,13 @@ uint32_t support() {
     return s;
 }
 
+// True when this libpbf's interop has `flag`; else WARNs `missing` (the test then returns).
+[[maybe_unused]] bool has_interop(uint32_t flag, const char* missing) {
+    if (support() & flag) return true;
+    WARN(missing);
+    return false;
+}
+
 uint64_t transfers() {
     uint64_t n = 0;
     REQUIRE_PBF(pbf_debug_get_transfer_count(&n, nullptr));
@@ -61,8 +68,7 @@ bool env_set(const char* name) {
 pbf_world_id small_world(pbf_backend backend, uint32_t capacity = 8192) {
     pbf_world_desc d = tank(backend, 0.0125f, 0.8f, 0.5f, 0.2f, capacity);
     d.solver.substeps = 2;
-    pbf_world_id w;
-    REQUIRE_PBF(pbf_world_create(&d, &w));
+    pbf_world_id w = create(d);
     fill(w, 0, 0, 0, 0.2f, 0.4f, 0.2f);
     return w;
 }
@@ -388,10 +394,8 @@ TEST_CASE("interop GL: buffers equal copy-out after a step; the render path adds
 #if !PBF_TEST_HAVE_EGL_GL
     WARN("not built: EGL or the OpenGL headers were not found when configuring");
 #else
-    if (!(support() & PBF_INTEROP_SUPPORT_OPENGL)) {
-        WARN("this libpbf has no CUDA-GL interop (built without the OpenGL headers)");
+    if (!has_interop(PBF_INTEROP_SUPPORT_OPENGL, "this libpbf has no CUDA-GL interop (built without the OpenGL headers)"))
         return;
-    }
     Gl gl;
     if (!gl.ok && env_set("PBF_TEST_ALLOW_NO_EGL")) {
         WARN("EGL unavailable, accepted by PBF_TEST_ALLOW_NO_EGL: " << gl.error);
@@ -536,10 +540,7 @@ TEST_CASE("interop Vulkan: external buffer equals copy-out; binary and timeline 
 #if !PBF_TEST_HAVE_VULKAN
     WARN("not built: Vulkan was not found when configuring");
 #else
-    if (!(support() & PBF_INTEROP_SUPPORT_EXTERNAL_FD)) {
-        WARN("this libpbf cannot import opaque fds");
-        return;
-    }
+    if (!has_interop(PBF_INTEROP_SUPPORT_EXTERNAL_FD, "this libpbf cannot import opaque fds")) return;
     for (bool auto_copy : {false, true}) {
         INFO((auto_copy ? "PBF_COPY_ON_STEP + pbf_world_set_external_sync" : "pbf_world_copy_to_external_buffer"));
         pbf_world_id w = small_world(PBF_BACKEND_CUDA);

@@ -40,8 +40,7 @@ TEST_CASE("a settled pool stays calm after one step of any dt from 1e-5 to 1/30 
     pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.0125f, 0.6f, 0.6f, 0.15f, 8192);
     for (uint32_t ldc : {1u, 0u}) {
         d.solver.ldc_enabled = ldc;
-        pbf_world_id w;
-        REQUIRE_PBF(pbf_world_create(&d, &w));
+        pbf_world_id w = create(d);
         const uint32_t n = fill(w, 0, 0, 0, 0.6f, 0.3f, 0.15f);
         pbf_world_info info{};
         info.struct_size = sizeof info;
@@ -68,8 +67,7 @@ TEST_CASE("a settled pool stays calm after one step of any dt from 1e-5 to 1/30 
 
 TEST_CASE("variable frame times (1e-5 .. 1/30 s, mixed) keep a dam break finite and inside", "[realtime]") {
     pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.0125f, 0.8f, 0.5f, 0.1f, 4096);
-    pbf_world_id w;
-    REQUIRE_PBF(pbf_world_create(&d, &w));
+    pbf_world_id w = create(d);
     const uint32_t n = fill(w, 0, 0, 0, 0.2f, 0.4f, 0.1f);
     const float dts[] = {1.0f / 60.0f, 1e-5f, 1.0f / 30.0f, 1e-3f, 1.0f / 144.0f, 1e-4f, 1.0f / 40.0f};
     double max_speed = 0.0;
@@ -92,8 +90,7 @@ TEST_CASE("automatic substeps follow the motion and stats report them", "[realti
     // speed it gains (~5 m/s after 0.5 s) needs more.
     pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.0125f, 0.4f, 2.0f, 0.1f, 4096);
     REQUIRE(d.solver.substeps == 0u);
-    pbf_world_id w;
-    REQUIRE_PBF(pbf_world_create(&d, &w));
+    pbf_world_id w = create(d);
     fill(w, 0.1f, 1.5f, 0, 0.3f, 1.7f, 0.1f);
     CHECK(stats(w).substeps == 0u);  // before the first step
     REQUIRE_PBF(pbf_world_step(w, kDt));
@@ -121,8 +118,7 @@ TEST_CASE("automatic substeps follow the motion and stats report them", "[realti
 
 TEST_CASE("a block across the walls is clipped to them, one outside is refused", "[realtime][emit]") {
     pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.025f, 1.0f, 1.0f, 1.0f, 4096);
-    pbf_world_id w;
-    REQUIRE_PBF(pbf_world_create(&d, &w));
+    pbf_world_id w = create(d);
     // 0.5 m cube with its lower half below the floor and beyond x = 0: lattice points at
     // -0.225 .. 0.225 in steps of 0.05; those inside the walls (x, y, z >= 0.025) are 5 per axis.
     pbf_block_desc b = pbf_block_desc_default();
@@ -153,15 +149,9 @@ TEST_CASE("a block across the walls is clipped to them, one outside is refused",
 
 TEST_CASE("a nozzle must fit its rate through its disc and sit inside the walls", "[realtime][emit]") {
     pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.025f, 1.0f, 1.0f, 1.0f, 4096);
-    pbf_world_id w;
-    REQUIRE_PBF(pbf_world_create(&d, &w));
-    pbf_emitter_desc e = pbf_emitter_desc_default();
-    e.type = PBF_EMITTER_NOZZLE;
-    set3(e.position, 0.5f, 0.8f, 0.5f);
-    e.radius = 0.1f;
-    e.speed = 2.0f;
+    pbf_world_id w = create(d);
     // Carried at rest spacing (0.05 m): π 0.1² / 0.05² disc points x 2 / 0.05 per second = 502.
-    e.particles_per_second = 600.0f;
+    pbf_emitter_desc e = nozzle_at(0.5f, 0.8f, 0.5f, 2.0f, 0.1f, 600.0f);
     pbf_emitter_id id{};
     CHECK(pbf_world_create_emitter(w, &e, &id) == PBF_ERROR_INVALID_ARGUMENT);
     CHECK(std::string(pbf_last_error_message()).find("particles_per_second") != std::string::npos);
@@ -185,8 +175,7 @@ TEST_CASE("a thin paddle swept through the fluid faster than its thickness per s
     // then, fits in front of it).
     pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.0125f, 1.0f, 0.6f, 0.1f, 16384);
     d.solver.substeps = 1;
-    pbf_world_id w;
-    REQUIRE_PBF(pbf_world_create(&d, &w));
+    pbf_world_id w = create(d);
     const uint32_t n = fill(w, 0.2f, 0, 0, 1.0f, 0.3f, 0.1f);
     pbf_collider_desc c = pbf_collider_desc_default();
     c.shape = PBF_SHAPE_BOX;

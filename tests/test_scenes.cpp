@@ -11,8 +11,7 @@ double run_resting_tank(pbf_backend backend, uint32_t iterations, uint32_t ldc, 
     d.solver.iterations = iterations;
     d.solver.substeps = 4;
     d.solver.ldc_enabled = ldc;
-    pbf_world_id w;
-    REQUIRE_PBF(pbf_world_create(&d, &w));
+    pbf_world_id w = create(d);
     const uint32_t n = fill(w, 0, 0, 0, 0.6f, 0.3f, 0.3f);
     REQUIRE(n == 24u * 12u * 12u);
     double error = 0.0;
@@ -62,8 +61,7 @@ TEST_CASE("resting tank: fewer iterations compress more (the error measure respo
 TEST_CASE("dam break: 1000 steps, no NaN, particles conserved and inside the tank", "[scene]") {
     pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.0125f, 0.8f, 0.5f, 0.1f, 4096);
     d.solver.substeps = 2;
-    pbf_world_id w;
-    REQUIRE_PBF(pbf_world_create(&d, &w));
+    pbf_world_id w = create(d);
     const uint32_t n = fill(w, 0, 0, 0, 0.2f, 0.4f, 0.1f);
     REQUIRE(n == 8u * 16u * 4u);
     double max_ke = 0;
@@ -91,15 +89,10 @@ TEST_CASE("dam break: 1000 steps, no NaN, particles conserved and inside the tan
 TEST_CASE("nozzle emits particles_per_second, drains remove, accounting is exact", "[scene][emitter]") {
     pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.0125f, 0.6f, 0.6f, 0.3f, 20000);
     d.solver.substeps = 2;
-    pbf_world_id w;
-    REQUIRE_PBF(pbf_world_create(&d, &w));
-    pbf_emitter_desc e = pbf_emitter_desc_default();
-    e.type = PBF_EMITTER_NOZZLE;
-    set3(e.position, 0.15f, 0.45f, 0.15f);
+    pbf_world_id w = create(d);
+    // The disc carries π 0.08² / 0.025² x 1 / 0.025 = 1287 per second.
+    pbf_emitter_desc e = nozzle_at(0.15f, 0.45f, 0.15f, 1.0f, 0.08f, 1200.0f);
     set3(e.direction, 1, 0, 0);
-    e.speed = 1.0f;
-    e.radius = 0.08f;  // the disc carries π 0.08² / 0.025² x 1 / 0.025 = 1287 per second
-    e.particles_per_second = 1200.0f;
     pbf_emitter_id nozzle;
     REQUIRE_PBF(pbf_world_create_emitter(w, &e, &nozzle));
     for (int step = 0; step < 60; ++step) REQUIRE_PBF(pbf_world_step(w, kDt));
@@ -114,10 +107,7 @@ TEST_CASE("nozzle emits particles_per_second, drains remove, accounting is exact
         CHECK(stats(w).emitted_total == s.emitted_total);
     }
     SECTION("a drain over the floor removes what reaches it; emitted - drained = count") {
-        pbf_emitter_desc dr = pbf_emitter_desc_default();
-        dr.type = PBF_EMITTER_DRAIN;
-        set3(dr.box_min, 0.0f, 0.0f, 0.0f);
-        set3(dr.box_max, 0.6f, 0.1f, 0.3f);
+        const pbf_emitter_desc dr = drain_box(0.0f, 0.0f, 0.0f, 0.6f, 0.1f, 0.3f);
         pbf_emitter_id drain;
         REQUIRE_PBF(pbf_world_create_emitter(w, &dr, &drain));
         for (int step = 0; step < 90; ++step) {
@@ -141,15 +131,10 @@ TEST_CASE("nozzle emits particles_per_second, drains remove, accounting is exact
 
 TEST_CASE("a nozzle in a nearly full world stops at capacity and corrupts nothing", "[scene][emitter]") {
     pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.0125f, 0.6f, 0.6f, 0.3f, 500);
-    pbf_world_id w;
-    REQUIRE_PBF(pbf_world_create(&d, &w));
+    pbf_world_id w = create(d);
     REQUIRE(fill(w, 0, 0, 0, 0.2f, 0.1f, 0.1f) == 8u * 4u * 4u);
-    pbf_emitter_desc e = pbf_emitter_desc_default();
-    e.type = PBF_EMITTER_NOZZLE;
-    set3(e.position, 0.3f, 0.4f, 0.15f);
-    e.speed = 4.0f;
-    e.radius = 0.1f;  // the disc carries π 0.1² / 0.025² x 4 / 0.025 = 8042 per second
-    e.particles_per_second = 6000.0f;
+    // The disc carries π 0.1² / 0.025² x 4 / 0.025 = 8042 per second.
+    const pbf_emitter_desc e = nozzle_at(0.3f, 0.4f, 0.15f, 4.0f, 0.1f, 6000.0f);
     pbf_emitter_id nozzle;
     REQUIRE_PBF(pbf_world_create_emitter(w, &e, &nozzle));
     for (int step = 0; step < 30; ++step) REQUIRE_PBF(pbf_world_step(w, kDt));
@@ -168,8 +153,7 @@ namespace {
 double level_with_sphere(bool with_sphere, Particles* out) {
     pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.0125f, 0.5f, 0.6f, 0.5f, 16000);
     d.solver.substeps = 2;
-    pbf_world_id w;
-    REQUIRE_PBF(pbf_world_create(&d, &w));
+    pbf_world_id w = create(d);
     if (with_sphere) {
         pbf_collider_desc c = pbf_collider_desc_default();
         c.shape = PBF_SHAPE_SPHERE;
@@ -210,8 +194,7 @@ TEST_CASE("a sphere collider displaces fluid: nothing inside it, and the level r
 TEST_CASE("a kinematic box moving through a pool pushes the fluid", "[scene][collider]") {
     pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.0125f, 0.8f, 0.4f, 0.2f, 8000);
     d.solver.substeps = 2;
-    pbf_world_id w;
-    REQUIRE_PBF(pbf_world_create(&d, &w));
+    pbf_world_id w = create(d);
     pbf_collider_desc c = pbf_collider_desc_default();
     c.shape = PBF_SHAPE_BOX;
     c.motion = PBF_MOTION_KINEMATIC;
@@ -263,8 +246,7 @@ TEST_CASE("adaptive iterations stop at the error target and report the iteration
         d.solver.iterations = cap;
         d.solver.ldc_enabled = ldc;
         d.solver.adaptive_error_target = target;
-        pbf_world_id w;
-        REQUIRE_PBF(pbf_world_create(&d, &w));
+        pbf_world_id w = create(d);
         fill(w, 0, 0, 0, 0.2f, 0.4f, 0.1f);
         *error = *iterations = 0;
         for (int step = 0; step < 60; ++step) {

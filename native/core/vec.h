@@ -3,6 +3,7 @@
 #pragma once
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #if defined(_MSC_VER) && !defined(__CUDA_ARCH__)
 #include <intrin.h>
 #endif
@@ -71,24 +72,15 @@ PBF_HD float fast_div(float a, float b) {
 
 // The float with these bits, and back (non-negative floats order like their bit patterns, so
 // an unsigned atomic max finds the largest).
-PBF_HD float float_from_bits(uint32_t u) {
-#if defined(__CUDA_ARCH__)
-    return __uint_as_float(u);
-#else
-    float f;
-    __builtin_memcpy(&f, &u, sizeof f);
-    return f;
-#endif
+template <class To, class From>
+PBF_HD To bit_cast_32(From v) {
+    static_assert(sizeof(To) == 4 && sizeof(From) == 4, "32-bit values only");
+    To out;
+    memcpy(&out, &v, sizeof out);  // a register move on host and device
+    return out;
 }
-PBF_HD uint32_t bits_from_float(float f) {
-#if defined(__CUDA_ARCH__)
-    return __float_as_uint(f);
-#else
-    uint32_t u;
-    __builtin_memcpy(&u, &f, sizeof u);
-    return u;
-#endif
-}
+PBF_HD float float_from_bits(uint32_t u) { return bit_cast_32<float>(u); }
+PBF_HD uint32_t bits_from_float(float f) { return bit_cast_32<uint32_t>(f); }
 
 // Index of the lowest set bit of a non-zero mask.
 PBF_HD uint32_t lowest_bit(uint32_t mask) {

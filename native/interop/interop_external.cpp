@@ -11,19 +11,93 @@
 namespace pbf::cuda_interop {
 namespace {
 
-#if !defined(_WIN32)
-// CUDA takes ownership of an fd only when an import succeeds, and a later step of ours may still
-// fail: import a duplicate, and close the caller's fd once everything succeeded (the caller
-// keeps it on any failure).
-struct FdDup {
+// The caller's OS handle (of a pbf_external_buffer_desc or pbf_semaphore_desc d) as a CUDA
+// import desc h takes it.
+#if defined(_WIN32)
+// Windows: the win32 handle itself; the caller keeps it.
+struct OsHandle {
+    template <class Desc>
+    explicit OsHandle(const Desc&) {}
+    template <class HandleDesc, class Desc>
+    Status set(HandleDesc& h, const Desc& d) const {
+        h.handle.win32.handle = d.win32_handle;
+        return Status{};
+    }
+    void imported() {}
+    template <class Desc>
+    void take_from_caller(const Desc&) {}
+};
+#else
+// Linux: CUDA takes ownership of an fd only when an import succeeds, and a later step of ours
+// may still fail: import a duplicate, and close the caller's fd once everything succeeded (the
+// caller keeps it on any failure).
+struct OsHandle {
     int fd = -1;
-    explicit FdDup(int original) : fd(dup(original)) {}
-    ~FdDup() {
+    template <class Desc>
+    explicit OsHandle(const Desc& d) : fd(dup(d.fd)) {}
+    ~OsHandle() {
         if (fd >= 0) close(fd);
     }
-    void consumed() { fd = -1; }  // CUDA owns it now
+    OsHandle(const OsHandle&) = delete;
+    OsHandle& operator=(const OsHandle&) = delete;
+    template <class HandleDesc, class Desc>
+    Status set(HandleDesc& h, const Desc& d) const {
+        if (fd < 0) return Status::error(PBF_ERROR_INVALID_ARGUMENT, "fd " + std::to_string(d.fd) + " is not an open file descriptor");
+        h.handle.fd = fd;
+        return Status{};
+    }
+    void imported() { fd = -1; }  // CUDA owns the duplicate now
+    template <class Desc>
+    void take_from_caller(const Desc& d) {
+        close(d.fd);  // the caller's: the library owns it from here
+    }
 };
 #endif
+
+// The CUDA handle type of each external memory type this platform imports.
+struct MemoryType {
+    pbf_external_memory_type type;
+    cudaExternalMemoryHandleType cuda;
+    bool dedicated;  // imported as a dedicated allocation, whatever the desc says
+};
+constexpr MemoryType kMemoryTypes[] = {
+#if defined(_WIN32)
+    // Windows builds only; not compiled or tested on Linux. Committed D3D resources are dedicated.
+    {PBF_EXTERNAL_MEMORY_OPAQUE_WIN32, cudaExternalMemoryHandleTypeOpaqueWin32, false},
+    {PBF_EXTERNAL_MEMORY_OPAQUE_WIN32_KMT, cudaExternalMemoryHandleTypeOpaqueWin32Kmt, false},
+    {PBF_EXTERNAL_MEMORY_D3D12_RESOURCE, cudaExternalMemoryHandleTypeD3D12Resource, true},
+    {PBF_EXTERNAL_MEMORY_D3D11_RESOURCE, cudaExternalMemoryHandleTypeD3D11Resource, true},
+    {PBF_EXTERNAL_MEMORY_D3D11_RESOURCE_KMT, cudaExternalMemoryHandleTypeD3D11ResourceKmt, true},
+#else
+    {PBF_EXTERNAL_MEMORY_OPAQUE_FD, cudaExternalMemoryHandleTypeOpaqueFd, false},
+#endif
+};
+
+// The CUDA handle type of each semaphore type this platform imports.
+struct SemaphoreType {
+    pbf_semaphore_type type;
+    cudaExternalSemaphoreHandleType cuda;
+};
+constexpr SemaphoreType kSemaphoreTypes[] = {
+#if defined(_WIN32)
+    // Windows builds only; not compiled or tested on Linux.
+    {PBF_SEMAPHORE_VULKAN_BINARY_WIN32, cudaExternalSemaphoreHandleTypeOpaqueWin32},
+    {PBF_SEMAPHORE_VULKAN_BINARY_WIN32_KMT, cudaExternalSemaphoreHandleTypeOpaqueWin32Kmt},
+    {PBF_SEMAPHORE_VULKAN_TIMELINE_WIN32, cudaExternalSemaphoreHandleTypeTimelineSemaphoreWin32},
+    {PBF_SEMAPHORE_D3D12_FENCE, cudaExternalSemaphoreHandleTypeD3D12Fence},
+#else
+    {PBF_SEMAPHORE_VULKAN_BINARY_FD, cudaExternalSemaphoreHandleTypeOpaqueFd},
+    {PBF_SEMAPHORE_VULKAN_TIMELINE_FD, cudaExternalSemaphoreHandleTypeTimelineSemaphoreFd},
+#endif
+};
+
+// The row of `table` for `type`; nullptr where this platform has none.
+template <class Row, size_t N, class Type>
+const Row* find_type(const Row (&table)[N], Type type) {
+    for (const Row& r : table)
+        if (r.type == type) return &r;
+    return nullptr;
+}
 
 }  // namespace
 
@@ -34,52 +108,18 @@ Status CudaInterop::import_external_buffer(const pbf_external_buffer_desc& d, pb
     std::memset(&h, 0, sizeof h);
     h.size = d.size_bytes;
     h.flags = d.dedicated ? cudaExternalMemoryDedicated : 0u;
-    switch (d.type) {
-#if defined(_WIN32)
-        // Windows builds only; not compiled or tested on Linux.
-        case PBF_EXTERNAL_MEMORY_OPAQUE_WIN32:
-            h.type = cudaExternalMemoryHandleTypeOpaqueWin32;
-            h.handle.win32.handle = d.win32_handle;
-            break;
-        case PBF_EXTERNAL_MEMORY_OPAQUE_WIN32_KMT:
-            h.type = cudaExternalMemoryHandleTypeOpaqueWin32Kmt;
-            h.handle.win32.handle = d.win32_handle;
-            break;
-        case PBF_EXTERNAL_MEMORY_D3D12_RESOURCE:
-            h.type = cudaExternalMemoryHandleTypeD3D12Resource;
-            h.handle.win32.handle = d.win32_handle;
-            h.flags = cudaExternalMemoryDedicated;  // committed resources are dedicated
-            break;
-        case PBF_EXTERNAL_MEMORY_D3D11_RESOURCE:
-            h.type = cudaExternalMemoryHandleTypeD3D11Resource;
-            h.handle.win32.handle = d.win32_handle;
-            h.flags = cudaExternalMemoryDedicated;
-            break;
-        case PBF_EXTERNAL_MEMORY_D3D11_RESOURCE_KMT:
-            h.type = cudaExternalMemoryHandleTypeD3D11ResourceKmt;
-            h.handle.win32.handle = d.win32_handle;
-            h.flags = cudaExternalMemoryDedicated;
-            break;
-#else
-        case PBF_EXTERNAL_MEMORY_OPAQUE_FD:
-            h.type = cudaExternalMemoryHandleTypeOpaqueFd;
-            break;
-#endif
-        default:
-            return Status::error(PBF_ERROR_BACKEND_UNAVAILABLE, "this external memory type is not available on this platform");
-    }
-#if !defined(_WIN32)
-    FdDup fd(d.fd);
-    if (fd.fd < 0) return Status::error(PBF_ERROR_INVALID_ARGUMENT, "fd " + std::to_string(d.fd) + " is not an open file descriptor");
-    h.handle.fd = fd.fd;
-#endif
+    const MemoryType* type = find_type(kMemoryTypes, d.type);
+    if (!type) return Status::error(PBF_ERROR_BACKEND_UNAVAILABLE, "this external memory type is not available on this platform");
+    h.type = type->cuda;
+    if (type->dedicated) h.flags = cudaExternalMemoryDedicated;
+    OsHandle os(d);
+    st = os.set(h, d);
+    if (!st.ok()) return st;
     ExternalBuffer b;
     b.desc = d;
     st = cuda_status("importing the external memory (cudaImportExternalMemory)", cudaImportExternalMemory(&b.memory, &h));
     if (!st.ok()) return st;
-#if !defined(_WIN32)
-    fd.consumed();
-#endif
+    os.imported();
     cudaExternalMemoryBufferDesc bd;
     std::memset(&bd, 0, sizeof bd);
     bd.offset = 0;
@@ -90,9 +130,7 @@ Status CudaInterop::import_external_buffer(const pbf_external_buffer_desc& d, pb
         cudaDestroyExternalMemory(b.memory);
         return st;
     }
-#if !defined(_WIN32)
-    close(d.fd);  // the caller's: the library owns it from here
-#endif
+    os.take_from_caller(d);
     *out = to_id<pbf_external_buffer_id>(external_.insert(b));
     return Status{};
 }
@@ -118,49 +156,18 @@ Status CudaInterop::import_semaphore(const pbf_semaphore_desc& d, pbf_semaphore_
     if (!st.ok()) return st;
     cudaExternalSemaphoreHandleDesc h;
     std::memset(&h, 0, sizeof h);
-    switch (d.type) {
-#if defined(_WIN32)
-        // Windows builds only; not compiled or tested on Linux.
-        case PBF_SEMAPHORE_VULKAN_BINARY_WIN32:
-            h.type = cudaExternalSemaphoreHandleTypeOpaqueWin32;
-            h.handle.win32.handle = d.win32_handle;
-            break;
-        case PBF_SEMAPHORE_VULKAN_BINARY_WIN32_KMT:
-            h.type = cudaExternalSemaphoreHandleTypeOpaqueWin32Kmt;
-            h.handle.win32.handle = d.win32_handle;
-            break;
-        case PBF_SEMAPHORE_VULKAN_TIMELINE_WIN32:
-            h.type = cudaExternalSemaphoreHandleTypeTimelineSemaphoreWin32;
-            h.handle.win32.handle = d.win32_handle;
-            break;
-        case PBF_SEMAPHORE_D3D12_FENCE:
-            h.type = cudaExternalSemaphoreHandleTypeD3D12Fence;
-            h.handle.win32.handle = d.win32_handle;
-            break;
-#else
-        case PBF_SEMAPHORE_VULKAN_BINARY_FD:
-            h.type = cudaExternalSemaphoreHandleTypeOpaqueFd;
-            break;
-        case PBF_SEMAPHORE_VULKAN_TIMELINE_FD:
-            h.type = cudaExternalSemaphoreHandleTypeTimelineSemaphoreFd;
-            break;
-#endif
-        default:
-            return Status::error(PBF_ERROR_BACKEND_UNAVAILABLE, "this semaphore type is not available on this platform");
-    }
-#if !defined(_WIN32)
-    FdDup fd(d.fd);
-    if (fd.fd < 0) return Status::error(PBF_ERROR_INVALID_ARGUMENT, "fd " + std::to_string(d.fd) + " is not an open file descriptor");
-    h.handle.fd = fd.fd;
-#endif
+    const SemaphoreType* type = find_type(kSemaphoreTypes, d.type);
+    if (!type) return Status::error(PBF_ERROR_BACKEND_UNAVAILABLE, "this semaphore type is not available on this platform");
+    h.type = type->cuda;
+    OsHandle os(d);
+    st = os.set(h, d);
+    if (!st.ok()) return st;
     Semaphore s;
     s.type = d.type;
     st = cuda_status("importing the semaphore (cudaImportExternalSemaphore)", cudaImportExternalSemaphore(&s.handle, &h));
     if (!st.ok()) return st;
-#if !defined(_WIN32)
-    fd.consumed();
-    close(d.fd);
-#endif
+    os.imported();
+    os.take_from_caller(d);
     *out = to_id<pbf_semaphore_id>(semaphores_.insert(s));
     return Status{};
 }

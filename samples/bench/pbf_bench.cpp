@@ -20,20 +20,11 @@
 #include <CLI/CLI.hpp>
 
 #include "pbf_c_api.h"
+#include "tool_support.h"
 
 namespace {
 
-std::vector<std::string> split(const std::string& s) {
-    std::vector<std::string> out;
-    size_t start = 0;
-    while (start <= s.size()) {
-        const size_t comma = s.find(',', start);
-        out.push_back(s.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
-        if (comma == std::string::npos) break;
-        start = comma + 1;
-    }
-    return out;
-}
+using tool::split_list;
 
 struct Config {
     std::string scene;
@@ -91,9 +82,7 @@ Result run(const Config& c, int warmup, int steps, bool stages) {
         return r;
     }
     pbf_world_info info;
-    std::memset(&info, 0, sizeof info);
-    info.struct_size = sizeof info;
-    pbf_world_get_info(w, &info);
+    tool::read_info(w, &info);
     r.device = info.device_name;
     r.bytes_per_particle = double(info.device_bytes) / d.max_particles;
 
@@ -170,7 +159,7 @@ int main(int argc, char** argv) {
     }
 
     std::vector<pbf_backend> backend_list;
-    for (const std::string& b : split(backends)) {
+    for (const std::string& b : split_list(backends)) {
         if (b == "cpu" || b == "both") backend_list.push_back(PBF_BACKEND_CPU);
         if (b == "cuda" || b == "both") backend_list.push_back(PBF_BACKEND_CUDA);
     }
@@ -187,10 +176,10 @@ int main(int argc, char** argv) {
     int failures = 0;
     std::vector<std::pair<Config, Result>> staged;
     for (pbf_backend backend : backend_list)
-        for (const std::string& scene : split(scenes))
-            for (const std::string& n : split(particles))
-                for (const std::string& it : split(iterations))
-                    for (const std::string& l : split(ldcs)) {
+        for (const std::string& scene : split_list(scenes))
+            for (const std::string& n : split_list(particles))
+                for (const std::string& it : split_list(iterations))
+                    for (const std::string& l : split_list(ldcs)) {
                         const Config c{scene, uint32_t(std::strtoul(n.c_str(), nullptr, 10)),
                                        uint32_t(std::atoi(it.c_str())), uint32_t(std::atoi(l.c_str())), backend};
                         const Result r = run(c, warmup, steps, stages);

@@ -12,6 +12,7 @@
 
 #include "paper_scene.h"
 #include "pbf_c_api.h"
+#include "tool_support.h"
 
 namespace frames {
 
@@ -73,9 +74,7 @@ inline FrameResult run_frames(const FrameCase& fc) {
         return r;
     }
     pbf_world_info info;
-    std::memset(&info, 0, sizeof info);
-    info.struct_size = sizeof info;
-    pbf_world_get_info(w, &info);
+    tool::read_info(w, &info);
     r.device = info.device_name;
     uint32_t n = 0;
     if (paper::emit_fluid(w, fc.scene, &n) != PBF_OK) {

@@ -155,35 +155,35 @@ static const char* kLineFragmentShader =
     "out vec4 o_color;\n"
     "void main() { o_color = vec4(0.42, 0.45, 0.50, 1.0); }\n";
 
+/* Exits with the info log (get_log: glGetShaderInfoLog or glGetProgramInfoLog) of a shader or
+ * program whose compile or link failed (ok == 0). */
+static void require_built(GLint ok, PFNGLGETSHADERINFOLOGPROC get_log, GLuint object, const char* what) {
+    char log[2048];
+    if (ok) return;
+    get_log(object, sizeof log, NULL, log);
+    fprintf(stderr, "pbf_render_gl: %s error:\n%s\n", what, log);
+    exit(1);
+}
+
 static GLuint compile(pbf_egl* e, GLenum type, const char* source) {
     GLint ok = 0;
-    char log[2048];
     GLuint s = e->gl.CreateShader(type);
     e->gl.ShaderSource(s, 1, &source, NULL);
     e->gl.CompileShader(s);
     e->gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        e->gl.GetShaderInfoLog(s, sizeof log, NULL, log);
-        fprintf(stderr, "pbf_render_gl: shader compile error:\n%s\n", log);
-        exit(1);
-    }
+    require_built(ok, e->gl.GetShaderInfoLog, s, "shader compile");
     return s;
 }
 
 static GLuint link_program(pbf_egl* e, const char* vertex, const char* fragment) {
     GLint ok = 0;
-    char log[2048];
     GLuint vs = compile(e, GL_VERTEX_SHADER, vertex), fs = compile(e, GL_FRAGMENT_SHADER, fragment);
     GLuint p = e->gl.CreateProgram();
     e->gl.AttachShader(p, vs);
     e->gl.AttachShader(p, fs);
     e->gl.LinkProgram(p);
     e->gl.GetProgramiv(p, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        e->gl.GetProgramInfoLog(p, sizeof log, NULL, log);
-        fprintf(stderr, "pbf_render_gl: program link error:\n%s\n", log);
-        exit(1);
-    }
+    require_built(ok, e->gl.GetProgramInfoLog, p, "program link");
     e->gl.DeleteShader(vs);
     e->gl.DeleteShader(fs);
     return p;

@@ -249,6 +249,63 @@ int find_live(const std::vector<Live>& live, Id id) {
     return -1;
 }
 
+// A picked world (w: its model, null where none) and a handle picked among the live and dead
+// handles of one of its tables (emitters or colliders; with no model, a forged or another
+// world's handle), with the handle's index among the table's live ones (-1: not live there).
+template <class Id>
+struct Picked {
+    WorldModel* w;
+    pbf_world_id world;
+    Id handle;
+    int live;
+};
+
+template <class Live, class Id>
+Picked<Id> pick_object(Reader& in, State& s, std::vector<Live> WorldModel::*live, std::vector<Id> WorldModel::*dead) {
+    static const std::vector<Live> kNone;
+    static const std::vector<Id> kNoIds;
+    WorldModel* w = nullptr;
+    const pbf_world_id world = pick_world(in, s, &w);
+    const Id handle = pick_handle(in, w ? w->*live : kNone, w ? w->*dead : kNoIds, s);
+    return Picked<Id>{w, world, handle, w ? find_live(w->*live, handle) : -1};
+}
+
+// destroy(world, handle) on a picked world and handle: it succeeds exactly for a live handle,
+// which then joins the table's dead handles; any other is an invalid handle.
+template <class Live, class Id, class Destroy>
+void destroy_picked(Reader& in, State& s, std::vector<Live> WorldModel::*live, std::vector<Id> WorldModel::*dead,
+                    Destroy destroy) {
+    const auto [w, id, h, k] = pick_object(in, s, live, dead);
+    const pbf_result r = checked(destroy(id, h));
+    FUZZ_ASSERT((r == PBF_OK) == (k >= 0));
+    if (r != PBF_OK) {
+        FUZZ_ASSERT(r == PBF_ERROR_INVALID_HANDLE);
+        return;
+    }
+    (w->*dead).push_back(h);
+    (w->*live).erase((w->*live).begin() + k);
+}
+
+// A create call made with fuzzed pointers: its result, the id it wrote, which pointer was NULL.
+template <class Id>
+struct Created {
+    pbf_result r;
+    Id out;
+    bool null_desc, null_out;
+};
+
+// create(world, desc, out) with desc (an exact-size heap copy of d) and out each NULL or not as
+// the input picks: a refused call writes a null id.
+template <class Id, class Desc, class Create>
+Created<Id> create_fuzzed(Reader& in, pbf_world_id world, const Desc& d, Create create) {
+    const uint8_t ptrs = in.u8();
+    Created<Id> c{PBF_OK, Id{0x11111111u, 0x22222222u}, ptrs < 8, (ptrs & 0xF0) == 0xF0};
+    const auto hd = heap(d);
+    c.r = checked(create(world, c.null_desc ? nullptr : hd.get(), c.null_out ? nullptr : &c.out));
+    if (c.r != PBF_OK && !c.null_out) FUZZ_ASSERT(c.out.index == 0 && c.out.generation == 0);
+    return c;
+}
+
 // ---- snapshots and invariants ----------------------------------------------------------------
 struct Snapshot {
     uint32_t count = 0;
@@ -561,6 +618,20 @@ void op_set_params(Reader& in, State& s) {
     FUZZ_ASSERT(std::memcmp(&now, &w->params, sizeof now) == 0);  // refused: unchanged
 }
 
+// get(world, out) with a poisoned out struct T of fuzzed struct_size, or NULL: a refused call
+// writes nothing, a wrong struct_size is refused. *written: the struct after the call.
+template <class T, class Get>
+pbf_result get_out(Reader& in, pbf_world_id id, bool null_out, Get get, std::unique_ptr<T>* written) {
+    T v;
+    std::memset(&v, 0x3C, sizeof v);
+    v.struct_size = in.struct_size(sizeof v);
+    *written = heap(v);
+    const pbf_result r = checked(get(id, null_out ? nullptr : written->get()));
+    if (r != PBF_OK && !null_out) FUZZ_ASSERT(std::memcmp(written->get(), &v, sizeof v) == 0);
+    if (!null_out && v.struct_size != sizeof v) FUZZ_ASSERT(r == PBF_ERROR_STRUCT_SIZE);
+    return r;
+}
+
 void op_get(Reader& in, State& s) {
     WorldModel* w = nullptr;
     const pbf_world_id id = pick_world(in, s, &w);
@@ -568,33 +639,18 @@ void op_get(Reader& in, State& s) {
     const bool null_out = in.u8() < 16;
     pbf_result r;
     if (which == 0) {
-        pbf_solver_params p;
-        std::memset(&p, 0x3C, sizeof p);
-        p.struct_size = in.struct_size(sizeof p);
-        const auto hp = heap(p);
-        r = checked(pbf_world_get_solver_params(id, null_out ? nullptr : hp.get()));
+        std::unique_ptr<pbf_solver_params> p;
+        r = get_out(in, id, null_out, pbf_world_get_solver_params, &p);
         FUZZ_ASSERT(r != PBF_OK || w != nullptr);
-        if (r != PBF_OK && !null_out) FUZZ_ASSERT(std::memcmp(hp.get(), &p, sizeof p) == 0);
-        if (r == PBF_OK) FUZZ_ASSERT(std::memcmp(hp.get(), &w->params, sizeof p) == 0);
-        if (!null_out && p.struct_size != sizeof p) FUZZ_ASSERT(r == PBF_ERROR_STRUCT_SIZE);
+        if (r == PBF_OK) FUZZ_ASSERT(std::memcmp(p.get(), &w->params, sizeof *p) == 0);
     } else if (which == 1) {
-        pbf_world_info info;
-        std::memset(&info, 0x3C, sizeof info);
-        info.struct_size = in.struct_size(sizeof info);
-        const auto hi = heap(info);
-        r = checked(pbf_world_get_info(id, null_out ? nullptr : hi.get()));
+        std::unique_ptr<pbf_world_info> info;
+        r = get_out(in, id, null_out, pbf_world_get_info, &info);
         FUZZ_ASSERT(r != PBF_OK || w != nullptr);
-        if (r != PBF_OK && !null_out) FUZZ_ASSERT(std::memcmp(hi.get(), &info, sizeof info) == 0);
-        if (r == PBF_OK) FUZZ_ASSERT(hi->max_particles == w->capacity && hi->grid_cells == w->grid_cells);
-        if (!null_out && info.struct_size != sizeof info) FUZZ_ASSERT(r == PBF_ERROR_STRUCT_SIZE);
+        if (r == PBF_OK) FUZZ_ASSERT(info->max_particles == w->capacity && info->grid_cells == w->grid_cells);
     } else if (which == 2) {
-        pbf_step_stats st;
-        std::memset(&st, 0x3C, sizeof st);
-        st.struct_size = in.struct_size(sizeof st);
-        const auto hs = heap(st);
-        r = checked(pbf_world_get_stats(id, null_out ? nullptr : hs.get()));
-        if (r != PBF_OK && !null_out) FUZZ_ASSERT(std::memcmp(hs.get(), &st, sizeof st) == 0);
-        if (!null_out && st.struct_size != sizeof st) FUZZ_ASSERT(r == PBF_ERROR_STRUCT_SIZE);
+        std::unique_ptr<pbf_step_stats> st;
+        r = get_out(in, id, null_out, pbf_world_get_stats, &st);
     } else {
         uint32_t n = 0x12345678u;
         r = checked(pbf_world_get_particle_count(id, null_out ? nullptr : &n));
@@ -712,21 +768,13 @@ void op_create_emitter(Reader& in, State& s) {
     const pbf_world_id id = pick_world(in, s, &w);
     pbf_emitter_desc e = pbf_emitter_desc_default();
     fill_emitter(in, w, &e);
-    const uint8_t ptrs = in.u8();
-    const bool null_desc = ptrs < 8, null_out = (ptrs & 0xF0) == 0xF0;
     if (g_trace)
         std::fprintf(stderr, "  emitter: type %d pos (%g %g %g) dir (%g %g %g) speed %g radius %g pps %g box (%g %g %g)..(%g %g %g)\n",
                      bits_of(e.type), e.position[0], e.position[1], e.position[2], e.direction[0], e.direction[1],
                      e.direction[2], e.speed, e.radius, e.particles_per_second, e.box_min[0], e.box_min[1],
                      e.box_min[2], e.box_max[0], e.box_max[1], e.box_max[2]);
-    const auto he = heap(e);
-    pbf_emitter_id out{0x11111111u, 0x22222222u};
-    const pbf_result r =
-        checked(pbf_world_create_emitter(id, null_desc ? nullptr : he.get(), null_out ? nullptr : &out));
-    if (r != PBF_OK) {
-        if (!null_out) FUZZ_ASSERT(out.index == 0 && out.generation == 0);
-        return;
-    }
+    const auto [r, out, null_desc, null_out] = create_fuzzed<pbf_emitter_id>(in, id, e, pbf_world_create_emitter);
+    if (r != PBF_OK) return;
     FUZZ_ASSERT(w && !null_desc && !null_out);
     FUZZ_ASSERT(emitter_valid(e));
     FUZZ_ASSERT(out.generation != 0 && find_live(w->emitters, out) < 0);
@@ -734,29 +782,11 @@ void op_create_emitter(Reader& in, State& s) {
 }
 
 void op_destroy_emitter(Reader& in, State& s) {
-    WorldModel* w = nullptr;
-    const pbf_world_id id = pick_world(in, s, &w);
-    static const std::vector<EmitterModel> kNone;
-    static const std::vector<pbf_emitter_id> kNoIds;
-    const pbf_emitter_id e = pick_handle(in, w ? w->emitters : kNone, w ? w->dead_emitters : kNoIds, s);
-    const pbf_result r = checked(pbf_world_destroy_emitter(id, e));
-    const int k = w ? find_live(w->emitters, e) : -1;
-    FUZZ_ASSERT((r == PBF_OK) == (k >= 0));
-    if (r != PBF_OK) {
-        FUZZ_ASSERT(r == PBF_ERROR_INVALID_HANDLE);
-        return;
-    }
-    w->dead_emitters.push_back(e);
-    w->emitters.erase(w->emitters.begin() + k);
+    destroy_picked(in, s, &WorldModel::emitters, &WorldModel::dead_emitters, pbf_world_destroy_emitter);
 }
 
 void op_emitter_update(Reader& in, State& s) {
-    WorldModel* w = nullptr;
-    const pbf_world_id id = pick_world(in, s, &w);
-    static const std::vector<EmitterModel> kNone;
-    static const std::vector<pbf_emitter_id> kNoIds;
-    const pbf_emitter_id e = pick_handle(in, w ? w->emitters : kNone, w ? w->dead_emitters : kNoIds, s);
-    const int k = w ? find_live(w->emitters, e) : -1;
+    const auto [w, id, e, k] = pick_object(in, s, &WorldModel::emitters, &WorldModel::dead_emitters);
     if (in.u8() & 1) {
         const uint32_t enabled = in.u32(0, 1);
         const pbf_result r = checked(pbf_emitter_set_enabled(id, e, enabled));
@@ -798,14 +828,8 @@ void op_create_collider(Reader& in, State& s) {
     for (int k = 0; k < 3; ++k) c.half_extents[k] = (mask & 0x08) ? in.f(-1.0f, 10.0f) : in.f(0.01f, 0.3f);
     if (mask & 0x10) c.friction = in.f(0.0f, 1.0f);
     if (mask & 0x20) c.struct_size = in.struct_size(sizeof c);
-    const uint8_t ptrs = in.u8();
-    const bool null_desc = ptrs < 8, null_out = (ptrs & 0xF0) == 0xF0;
-    const auto hc = heap(c);
-    pbf_collider_id out{0x11111111u, 0x22222222u};
-    const pbf_result r =
-        checked(pbf_world_create_collider(id, null_desc ? nullptr : hc.get(), null_out ? nullptr : &out));
+    const auto [r, out, null_desc, null_out] = create_fuzzed<pbf_collider_id>(in, id, c, pbf_world_create_collider);
     if (r != PBF_OK) {
-        if (!null_out) FUZZ_ASSERT(out.index == 0 && out.generation == 0);
         if (r == PBF_ERROR_CAPACITY) FUZZ_ASSERT(w && w->colliders.size() == 32);
         return;
     }
@@ -820,38 +844,20 @@ void op_create_collider(Reader& in, State& s) {
 }
 
 void op_destroy_collider(Reader& in, State& s) {
-    WorldModel* w = nullptr;
-    const pbf_world_id id = pick_world(in, s, &w);
-    static const std::vector<ColliderModel> kNone;
-    static const std::vector<pbf_collider_id> kNoIds;
-    const pbf_collider_id c = pick_handle(in, w ? w->colliders : kNone, w ? w->dead_colliders : kNoIds, s);
-    const pbf_result r = checked(pbf_world_destroy_collider(id, c));
-    const int k = w ? find_live(w->colliders, c) : -1;
-    FUZZ_ASSERT((r == PBF_OK) == (k >= 0));
-    if (r != PBF_OK) {
-        FUZZ_ASSERT(r == PBF_ERROR_INVALID_HANDLE);
-        return;
-    }
-    w->dead_colliders.push_back(c);
-    w->colliders.erase(w->colliders.begin() + k);
+    destroy_picked(in, s, &WorldModel::colliders, &WorldModel::dead_colliders, pbf_world_destroy_collider);
 }
 
 void op_set_pose(Reader& in, State& s) {
-    WorldModel* w = nullptr;
-    const pbf_world_id id = pick_world(in, s, &w);
-    static const std::vector<ColliderModel> kNone;
-    static const std::vector<pbf_collider_id> kNoIds;
-    const pbf_collider_id c = pick_handle(in, w ? w->colliders : kNone, w ? w->dead_colliders : kNoIds, s);
+    const auto [w, id, c, k] = pick_object(in, s, &WorldModel::colliders, &WorldModel::dead_colliders);
     float p[3], q[4] = {0.0f, 0.0f, 0.0f, 1.0f};
     in.vec3(p, -1.0f, 1.0f);
     const uint8_t mode = in.u8();
     if (mode & 1)
-        for (int k = 0; k < 4; ++k) q[k] = in.f(-1.0f, 1.0f);
+        for (int i = 0; i < 4; ++i) q[i] = in.f(-1.0f, 1.0f);
     const auto hp = std::unique_ptr<float[]>(new float[3]{p[0], p[1], p[2]});
     const auto hq = std::unique_ptr<float[]>(new float[4]{q[0], q[1], q[2], q[3]});
     const bool null_p = (mode & 0xF0) == 0xF0, null_q = (mode & 0x0E) == 0x0E;
     const pbf_result r = checked(pbf_collider_set_target_pose(id, c, null_p ? nullptr : hp.get(), null_q ? nullptr : hq.get()));
-    const int k = w ? find_live(w->colliders, c) : -1;
     if (r == PBF_OK) {
         FUZZ_ASSERT(k >= 0 && w->colliders[k].motion == PBF_MOTION_KINEMATIC);
         FUZZ_ASSERT(!null_p && !null_q && finite3(p) && std::isfinite(q[0]) && std::isfinite(q[1]) &&

@@ -58,6 +58,17 @@ std::string data_array(const std::vector<unsigned char>& payload) {
     return base64(block.data(), block.size());
 }
 
+// A whole inline binary <DataArray> element at the Piece's data indent: the opening tag (with
+// NumberOfComponents where it is more than 1), the data, the closing tag.
+void put_data_array(File& f, const char* type, const char* name, int components,
+                    const std::vector<unsigned char>& payload) {
+    std::string open = std::string("        <DataArray type=\"") + type + "\" Name=\"" + name + "\"";
+    if (components > 1) open += " NumberOfComponents=\"" + std::to_string(components) + "\"";
+    f.text(open + " format=\"binary\">\n");
+    f.text(data_array(payload));
+    f.text("\n        </DataArray>\n");
+}
+
 std::string xml_escape(const std::string& s) {
     std::string out;
     for (char ch : s) {
@@ -164,23 +175,15 @@ void write_vtp(const std::string& path, const Frame& fr) {
                   (long long)fr.index, fr.time, n, n);
     f.text(head);
     f.text("      <PointData Scalars=\"density_ratio\" Vectors=\"velocity\">\n");
-    f.text("        <DataArray type=\"Float32\" Name=\"velocity\" NumberOfComponents=\"3\" format=\"binary\">\n");
-    f.text(data_array(velocity));
-    f.text("\n        </DataArray>\n");
-    f.text("        <DataArray type=\"Float32\" Name=\"density_ratio\" format=\"binary\">\n");
-    f.text(data_array(density));
-    f.text("\n        </DataArray>\n");
-    f.text("        <DataArray type=\"UInt32\" Name=\"id\" format=\"binary\">\n");
-    f.text(data_array(ids));
-    f.text("\n        </DataArray>\n      </PointData>\n");
-    f.text("      <Points>\n        <DataArray type=\"Float32\" Name=\"Points\" NumberOfComponents=\"3\" format=\"binary\">\n");
-    f.text(data_array(points));
-    f.text("\n        </DataArray>\n      </Points>\n");
-    f.text("      <Verts>\n        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"binary\">\n");
-    f.text(data_array(conn));
-    f.text("\n        </DataArray>\n        <DataArray type=\"Int64\" Name=\"offsets\" format=\"binary\">\n");
-    f.text(data_array(offs));
-    f.text("\n        </DataArray>\n      </Verts>\n    </Piece>\n  </PolyData>\n</VTKFile>\n");
+    put_data_array(f, "Float32", "velocity", 3, velocity);
+    put_data_array(f, "Float32", "density_ratio", 1, density);
+    put_data_array(f, "UInt32", "id", 1, ids);
+    f.text("      </PointData>\n      <Points>\n");
+    put_data_array(f, "Float32", "Points", 3, points);
+    f.text("      </Points>\n      <Verts>\n");
+    put_data_array(f, "Int64", "connectivity", 1, conn);
+    put_data_array(f, "Int64", "offsets", 1, offs);
+    f.text("      </Verts>\n    </Piece>\n  </PolyData>\n</VTKFile>\n");
     f.close();
 }
 

@@ -37,6 +37,7 @@ mkdir -p "$OUT"
 nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader > "$OUT/device.txt" 2>&1
 cat "$OUT/device.txt"
 failures=0
+source "$(dirname "${BASH_SOURCE[0]}")/k_sweep.sh"  # k_sweep BASE
 
 run() {  # run NAME ARGS...
   local name=$1; shift
@@ -86,14 +87,7 @@ for it in 1 2 3; do
 done
 
 # 3. K sweep.
-for g in 0.03 0.2 0.3 0.5 0.8 1.0; do
-  run dam_ldc1_g$g  --scene dam  $BASE --iterations 1 --ldc 1 --gain $g --frames 90
-  run tank_ldc1_g$g --scene tank $BASE --iterations 1 --ldc 1 --gain $g --frames 60
-done
-for g in 0.03 0.2 0.3 0.5; do
-  run dam_ldc2_g$g  --scene dam  $BASE --iterations 2 --ldc 1 --gain $g --frames 90
-  run tank_ldc2_g$g --scene tank $BASE --iterations 2 --ldc 1 --gain $g --frames 60
-done
+k_sweep "$BASE"
 
 # 4. Martin & Moyce, finer than the CPU can afford (thickness a/3 as on the CPU).
 for res in "64 21" "96 32" "128 43"; do

@@ -45,6 +45,7 @@
 #include <CLI/CLI.hpp>
 
 #include "paper_scene.h"
+#include "tool_support.h"
 
 namespace {
 
@@ -62,17 +63,7 @@ struct Args {
     }
 };
 
-std::vector<std::string> split(const std::string& s) {
-    std::vector<std::string> out;
-    size_t start = 0;
-    while (start <= s.size()) {
-        const size_t comma = s.find(',', start);
-        out.push_back(s.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
-        if (comma == std::string::npos) break;
-        start = comma + 1;
-    }
-    return out;
-}
+using tool::split_list;
 
 bool check(pbf_result r, const char* what) {
     if (r == PBF_OK) return true;
@@ -126,9 +117,7 @@ int cmd_run(const Args& args) {
     pbf_world_id w;
     if (!check(pbf_world_create(&d, &w), "pbf_world_create")) return 1;
     pbf_world_info info;
-    std::memset(&info, 0, sizeof info);
-    info.struct_size = sizeof info;
-    if (!check(pbf_world_get_info(w, &info), "pbf_world_get_info")) return 1;
+    if (!check(tool::read_info(w, &info), "pbf_world_get_info")) return 1;
     uint32_t n = 0;
     if (!check(paper::emit_fluid(w, sc, &n), "emit")) return 1;
 
@@ -139,7 +128,7 @@ int cmd_run(const Args& args) {
         return 1;
     }
     std::vector<double> snap_times;
-    for (const std::string& t : split(args.get("--snap-times", "")))
+    for (const std::string& t : split_list(args.get("--snap-times", "")))
         if (!t.empty()) snap_times.push_back(std::atof(t.c_str()));
     const std::string snap_prefix = args.get("--snap-prefix", "");
 
@@ -256,9 +245,9 @@ int cmd_timing(const Args& args) {
     // shared machine, load from other jobs then hits both methods alike and their difference
     // (LDC's cost) stays meaningful.
     // With --adaptive-target, each target (0: fixed) is timed with each iteration count as the cap.
-    const std::vector<std::string> ldcs = split(args.get("--ldc", "0,1"));
-    for (const std::string& target : split(args.get("--adaptive-target", "0"))) {
-        for (const std::string& it : split(args.get("--iterations", "1,2,3,4,5,6"))) {
+    const std::vector<std::string> ldcs = split_list(args.get("--ldc", "0,1"));
+    for (const std::string& target : split_list(args.get("--adaptive-target", "0"))) {
+        for (const std::string& it : split_list(args.get("--iterations", "1,2,3,4,5,6"))) {
             struct Entry {
                 pbf_world_desc d;
                 pbf_world_id w;
@@ -278,9 +267,7 @@ int cmd_timing(const Args& args) {
                 e.d.solver.substeps = 1;
                 e.d.solver.adaptive_error_target = float(std::atof(target.c_str()));
                 if (!check(pbf_world_create(&e.d, &e.w), "pbf_world_create")) return 1;
-                std::memset(&e.info, 0, sizeof e.info);
-                e.info.struct_size = sizeof e.info;
-                if (!check(pbf_world_get_info(e.w, &e.info), "info")) return 1;
+                if (!check(tool::read_info(e.w, &e.info), "info")) return 1;
                 if (!check(paper::emit_fluid(e.w, sc, &e.n), "emit")) return 1;
             }
             for (int k = 0; k < warmup + steps; ++k)

@@ -25,6 +25,7 @@ PY=${PYTHON:-python3}
 # One OpenMP thread per run: on a shared 2-core machine two spinning threads run ~3x slower
 # than one. The physics does not depend on the thread count (per-particle passes, no atomics).
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}
+source tools/paper/k_sweep.sh  # k_sweep BASE
 
 if [[ "${1:-}" == "--plots-only" ]]; then
   exec "$PY" tools/paper/plot.py --data "$DATA" --snapshots "$SNAP" --out docs/paper
@@ -71,14 +72,7 @@ for it in 1 2 3; do
 done
 
 # 2. K sweep (gain = K·Δt²) at 1 and 2 iterations; gain 0 is conventional, 0.1 is above.
-for g in 0.03 0.2 0.3 0.5 0.8 1.0; do
-  run dam_ldc1_g$g  --scene dam  $BASE --iterations 1 --ldc 1 --gain $g --frames 90
-  run tank_ldc1_g$g --scene tank $BASE --iterations 1 --ldc 1 --gain $g --frames 60
-done
-for g in 0.03 0.2 0.3 0.5; do
-  run dam_ldc2_g$g  --scene dam  $BASE --iterations 2 --ldc 1 --gain $g --frames 90
-  run tank_ldc2_g$g --scene tank $BASE --iterations 2 --ldc 1 --gain $g --frames 60
-done
+k_sweep "$BASE"
 
 # 3. Substeps: stability of 1-2 iterations with fewer (and more) substeps than the rule's 7.
 for S in 1 2 4 10 16; do

@@ -122,9 +122,7 @@ namespace Pbf
         public GlBuffer RegisterGlBuffer(GlBufferDesc desc)
         {
             if (desc == null) throw new ArgumentNullException("desc");
-            pbf_gl_buffer_desc raw = desc.ToNative();
-            pbf_gl_buffer_id id;
-            PbfException.Check(Native.pbf_world_register_gl_buffer(Handle, ref raw, out id));
+            var id = CreateNative<pbf_gl_buffer_desc, pbf_gl_buffer_id>(Native.pbf_world_register_gl_buffer, desc.ToNative());
             return new GlBuffer(this, id, desc.Mode);
         }
 
@@ -250,27 +248,17 @@ namespace Pbf
 
     /// <summary>A GL buffer registered with a world (<see cref="World.RegisterGlBuffer"/>). After
     /// <see cref="Unregister"/> the handle is stale: further calls throw <see cref="Result.InvalidHandle"/>.</summary>
-    public sealed class GlBuffer
+    public sealed class GlBuffer : WorldHandle<pbf_gl_buffer_id>
     {
-        readonly World _world;
-        readonly pbf_gl_buffer_id _id;
+        internal GlBuffer(World world, pbf_gl_buffer_id id, CopyMode mode) : base(world, id) { Mode = mode; }
 
-        internal GlBuffer(World world, pbf_gl_buffer_id id, CopyMode mode)
-        {
-            _world = world;
-            _id = id;
-            Mode = mode;
-        }
-
-        public World World { get { return _world; } }
-        public pbf_gl_buffer_id Id { get { return _id; } }
         public CopyMode Mode { get; private set; }
 
         /// <summary>pbf_world_copy_to_gl_buffer: queues a copy of the current particles now.</summary>
-        public void Copy() { PbfException.Check(Native.pbf_world_copy_to_gl_buffer(_world.Handle, _id)); }
+        public void Copy() { PbfException.Check(Native.pbf_world_copy_to_gl_buffer(World.Handle, Id)); }
 
         /// <summary>pbf_world_unregister_gl_buffer (GL context current, as for registration).</summary>
-        public void Unregister() { PbfException.Check(Native.pbf_world_unregister_gl_buffer(_world.Handle, _id)); }
+        public void Unregister() { PbfException.Check(Native.pbf_world_unregister_gl_buffer(World.Handle, Id)); }
     }
 
     /// <summary>Interop state of a world (pbf_interop_info).</summary>

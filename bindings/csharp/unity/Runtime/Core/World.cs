@@ -160,12 +160,21 @@ namespace Pbf
             return EmitBlock(new BlockDesc(boxMin, boxMax) { Velocity = velocity });
         }
 
+        /// <summary>A native call that makes an object of this world from a desc and returns its handle.</summary>
+        internal delegate pbf_result NativeCreate<TDesc, TId>(pbf_world_id world, ref TDesc desc, out TId id);
+
+        /// <summary>Runs create on this world with raw; returns the new handle, throws on failure.</summary>
+        internal TId CreateNative<TDesc, TId>(NativeCreate<TDesc, TId> create, TDesc raw)
+        {
+            TId id;
+            PbfException.Check(create(Handle, ref raw, out id));
+            return id;
+        }
+
         public Emitter CreateEmitter(EmitterDesc desc)
         {
             if (desc == null) throw new ArgumentNullException("desc");
-            pbf_emitter_desc raw = desc.ToNative();
-            pbf_emitter_id id;
-            PbfException.Check(Native.pbf_world_create_emitter(Handle, ref raw, out id));
+            var id = CreateNative<pbf_emitter_desc, pbf_emitter_id>(Native.pbf_world_create_emitter, desc.ToNative());
             return new Emitter(this, id, desc.Type);
         }
 
@@ -182,9 +191,7 @@ namespace Pbf
         public Collider CreateCollider(ColliderDesc desc)
         {
             if (desc == null) throw new ArgumentNullException("desc");
-            pbf_collider_desc raw = desc.ToNative();
-            pbf_collider_id id;
-            PbfException.Check(Native.pbf_world_create_collider(Handle, ref raw, out id));
+            var id = CreateNative<pbf_collider_desc, pbf_collider_id>(Native.pbf_world_create_collider, desc.ToNative());
             return new Collider(this, id, desc.Shape, desc.Motion);
         }
 
