@@ -112,9 +112,11 @@ typedef struct pbf_solver_params {
     uint32_t substeps;          /* substeps per pbf_world_step. 0 (default): automatic, chosen per
                                    step (from the last finished step's fastest particle, read
                                    without waiting, the nozzles and the kinematic colliders) so that
-                                   the fastest particle moves at most substep_travel·h per substep
-                                   and gravity alone moves a resting one at most substep_travel·h/64,
-                                   up to max_substeps. 1..64: exactly that many. */
+                                   the fastest particle moves at most substep_travel·h per substep,
+                                   gravity alone moves a resting one at most substep_travel·h/64,
+                                   and a resting column as deep as the fluid's extent along gravity
+                                   compresses at most ~10 % at its bottom (README, Physics), up to
+                                   max_substeps. 1..64: exactly that many. */
     float relaxation;           /* ε of λ (constraint force mixing), relative to the constraint
                                    gradient norm of a particle at rest density; > 0 (default 1).
                                    Smaller converges faster per iteration but a Jacobi sweep
@@ -163,6 +165,50 @@ static inline pbf_solver_params pbf_solver_params_default(void) {
     return p;
 }
 
+/* ---- Render data -------------------------------------------------------------------------- */
+/* What a renderer draws besides the positions, computed at the end of every step from the
+ * step's own neighbour lists (one extra pass; with flags 0 a world allocates nothing for it and
+ * runs nothing), after Yu & Turk 2013, "Reconstructing surfaces of particle-based fluids using
+ * anisotropic kernels". Read it like the positions: pbf_world_copy_buffer, the device pointers
+ * (pbf_device_buffers) and copies into GL / Vulkan buffers (source PBF_BUFFER_SMOOTHED_POSITIONS
+ * or PBF_BUFFER_ANISOTROPY). Storage order is the positions' (index k is one particle). */
+#define PBF_RENDER_SMOOTHED_POSITIONS 0x1u /* 16 bytes per particle: float x̄, ȳ, z̄, density ratio:
+                                              x̄ = (1 - smoothing)·x + smoothing·(the weighted mean
+                                              of its neighbours within h) */
+#define PBF_RENDER_ANISOTROPY 0x2u         /* 48 bytes per particle: 3 float4 rows, the principal
+                                              axes of its neighbourhood, longest first; each row is
+                                              (unit axis x, y, z, radius in m). The particle's
+                                              ellipsoid is Σ_k radius_k² axis_k axis_kᵀ. */
+
+typedef struct pbf_render_params {
+    uint32_t struct_size;
+    uint32_t flags;             /* PBF_RENDER_* the world computes; default 0 (none). Fixed at
+                                   world creation (its buffers are allocated then). */
+    float smoothing;            /* λ of the Laplacian smoothing, 0..1 (default 0.9; 0: the
+                                   positions themselves). Surface particles move inward by up to
+                                   λ times their neighbourhood's offset (0.4 rest spacings at a
+                                   flat surface); interior particles of an even fluid stay put. */
+    float max_stretch;          /* k_r: the longest radius of an ellipsoid is at most this many
+                                   times its shortest, 1..100 (default 4) */
+    float scale;                /* k_s: radius, in particle radii, of a particle whose neighbours
+                                   lie as in a rest lattice; radii scale linearly with the
+                                   covariance's eigenvalues. (0, 100] (default 1) */
+    float isolated_scale;       /* k_n: radius, in particle radii, of a particle with fewer than
+                                   min_neighbors neighbours (a sphere), (0, 100] (default 0.5) */
+    uint32_t min_neighbors;     /* N_ε: neighbours within h (itself included) below which a
+                                   particle stays round, 0..1000 (default 6; a full neighbourhood
+                                   holds about 33, a flat surface 18, a single-file stream 3) */
+    uint32_t reserved0;         /* 0 */
+} pbf_render_params;
+PBF_API pbf_result PBF_CALL pbf_render_params_init(pbf_render_params* params, uint32_t struct_size);
+static inline pbf_render_params pbf_render_params_default(void) {
+    pbf_render_params p;
+    memset(&p, 0, sizeof p);
+    p.struct_size = (uint32_t)sizeof(pbf_render_params);
+    (void)pbf_render_params_init(&p, p.struct_size);
+    return p;
+}
+
 /* ---- World -------------------------------------------------------------------------------- */
 typedef enum pbf_backend {
     PBF_BACKEND_AUTO = 0,  /* CUDA when built in and a device exists, else CPU */
@@ -183,6 +229,7 @@ typedef struct pbf_world_desc {
     float domain_min[3];        /* the walls: an axis-aligned box that contains all particles */
     float domain_max[3];        /* (default -1,0,-1 .. 1,2,1) */
     pbf_solver_params solver;
+    pbf_render_params render;   /* render data (default: none) */
     uint32_t max_colliders;     /* collider capacity, 1..2048, allocated up front (default 256).
                                    Each collider costs about 3.3 KB of backend memory (its poses
                                    for up to 64 substeps); every particle scans the colliders'
@@ -212,6 +259,11 @@ PBF_API pbf_result PBF_CALL pbf_world_step(pbf_world_id world, float dt);
 PBF_API pbf_result PBF_CALL pbf_world_get_solver_params(pbf_world_id world, pbf_solver_params* out_params);
 PBF_API pbf_result PBF_CALL pbf_world_set_solver_params(pbf_world_id world, const pbf_solver_params* params);
 PBF_API pbf_result PBF_CALL pbf_world_set_gravity(pbf_world_id world, const float gravity[3]);
+/* The world's render parameters (desc.render), and new ones from the next step or emission on;
+ * the buffers keep their data until then. flags are fixed at creation: params.flags must equal
+ * the world's (PBF_ERROR_INVALID_STATE otherwise). */
+PBF_API pbf_result PBF_CALL pbf_world_get_render_params(pbf_world_id world, pbf_render_params* out_params);
+PBF_API pbf_result PBF_CALL pbf_world_set_render_params(pbf_world_id world, const pbf_render_params* params);
 
 typedef struct pbf_world_info {
     uint32_t struct_size;
@@ -224,6 +276,11 @@ typedef struct pbf_world_info {
     uint32_t grid_cells;        /* uniform grid cells over the domain (cell size h) */
     uint64_t device_bytes;      /* memory the world allocated on its backend */
     char device_name[128];      /* e.g. "NVIDIA H100 80GB HBM3" or "CPU (8 threads)" */
+    uint32_t render_flags;      /* PBF_RENDER_* the world computes (desc.render.flags) */
+    uint32_t reserved0;
+    uint64_t render_bytes;      /* part of device_bytes the render data takes (0 with flags 0) */
+    uint64_t render_updates;    /* render passes run so far: one per step (and per
+                                   pbf_world_emit_block) with render data on, 0 with it off */
 } pbf_world_info;
 PBF_API pbf_result PBF_CALL pbf_world_get_info(pbf_world_id world, pbf_world_info* out_info);
 
@@ -413,6 +470,22 @@ PBF_API pbf_result PBF_CALL pbf_world_copy_velocities(pbf_world_id world, float*
 PBF_API pbf_result PBF_CALL pbf_world_copy_ids(pbf_world_id world, uint32_t* out_ids,
                                                uint32_t max_count, uint32_t* out_written);
 
+/* The particle buffers by name, for pbf_world_copy_buffer and the copies into graphics buffers. */
+typedef enum pbf_buffer {
+    PBF_BUFFER_POSITIONS = 1,   /* 16 bytes per particle: float x, y, z, density ratio */
+    PBF_BUFFER_VELOCITIES = 2,  /* 16 bytes per particle: float vx, vy, vz, 0 */
+    PBF_BUFFER_IDS = 3,         /* 4 bytes per particle: uint32_t */
+    PBF_BUFFER_SMOOTHED_POSITIONS = 4, /* 16 bytes per particle (PBF_RENDER_SMOOTHED_POSITIONS) */
+    PBF_BUFFER_ANISOTROPY = 5,  /* 48 bytes per particle (PBF_RENDER_ANISOTROPY) */
+    PBF_BUFFER_FORCE32 = 0x7FFFFFFF
+} pbf_buffer;
+/* Copies min(count, out_bytes / element size) particles of one buffer into out (element sizes
+ * above; out_bytes must be a multiple of the element size). Works on both backends. A render
+ * buffer the world does not compute (desc.render.flags) is refused with
+ * PBF_ERROR_INVALID_STATE. */
+PBF_API pbf_result PBF_CALL pbf_world_copy_buffer(pbf_world_id world, pbf_buffer source, void* out,
+                                                  uint64_t out_bytes, uint32_t* out_written);
+
 typedef enum pbf_memory_kind {
     PBF_MEMORY_HOST = 1,        /* CPU backend: an ordinary host pointer */
     PBF_MEMORY_CUDA_DEVICE = 2, /* CUDA backend: a device pointer on the world's desc.cuda_device */
@@ -521,6 +594,12 @@ typedef struct pbf_device_buffers {
     uint32_t id_stride_bytes;   /* 4 */
     int32_t cuda_device;        /* the device the pointers belong to; -1 on the CPU backend */
     uint32_t reserved0;
+    void* smoothed_positions;   /* float x̄, ȳ, z̄, density ratio (PBF_RENDER_SMOOTHED_POSITIONS);
+                                   NULL when the world does not compute it */
+    void* anisotropy;           /* 3 float4 per particle (PBF_RENDER_ANISOTROPY); NULL when not
+                                   computed */
+    uint32_t anisotropy_stride_bytes; /* 48: particle k's rows start at anisotropy + 48·k */
+    uint32_t render_flags;      /* PBF_RENDER_* the world computes */
 } pbf_device_buffers;
 
 /* Maps the live particle buffers without copying them. Read-only for the caller. Valid until
@@ -538,12 +617,6 @@ PBF_API pbf_result PBF_CALL pbf_world_map_device_buffers(pbf_world_id world, uin
                                                          pbf_device_buffers* out_buffers);
 
 /* ---- Copies into graphics buffers: common settings --------------------------------------- */
-typedef enum pbf_buffer {
-    PBF_BUFFER_POSITIONS = 1,   /* 16 bytes per particle: float x, y, z, density ratio */
-    PBF_BUFFER_VELOCITIES = 2,  /* 16 bytes per particle: float vx, vy, vz, 0 */
-    PBF_BUFFER_IDS = 3,         /* 4 bytes per particle: uint32_t */
-    PBF_BUFFER_FORCE32 = 0x7FFFFFFF
-} pbf_buffer;
 
 typedef enum pbf_copy_mode {
     PBF_COPY_ON_STEP = 1,         /* pbf_world_step queues the copy after each step */

@@ -208,13 +208,17 @@ inline Particles read(pbf_world_id w) {
     return p;
 }
 
-inline pbf_step_stats stats(pbf_world_id w) {
-    pbf_step_stats s;
+// An output struct, zeroed with its struct_size set, as get(w, &s) fills it.
+template <class T, class Get>
+inline T read_struct(pbf_world_id w, Get get) {
+    T s;
     std::memset(&s, 0, sizeof s);
     s.struct_size = sizeof s;
-    REQUIRE_PBF(pbf_world_get_stats(w, &s));
+    REQUIRE_PBF(get(w, &s));
     return s;
 }
+
+inline pbf_step_stats stats(pbf_world_id w) { return read_struct<pbf_step_stats>(w, pbf_world_get_stats); }
 
 // A tank of size (lx, ly, lz) at the origin, particle radius r.
 inline pbf_world_desc tank(pbf_backend backend, float r, float lx, float ly, float lz, uint32_t capacity) {
@@ -285,6 +289,49 @@ inline double mean_axis(const Particles& p, int axis) {
     double s = 0;
     for (uint32_t i = 0; i < p.count; ++i) s += p.pos[4 * i + axis];
     return p.count ? s / p.count : 0.0;
+}
+
+// ---- render data (pbf_render_params) --------------------------------------------------------
+// The positions with the render buffers the world computes (empty where it computes none).
+struct RenderData {
+    std::vector<float> pos, smoothed, aniso;  // 4 floats per particle; aniso 12 (3 rows)
+    uint32_t count = 0;
+    const float* row(uint32_t i, int k) const { return &aniso[size_t(i) * 12 + size_t(k) * 4]; }
+};
+
+inline pbf_world_info world_info(pbf_world_id w) { return read_struct<pbf_world_info>(w, pbf_world_get_info); }
+
+inline RenderData read_render(pbf_world_id w) {
+    RenderData r;
+    REQUIRE_PBF(pbf_world_get_particle_count(w, &r.count));
+    const uint32_t flags = world_info(w).render_flags;
+    auto copy = [&](pbf_buffer source, std::vector<float>& out, size_t floats) {
+        out.assign(size_t(r.count) * floats, -7.0f);
+        uint32_t n = 0;
+        REQUIRE_PBF(pbf_world_copy_buffer(w, source, out.data(), out.size() * sizeof(float), &n));
+        REQUIRE(n == r.count);
+    };
+    copy(PBF_BUFFER_POSITIONS, r.pos, 4);
+    if (flags & PBF_RENDER_SMOOTHED_POSITIONS) copy(PBF_BUFFER_SMOOTHED_POSITIONS, r.smoothed, 4);
+    if (flags & PBF_RENDER_ANISOTROPY) copy(PBF_BUFFER_ANISOTROPY, r.aniso, 12);
+    return r;
+}
+
+// Particle i's ellipsoid Σ_k r_k² a_k a_kᵀ (xx, xy, xz, yy, yz, zz): independent of the axes'
+// signs and of the basis chosen for equal radii, so two backends' results compare entry-wise.
+inline std::array<double, 6> ellipsoid(const RenderData& r, uint32_t i) {
+    std::array<double, 6> e{};
+    for (int k = 0; k < 3; ++k) {
+        const float* a = r.row(i, k);
+        const double r2 = double(a[3]) * a[3];
+        e[0] += r2 * a[0] * a[0];
+        e[1] += r2 * a[0] * a[1];
+        e[2] += r2 * a[0] * a[2];
+        e[3] += r2 * a[1] * a[1];
+        e[4] += r2 * a[1] * a[2];
+        e[5] += r2 * a[2] * a[2];
+    }
+    return e;
 }
 
 }  // namespace scene

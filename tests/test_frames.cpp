@@ -56,3 +56,27 @@ TEST_CASE("frames: conventional PBF (LDC off), 4 iterations, automatic substeps 
 TEST_CASE("frames: LDC with 2 iterations, automatic substeps holds the dam break", "[frames][realtime]") {
     check_ok(run_cut(true, 0, 2, true));
 }
+
+// The 1M tank's depth (a = 0.4 m, 100 layers, h = 8 mm) in a narrow column, 12 x 100 x 4
+// particles: the tank at that resolution, whose first rebound gained energy (KE + ΔPE up to
+// 0.2 M g a at frame 10) before the automatic substeps had a depth rule (docs/perf.md, Frames).
+TEST_CASE("frames: the defaults hold a resting column 100 layers deep at 60 Hz and it ends at rest",
+          "[frames][realtime]") {
+    frames::FrameCase c;
+    c.scene.dam = false;
+    c.scene.a = 0.4f;
+    c.scene.na = 100;
+    c.scene.nz = 4;
+    c.scene.tank_width = 0.12f;  // 12 particles across
+    c.scene.backend = PBF_BACKEND_CPU;
+    c.substeps = 0;
+    c.iterations = 4;
+    c.ldc = true;
+    const frames::FrameResult r = frames::run_frames(c);
+    INFO("verdict " << r.verdict << ": max (KE + dPE) / Mga " << r.max_energy_gain << ", error mean " << r.err_mean
+                    << " max " << r.err_max << ", KE_end " << r.ke_end << " Mga, vmax_end " << r.vmax_end
+                    << " m/s, substeps " << r.substeps_mean << " (max " << r.substeps_max << ")");
+    CHECK(r.particles == 12u * 100u * 4u);
+    CHECK(r.frames_run == 120);
+    CHECK(r.verdict == "ok");
+}

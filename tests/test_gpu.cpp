@@ -115,3 +115,67 @@ TEST_CASE("CUDA: nozzle, drain and capacity accounting is exact", "[gpu]") {
     CHECK(all_finite(read(w)));
     REQUIRE_PBF(pbf_world_destroy(w));
 }
+
+TEST_CASE("CUDA and CPU agree on render data: after an emission and after a step", "[gpu][render]") {
+    pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.0125f, 0.8f, 0.5f, 0.2f, 8192);
+    d.solver.substeps = 2;
+    d.render.flags = PBF_RENDER_SMOOTHED_POSITIONS | PBF_RENDER_ANISOTROPY;
+    pbf_world_id cpu, gpu;
+    REQUIRE_PBF(pbf_world_create(&d, &cpu));
+    d.backend = PBF_BACKEND_CUDA;
+    REQUIRE_PBF(pbf_world_create(&d, &gpu));
+    fill(cpu, 0, 0, 0, 0.2f, 0.4f, 0.2f);
+    fill(gpu, 0, 0, 0, 0.2f, 0.4f, 0.2f);
+    for (int step = 0; step < 2; ++step) {
+        INFO((step ? "after 1 step" : "after the emission"));
+        const RenderData a = read_render(cpu), b = read_render(gpu);
+        const Particles pa = read(cpu), pb = read(gpu);
+        REQUIRE(a.count == b.count);
+        REQUIRE(pa.count == a.count);
+        // Particle by particle, matched by id (each world's render rows follow its own ids).
+        std::map<uint32_t, uint32_t> gpu_index;
+        for (uint32_t j = 0; j < pb.count; ++j) gpu_index[pb.ids[j]] = j;
+        double worst_smoothed = 0, worst_ellipsoid = 0;
+        const double r2 = 0.0125 * 0.0125;
+        for (uint32_t i = 0; i < a.count; ++i) {
+            const uint32_t j = gpu_index.at(pa.ids[i]);
+            for (int k = 0; k < 3; ++k)
+                worst_smoothed = std::max(worst_smoothed, double(std::fabs(a.smoothed[4 * i + k] - b.smoothed[4 * j + k])));
+            const auto ea = ellipsoid(a, i), eb = ellipsoid(b, j);
+            for (int k = 0; k < 6; ++k) worst_ellipsoid = std::max(worst_ellipsoid, std::fabs(ea[k] - eb[k]) / r2);
+        }
+        INFO("largest smoothed-position difference " << worst_smoothed << " m, ellipsoid entry difference "
+                                                     << worst_ellipsoid << " r²");
+        CHECK(worst_smoothed < 1e-5);
+        CHECK(worst_ellipsoid < 1e-3);
+        REQUIRE_PBF(pbf_world_step(cpu, kDt));
+        REQUIRE_PBF(pbf_world_step(gpu, kDt));
+    }
+    pbf_world_info ic = world_info(cpu), ig = world_info(gpu);
+    CHECK(ig.render_bytes == ic.render_bytes);
+    CHECK(ig.render_updates == 3u);  // the emission and 2 steps
+    REQUIRE_PBF(pbf_world_destroy(cpu));
+    REQUIRE_PBF(pbf_world_destroy(gpu));
+}
+
+TEST_CASE("CUDA without render data: no render bytes, no render pass", "[gpu][render]") {
+    pbf_world_desc d = tank(PBF_BACKEND_CUDA, 0.0125f, 0.8f, 0.5f, 0.2f, 8192);
+    pbf_world_id off, on;
+    REQUIRE_PBF(pbf_world_create(&d, &off));
+    d.render.flags = PBF_RENDER_SMOOTHED_POSITIONS | PBF_RENDER_ANISOTROPY;
+    REQUIRE_PBF(pbf_world_create(&d, &on));
+    for (pbf_world_id w : {off, on}) {
+        fill(w, 0, 0, 0, 0.2f, 0.4f, 0.2f);
+        for (int s = 0; s < 3; ++s) REQUIRE_PBF(pbf_world_step(w, kDt));
+    }
+    const pbf_world_info a = world_info(off), b = world_info(on);
+    CHECK(a.render_bytes == 0u);
+    CHECK(a.render_updates == 0u);
+    CHECK(b.render_bytes == 8192u * 64u);
+    CHECK(b.device_bytes == a.device_bytes + b.render_bytes);
+    uint32_t written = 0;
+    float out[12];
+    CHECK(pbf_world_copy_buffer(off, PBF_BUFFER_ANISOTROPY, out, sizeof out, &written) == PBF_ERROR_INVALID_STATE);
+    REQUIRE_PBF(pbf_world_destroy(off));
+    REQUIRE_PBF(pbf_world_destroy(on));
+}

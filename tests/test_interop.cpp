@@ -564,3 +564,82 @@ TEST_CASE("interop Vulkan: external buffer equals copy-out; binary and timeline 
     }
 #endif
 }
+
+TEST_CASE("interop: render data through device pointers and GL buffers equals copy-out", "[gpu][interop][render]") {
+#if !PBF_TEST_HAVE_CUDART
+    WARN("not built: the test needs the CUDA runtime (a CUDA build)");
+#else
+    pbf_world_desc d = tank(PBF_BACKEND_CUDA, 0.0125f, 0.8f, 0.5f, 0.2f, 8192);
+    d.solver.substeps = 2;
+    d.render.flags = PBF_RENDER_SMOOTHED_POSITIONS | PBF_RENDER_ANISOTROPY;
+    pbf_world_id w;
+    REQUIRE_PBF(pbf_world_create(&d, &w));
+    fill(w, 0, 0, 0, 0.2f, 0.4f, 0.2f);
+    for (int s = 0; s < 2; ++s) REQUIRE_PBF(pbf_world_step(w, kDt));
+
+    // Device pointers, read on the world's stream after a no-wait mapping.
+    const uint64_t before = transfers();
+    pbf_device_buffers b;
+    std::memset(&b, 0, sizeof b);
+    b.struct_size = sizeof b;
+    REQUIRE_PBF(pbf_world_map_device_buffers(w, PBF_MAP_NO_WAIT, &b));
+    CHECK(transfers() == before);
+    REQUIRE(b.smoothed_positions != nullptr);
+    REQUIRE(b.anisotropy != nullptr);
+    CHECK(b.anisotropy_stride_bytes == 48u);
+    CHECK(b.render_flags == d.render.flags);
+    const uint32_t cap = b.capacity;
+    std::vector<float> smoothed(size_t(cap) * 4), aniso(size_t(cap) * 12);
+    cudaStream_t stream = static_cast<cudaStream_t>(b.cuda_stream);
+    REQUIRE(cudaMemcpyAsync(smoothed.data(), b.smoothed_positions, smoothed.size() * 4, cudaMemcpyDeviceToHost, stream) ==
+            cudaSuccess);
+    REQUIRE(cudaMemcpyAsync(aniso.data(), b.anisotropy, aniso.size() * 4, cudaMemcpyDeviceToHost, stream) == cudaSuccess);
+    REQUIRE(cudaStreamSynchronize(stream) == cudaSuccess);
+    REQUIRE_PBF(pbf_world_unmap(w));
+    const RenderData r = read_render(w);
+    REQUIRE(r.count > 1000u);
+    CHECK(std::memcmp(smoothed.data(), r.smoothed.data(), size_t(r.count) * 16) == 0);
+    CHECK(std::memcmp(aniso.data(), r.aniso.data(), size_t(r.count) * 48) == 0);
+
+#if PBF_TEST_HAVE_EGL_GL
+    if (!(support() & PBF_INTEROP_SUPPORT_OPENGL)) {
+        WARN("this libpbf has no CUDA-GL interop (built without the OpenGL headers)");
+    } else {
+        Gl gl;
+        if (!gl.ok && env_set("PBF_TEST_ALLOW_NO_EGL")) {
+            WARN("EGL unavailable, accepted by PBF_TEST_ALLOW_NO_EGL: " << gl.error);
+        } else {
+            INFO("EGL: " << gl.error);
+            REQUIRE(gl.ok);
+            // On-step copies of both render buffers, the anisotropy at a 16-byte offset.
+            const GLuint gs = gl.buffer(size_t(cap) * 16), ga = gl.buffer(size_t(cap) * 48 + 16), args = gl.buffer(16);
+            register_gl(w, gs, PBF_BUFFER_SMOOTHED_POSITIONS, PBF_COPY_ON_STEP, cap);
+            register_gl(w, ga, PBF_BUFFER_ANISOTROPY, PBF_COPY_ON_STEP, cap, args, 0, 16);
+            const uint64_t t0 = transfers();
+            for (int s = 0; s < 2; ++s) REQUIRE_PBF(pbf_world_step(w, kDt));
+            CHECK(transfers() == t0);
+            const RenderData q = read_render(w);
+            const auto gsm = gl.read<float>(gs, size_t(q.count) * 4);
+            const auto gan = gl.read<float>(ga, size_t(q.count) * 12, 16);
+            CHECK(std::memcmp(gsm.data(), q.smoothed.data(), size_t(q.count) * 16) == 0);
+            CHECK(std::memcmp(gan.data(), q.aniso.data(), size_t(q.count) * 48) == 0);
+            CHECK(gl.read<uint32_t>(args, 4) == std::vector<uint32_t>{q.count, 1u, 0u, 0u});
+            // A world without render data refuses such a buffer before touching it.
+            pbf_world_desc od = tank(PBF_BACKEND_CUDA, 0.0125f, 0.8f, 0.5f, 0.2f, 8192);
+            pbf_world_id off;
+            REQUIRE_PBF(pbf_world_create(&od, &off));
+            pbf_gl_buffer_desc g = pbf_gl_buffer_desc_default();
+            g.buffer = ga;
+            g.source = PBF_BUFFER_ANISOTROPY;
+            g.capacity = cap;
+            pbf_gl_buffer_id gid;
+            CHECK_CODE(pbf_world_register_gl_buffer(off, &g, &gid), PBF_ERROR_INVALID_STATE);
+            REQUIRE_PBF(pbf_world_destroy(off));
+        }
+    }
+#else
+    WARN("GL part not built: EGL or the OpenGL headers were not found when configuring");
+#endif
+    REQUIRE_PBF(pbf_world_destroy(w));
+#endif
+}

@@ -116,6 +116,32 @@ TEST_CASE("automatic substeps follow the motion and stats report them", "[realti
     REQUIRE_PBF(pbf_world_destroy(w));
 }
 
+// A column 100 layers deep compressed by ~20 % at the substeps a shallow pool needs, and its
+// rebound made energy (the 1M tank of the frame benchmark): the substeps grow with the depth,
+// first from the emitted block, then from the fluid's extent the steps report.
+TEST_CASE("automatic substeps grow with the fluid's depth", "[realtime]") {
+    auto substeps_of = [](float depth) {
+        // 4 mm spacing (the 1M tank's); a column 4 x depth x 4 particles.
+        const float r = 0.002f, s = 2.0f * r;
+        pbf_world_desc d = tank(PBF_BACKEND_CPU, r, 4 * s, 1.2f * depth, 4 * s, 4096);
+        pbf_world_id w;
+        REQUIRE_PBF(pbf_world_create(&d, &w));
+        fill(w, 0, 0, 0, 4 * s, depth, 4 * s);
+        std::array<uint32_t, 2> taken{};
+        REQUIRE_PBF(pbf_world_step(w, kDt));
+        taken[0] = stats(w).substeps;  // from the block
+        for (int k = 0; k < 5; ++k) REQUIRE_PBF(pbf_world_step(w, kDt));
+        taken[1] = stats(w).substeps;  // from the steps' feedback
+        REQUIRE_PBF(pbf_world_destroy(w));
+        return taken;
+    };
+    const auto shallow = substeps_of(0.04f), deep = substeps_of(0.4f);
+    INFO("10 layers: " << shallow[0] << ", then " << shallow[1] << " substeps; 100 layers: " << deep[0] << ", then "
+                       << deep[1]);
+    CHECK(deep[0] > shallow[0]);
+    CHECK(deep[1] > shallow[1]);
+}
+
 TEST_CASE("a block across the walls is clipped to them, one outside is refused", "[realtime][emit]") {
     pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.025f, 1.0f, 1.0f, 1.0f, 4096);
     pbf_world_id w = create(d);

@@ -77,6 +77,18 @@ TEST_CASE("validate: world desc and solver parameters name the failed check", "[
         {"scorr_dq 1", [](pbf_world_desc& d) { d.solver.scorr_dq = 1.0f; }, Check::SOLVER_SCORR_DQ},
         {"ldc_enabled 2", [](pbf_world_desc& d) { d.solver.ldc_enabled = 2; }, Check::SOLVER_LDC_ENABLED},
         {"adaptive 1", [](pbf_world_desc& d) { d.solver.adaptive_error_target = 1.0f; }, Check::SOLVER_ADAPTIVE_TARGET},
+        {"render flags 4", [](pbf_world_desc& d) { d.render.flags = 4; }, Check::RENDER_FLAGS},
+        {"render smoothing NaN", [](pbf_world_desc& d) { d.render.smoothing = NAN; }, Check::RENDER_SMOOTHING},
+        {"render smoothing 1.01", [](pbf_world_desc& d) { d.render.smoothing = 1.01f; }, Check::RENDER_SMOOTHING},
+        {"render smoothing -0.1", [](pbf_world_desc& d) { d.render.smoothing = -0.1f; }, Check::RENDER_SMOOTHING},
+        {"render max_stretch 0.5", [](pbf_world_desc& d) { d.render.max_stretch = 0.5f; }, Check::RENDER_MAX_STRETCH},
+        {"render max_stretch Inf", [](pbf_world_desc& d) { d.render.max_stretch = INFINITY; }, Check::RENDER_MAX_STRETCH},
+        {"render scale 0", [](pbf_world_desc& d) { d.render.scale = 0.0f; }, Check::RENDER_SCALE},
+        {"render scale 101", [](pbf_world_desc& d) { d.render.scale = 101.0f; }, Check::RENDER_SCALE},
+        {"render isolated_scale -1", [](pbf_world_desc& d) { d.render.isolated_scale = -1.0f; }, Check::RENDER_ISOLATED_SCALE},
+        {"render isolated_scale NaN", [](pbf_world_desc& d) { d.render.isolated_scale = NAN; }, Check::RENDER_ISOLATED_SCALE},
+        {"render min_neighbors 1001", [](pbf_world_desc& d) { d.render.min_neighbors = 1001; }, Check::RENDER_MIN_NEIGHBORS},
+        {"render reserved0 1", [](pbf_world_desc& d) { d.render.reserved0 = 1; }, Check::RENDER_RESERVED0},
     };
     for (const Case& c : cases) {
         INFO(c.what);
@@ -181,4 +193,19 @@ TEST_CASE("validate: collider descs and poses name the failed check", "[api][val
     }
     const float pos[3] = {0, 0.5f, 0}, zero_q[4] = {0, 0, 0, 0};
     CHECK_REFUSED_BY(pbf_collider_set_target_pose(w.id, pbf_collider_id{1, 1}, pos, zero_q), Check::COLLIDER_POSE);
+}
+
+TEST_CASE("validate: pbf_world_copy_buffer names the failed check", "[api][validate][render]") {
+    TestWorld w;
+    w.emit_default_block();
+    float out[48];
+    uint32_t written = 7;
+    CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, static_cast<pbf_buffer>(0), out, sizeof out, &written), Check::COPY_SOURCE);
+    CHECK(written == 0u);
+    CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, static_cast<pbf_buffer>(6), out, sizeof out, &written), Check::COPY_SOURCE);
+    CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, PBF_BUFFER_POSITIONS, out, 20, &written), Check::COPY_OUT_SIZE);
+    CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, PBF_BUFFER_ANISOTROPY, out, 32, &written), Check::COPY_OUT_SIZE);
+    CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, PBF_BUFFER_IDS, out, 6, &written), Check::COPY_OUT_SIZE);
+    // The message names the element size.
+    CHECK(std::string(pbf_last_error_message()).find("element size 4") != std::string::npos);
 }

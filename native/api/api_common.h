@@ -55,6 +55,16 @@ pbf_result check_struct(const char* fn, const char* type, const void* p, uint32_
             return r_;                                                                       \
     } while (0)
 
+// The world computes source (a render buffer is only there when desc.render.flags asked for it):
+// PBF_ERROR_INVALID_STATE with the flag to set otherwise. source is a valid pbf_buffer.
+inline pbf_result require_buffer(const char* fn, World& w, pbf_buffer source) {
+    if (w.has_buffer(source)) return PBF_OK;
+    const char* flag = source == PBF_BUFFER_ANISOTROPY ? "PBF_RENDER_ANISOTROPY" : "PBF_RENDER_SMOOTHED_POSITIONS";
+    return fail(PBF_ERROR_INVALID_STATE, std::string(fn) + ": render data is off: this world does not compute " +
+                                             (source == PBF_BUFFER_ANISOTROPY ? "anisotropy" : "smoothed positions") +
+                                             " (create it with desc.render.flags including " + flag + ")");
+}
+
 // ---- the world table (world_table.cpp) ------------------------------------------------------
 // shared_ptr entries: a call holding an entry keeps it alive while pbf_world_destroy runs on
 // another thread; the entry's mutex serialises calls on one world.

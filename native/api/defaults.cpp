@@ -60,7 +60,20 @@ PBF_API pbf_result PBF_CALL pbf_world_desc_init(pbf_world_desc* d, uint32_t stru
     std::memcpy(d->domain_max, hi, sizeof hi);
     d->max_colliders = 256;
     d->solver.struct_size = sizeof d->solver;
-    return pbf_solver_params_init(&d->solver, d->solver.struct_size);
+    if (pbf_result r = pbf_solver_params_init(&d->solver, d->solver.struct_size); r != PBF_OK) return r;
+    d->render.struct_size = sizeof d->render;
+    return pbf_render_params_init(&d->render, d->render.struct_size);
+}
+
+PBF_API pbf_result PBF_CALL pbf_render_params_init(pbf_render_params* p, uint32_t struct_size) {
+    if (pbf_result r = start("pbf_render_params_init", "pbf_render_params", p, struct_size); r != PBF_OK) return r;
+    p->flags = 0;
+    p->smoothing = 0.9f;
+    p->max_stretch = 4.0f;   // Yu & Turk's k_r
+    p->scale = 1.0f;         // k_s, relative to a rest lattice
+    p->isolated_scale = 0.5f;  // Yu & Turk's k_n
+    p->min_neighbors = 6;
+    return PBF_OK;
 }
 
 PBF_API pbf_result PBF_CALL pbf_block_desc_init(pbf_block_desc* d, uint32_t struct_size) {

@@ -232,6 +232,10 @@ PBF_API pbf_result PBF_CALL pbf_world_map_device_buffers(pbf_world_id id, uint32
         r.vec4_stride_bytes = 16;
         r.id_stride_bytes = 4;
         r.cuda_device = m.device ? m.live.cuda_device : -1;
+        r.smoothed_positions = m.live.smoothed_positions;
+        r.anisotropy = m.live.anisotropy;
+        r.anisotropy_stride_bytes = 48;
+        r.render_flags = w->render_flags();
         *out = r;
         return PBF_OK;
     });
@@ -248,6 +252,7 @@ PBF_API pbf_result PBF_CALL pbf_world_register_gl_buffer(pbf_world_id id, const 
         PBF_VALIDATE(pbf::api::validate_gl_buffer_desc(*d));
         if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_OPENGL); r != PBF_OK) return r;
         PBF_LOCK_WORLD(w, id);
+        if (pbf_result r = pbf::api::require_buffer(fn, *w, d->source); r != PBF_OK) return r;
         PBF_INTEROP_OF(io, w);
         const Status st = io->register_gl_buffer(*d, out);
         if (!st.ok()) return fail(st.code, std::string(fn) + ": " + st.message);
@@ -290,6 +295,7 @@ PBF_API pbf_result PBF_CALL pbf_world_import_external_buffer(pbf_world_id id, co
             r != PBF_OK)
             return r;
         PBF_LOCK_WORLD(w, id);
+        if (pbf_result r = pbf::api::require_buffer(fn, *w, d->source); r != PBF_OK) return r;
         PBF_INTEROP_OF(io, w);
         const Status st = io->import_external_buffer(*d, out);
         if (!st.ok()) return fail(st.code, std::string(fn) + ": " + st.message);

@@ -31,7 +31,7 @@ bool finite_nonzero_quat(const float q[4]) {
 bool in(float v, float lo, float hi) { return std::isfinite(v) && v >= lo && v <= hi; }
 bool valid_source(pbf_buffer source) {
     const int32_t s = raw(source);
-    return s == PBF_BUFFER_POSITIONS || s == PBF_BUFFER_VELOCITIES || s == PBF_BUFFER_IDS;
+    return s >= PBF_BUFFER_POSITIONS && s <= PBF_BUFFER_ANISOTROPY;
 }
 bool valid_mode(pbf_copy_mode mode) {
     const int32_t m = raw(mode);
@@ -92,6 +92,23 @@ Verdict validate_world_desc(const pbf_world_desc& d) {
     for (int a = 0; a < 3; ++a) V(d.domain_max[a] - d.domain_min[a] >= 4.0f * d.particle_radius, WORLD_DOMAIN_SIZE);
     if (d.max_colliders < 1 || d.max_colliders > kMaxColliderCapacity)
         return Verdict{Check::WORLD_MAX_COLLIDERS, kMaxColliderCapacity};
+    return {};
+}
+
+Verdict validate_render_params(const pbf_render_params& p) {
+    V((p.flags & ~(PBF_RENDER_SMOOTHED_POSITIONS | PBF_RENDER_ANISOTROPY)) == 0, RENDER_FLAGS);
+    V(in(p.smoothing, 0.0f, 1.0f), RENDER_SMOOTHING);
+    V(in(p.max_stretch, 1.0f, 100.0f), RENDER_MAX_STRETCH);
+    V(in(p.scale, 0.0f, 100.0f) && p.scale > 0.0f, RENDER_SCALE);
+    V(in(p.isolated_scale, 0.0f, 100.0f) && p.isolated_scale > 0.0f, RENDER_ISOLATED_SCALE);
+    V(p.min_neighbors <= 1000, RENDER_MIN_NEIGHBORS);
+    V(p.reserved0 == 0, RENDER_RESERVED0);
+    return {};
+}
+
+Verdict validate_copy_out(pbf_buffer source, uint64_t out_bytes) {
+    V(valid_source(source), COPY_SOURCE);
+    if (out_bytes % element_bytes(source) != 0) return Verdict{Check::COPY_OUT_SIZE, element_bytes(source)};
     return {};
 }
 
@@ -171,7 +188,8 @@ Verdict validate_gl_buffer_desc(const pbf_gl_buffer_desc& d) {
     V(valid_source(d.source), COPY_SOURCE);
     V(valid_mode(d.mode), COPY_MODE);
     V(d.capacity > 0, COPY_CAPACITY);
-    if (d.offset_bytes % element_bytes(d.source) != 0) return Verdict{Check::COPY_OFFSET_ALIGN, element_bytes(d.source)};
+    if (d.offset_bytes % element_alignment(d.source) != 0)
+        return Verdict{Check::COPY_OFFSET_ALIGN, element_alignment(d.source)};
     V(d.draw_args_offset_bytes % 4 == 0, DRAW_ARGS_ALIGN);
     V(d.reserved0 == 0, RESERVED0);
     return {};
@@ -187,7 +205,8 @@ Verdict validate_external_buffer_desc(const pbf_external_buffer_desc& d) {
     V(d.size_bytes > 0, EXTERNAL_SIZE);
     V(d.capacity > 0, COPY_CAPACITY);
     const uint64_t elem = element_bytes(d.source);
-    if (d.offset_bytes % elem != 0) return Verdict{Check::COPY_OFFSET_ALIGN, elem};
+    if (d.offset_bytes % element_alignment(d.source) != 0)
+        return Verdict{Check::COPY_OFFSET_ALIGN, element_alignment(d.source)};
     const uint64_t bytes = uint64_t(d.capacity) * elem;
     if (!(d.offset_bytes <= d.size_bytes && bytes <= d.size_bytes - d.offset_bytes))
         return Verdict{Check::EXTERNAL_RANGE, elem};

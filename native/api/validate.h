@@ -22,8 +22,12 @@ int32_t raw(const E& e) {
     return v;
 }
 
-// Bytes per element of a copy source (vec4 positions or velocities, or uint32 ids).
-inline uint32_t element_bytes(pbf_buffer source) { return raw(source) == PBF_BUFFER_IDS ? 4u : 16u; }
+// Bytes per element of a copy source (uint32 ids, 3 vec4 of anisotropy, else one vec4), and the
+// alignment its destination offset needs (4 for ids, else 16).
+inline uint32_t element_bytes(pbf_buffer source) {
+    return raw(source) == PBF_BUFFER_IDS ? 4u : raw(source) == PBF_BUFFER_ANISOTROPY ? 48u : 16u;
+}
+inline uint32_t element_alignment(pbf_buffer source) { return raw(source) == PBF_BUFFER_IDS ? 4u : 16u; }
 
 // X(id, result code, message). {a} and {b} in a message stand for the verdict's two numbers.
 #define PBF_VALIDATE_CHECKS(X)                                                                                       \
@@ -57,6 +61,17 @@ inline uint32_t element_bytes(pbf_buffer source) { return raw(source) == PBF_BUF
     X(WORLD_DOMAIN_SIZE, PBF_ERROR_INVALID_ARGUMENT,                                                                 \
       "domain_max must exceed domain_min by at least 2 particle diameters on every axis")                            \
     X(WORLD_MAX_COLLIDERS, PBF_ERROR_INVALID_ARGUMENT, "max_colliders must be 1..{a}")                               \
+    /* render data (pbf_render_params, inside pbf_world_desc) */                                                   \
+    X(RENDER_FLAGS, PBF_ERROR_INVALID_ARGUMENT,                                                                      \
+      "render.flags must combine PBF_RENDER_SMOOTHED_POSITIONS and PBF_RENDER_ANISOTROPY only")                     \
+    X(RENDER_SMOOTHING, PBF_ERROR_INVALID_ARGUMENT, "render.smoothing must be 0..1")                                 \
+    X(RENDER_MAX_STRETCH, PBF_ERROR_INVALID_ARGUMENT, "render.max_stretch must be 1..100")                           \
+    X(RENDER_SCALE, PBF_ERROR_INVALID_ARGUMENT, "render.scale must be in (0, 100]")                                  \
+    X(RENDER_ISOLATED_SCALE, PBF_ERROR_INVALID_ARGUMENT, "render.isolated_scale must be in (0, 100]")                \
+    X(RENDER_MIN_NEIGHBORS, PBF_ERROR_INVALID_ARGUMENT, "render.min_neighbors must be 0..1000")                      \
+    X(RENDER_RESERVED0, PBF_ERROR_INVALID_ARGUMENT, "render.reserved0 must be 0")                                    \
+    /* pbf_world_copy_buffer */                                                                                      \
+    X(COPY_OUT_SIZE, PBF_ERROR_INVALID_ARGUMENT, "out_bytes must be a multiple of the source's element size {a}")  \
     /* pbf_world_set_gravity */                                                                                      \
     X(GRAVITY, PBF_ERROR_INVALID_ARGUMENT, "gravity must be non-NULL and finite")                                    \
     /* pbf_block_desc */                                                                                             \
@@ -93,7 +108,8 @@ inline uint32_t element_bytes(pbf_buffer source) { return raw(source) == PBF_BUF
     X(COLLIDER_CENTER, PBF_ERROR_INVALID_ARGUMENT, "center_of_mass must be finite")                                  \
     /* interop: pbf_gl_buffer_desc, pbf_external_buffer_desc, pbf_semaphore_desc, pbf_external_sync */               \
     X(GL_BUFFER_NAME, PBF_ERROR_INVALID_ARGUMENT, "buffer must be a GL buffer object name (non-zero)")               \
-    X(COPY_SOURCE, PBF_ERROR_INVALID_ARGUMENT, "source must be PBF_BUFFER_POSITIONS, _VELOCITIES or _IDS")           \
+    X(COPY_SOURCE, PBF_ERROR_INVALID_ARGUMENT,                                                                       \
+      "source must be PBF_BUFFER_POSITIONS, _VELOCITIES, _IDS, _SMOOTHED_POSITIONS or _ANISOTROPY")                  \
     X(COPY_MODE, PBF_ERROR_INVALID_ARGUMENT, "mode must be PBF_COPY_ON_STEP, _ON_RENDER_EVENT or _MANUAL")           \
     X(COPY_CAPACITY, PBF_ERROR_INVALID_ARGUMENT, "capacity must be > 0")                                             \
     X(COPY_OFFSET_ALIGN, PBF_ERROR_INVALID_ARGUMENT, "offset_bytes must be a multiple of {a}")                       \
@@ -133,6 +149,9 @@ std::string check_message(const Verdict& v);  // the message, {a} and {b} filled
 
 Verdict validate_solver_params(const pbf_solver_params& p);  // struct_size checked by the caller
 Verdict validate_world_desc(const pbf_world_desc& d);        // all but the nested solver params
+Verdict validate_render_params(const pbf_render_params& p);  // struct_size checked by the caller
+// pbf_world_copy_buffer: a known source, out_bytes a whole number of its elements.
+Verdict validate_copy_out(pbf_buffer source, uint64_t out_bytes);
 Verdict validate_gravity(const float g[3]);
 Verdict validate_block_desc(const pbf_block_desc& d);
 Verdict validate_emitter_desc(const pbf_emitter_desc& d);

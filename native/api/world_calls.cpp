@@ -1,5 +1,6 @@
 // The C ABI's world calls: create and destroy, step, parameters, info and statistics, and the
 // particles (count, copy-out, mapping). Each validates, locks the world and calls World.
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -40,6 +41,8 @@ PBF_API pbf_result PBF_CALL pbf_world_create(const pbf_world_desc* d, pbf_world_
         PBF_VALIDATE(pbf::api::validate_world_desc(*d));
         PBF_CHECK_STRUCT(pbf_solver_params, &d->solver);
         PBF_VALIDATE(pbf::api::validate_solver_params(d->solver));
+        PBF_CHECK_STRUCT(pbf_render_params, &d->render);
+        PBF_VALIDATE(pbf::api::validate_render_params(d->render));
         if (d->backend == PBF_BACKEND_CUDA && !World::cuda_available(d->cuda_device))
             return fail(PBF_ERROR_BACKEND_UNAVAILABLE,
                         std::string(fn) + ": PBF_BACKEND_CUDA requested but CUDA device " +
@@ -105,6 +108,31 @@ PBF_API pbf_result PBF_CALL pbf_world_set_gravity(pbf_world_id id, const float g
         PBF_VALIDATE(pbf::api::validate_gravity(g));
         PBF_LOCK_WORLD(w, id);
         w->set_gravity(pbf::Vec3{g[0], g[1], g[2]});
+        return PBF_OK;
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_get_render_params(pbf_world_id id, pbf_render_params* out) {
+    const char* fn = "pbf_world_get_render_params";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_CHECK_STRUCT(pbf_render_params, out);
+        PBF_LOCK_WORLD(w, id);
+        *out = w->render_params();
+        return PBF_OK;
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_set_render_params(pbf_world_id id, const pbf_render_params* p) {
+    const char* fn = "pbf_world_set_render_params";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_CHECK_STRUCT(pbf_render_params, p);
+        PBF_VALIDATE(pbf::api::validate_render_params(*p));
+        PBF_LOCK_WORLD(w, id);
+        PBF_REQUIRE(p->flags == w->render_flags(), PBF_ERROR_INVALID_STATE,
+                    std::string(fn) + ": render.flags are fixed at world creation (its buffers are allocated then): "
+                                      "this world has " + std::to_string(w->render_flags()) + ", got " +
+                        std::to_string(p->flags));
+        w->set_render_params(*p);
         return PBF_OK;
     });
 }
@@ -179,6 +207,23 @@ PBF_API pbf_result PBF_CALL pbf_world_copy_velocities(pbf_world_id id, float* ou
 PBF_API pbf_result PBF_CALL pbf_world_copy_ids(pbf_world_id id, uint32_t* out, uint32_t max_count, uint32_t* written) {
     return copy_out("pbf_world_copy_ids", id, out, max_count, written,
                     [](World& w, uint32_t* o, uint32_t m, uint32_t* n) { return w.copy_ids(o, m, n); });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_copy_buffer(pbf_world_id id, pbf_buffer source, void* out, uint64_t out_bytes,
+                                                  uint32_t* written) {
+    const char* fn = "pbf_world_copy_buffer";
+    return guarded(fn, [&]() -> pbf_result {
+        if (written) *written = 0;
+        PBF_VALIDATE(pbf::api::validate_copy_out(source, out_bytes));
+        PBF_REQUIRE_ARG(out != nullptr || out_bytes == 0, "out is NULL");
+        PBF_LOCK_WORLD(w, id);
+        if (pbf_result r = pbf::api::require_buffer(fn, *w, source); r != PBF_OK) return r;
+        const uint64_t fit = out_bytes / pbf::api::element_bytes(source);
+        uint32_t n = 0;
+        const pbf_result r = fail(fn, w->copy_buffer(source, out, uint32_t(std::min<uint64_t>(fit, UINT32_MAX)), &n));
+        if (written) *written = n;
+        return r;
+    });
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_map_positions(pbf_world_id id, pbf_mapped_buffer* out) {

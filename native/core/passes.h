@@ -494,6 +494,46 @@ struct CommitDrainOp {
     }
 };
 
+// ---- step feedback (read by the host, without waiting, to choose the next step's substeps) ------
+// Heights along -g are measured from the wall box's corner lowest along -g, so every particle's
+// lies in [0, extent] and the float bits of these non-negative values order like the values
+// (the executors reduce them with integer max).
+struct HeightFrame {
+    Vec3 up;       // -g / |g|; zero without gravity (every height is then 0)
+    float base;    // up · (the box corner lowest along up)
+    float extent;  // the box's extent along up
+};
+PBF_HD HeightFrame height_frame(const WorldConstants& s) {
+    HeightFrame f{Vec3{0.0f, 0.0f, 0.0f}, 0.0f, 0.0f};
+    const float g = length(s.gravity);
+    if (!(g > 0.0f)) return f;
+    f.up = s.gravity * (-1.0f / g);
+    const Vec3 lo = s.boundary_min, hi = s.boundary_max;
+    const Vec3 corner{f.up.x >= 0.0f ? lo.x : hi.x, f.up.y >= 0.0f ? lo.y : hi.y, f.up.z >= 0.0f ? lo.z : hi.z};
+    f.base = dot(f.up, corner);
+    f.extent = fabsf(f.up.x) * (hi.x - lo.x) + fabsf(f.up.y) * (hi.y - lo.y) + fabsf(f.up.z) * (hi.z - lo.z);
+    return f;
+}
+
+// The step's feedback as float bits, each the max over live particles of one particle's value:
+// its speed, its height, and extent minus its height (whose max gives the lowest height).
+struct FeedbackBits {
+    uint32_t speed;
+    uint32_t top;
+    uint32_t below;  // extent - the lowest height
+};
+struct FeedbackSample {
+    float speed, top, below;
+};
+PBF_HD FeedbackSample feedback_sample(const HeightFrame& f, const Vec4& x, const Vec4& v) {
+    const float y = clampf(dot(f.up, xyz(x)) - f.base, 0.0f, f.extent);
+    return FeedbackSample{length(xyz(v)), y, f.extent - y};
+}
+// The fluid's extent along gravity (top minus bottom particle centre); 0 with no particles.
+PBF_HD float fluid_depth(const HeightFrame& f, const FeedbackBits& b) {
+    return fmaxf(float_from_bits(b.top) - (f.extent - float_from_bits(b.below)), 0.0f);
+}
+
 // ---- statistics --------------------------------------------------------------------------------
 struct ParticleStats {
     float compressive_error;  // max(ρ/ρ0 - 1, 0)

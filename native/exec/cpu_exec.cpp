@@ -74,11 +74,15 @@ void CpuExec::upload(void* dst, const void* src, size_t bytes) {
     if (bytes) std::memcpy(dst, src, bytes);
 }
 
-void CpuExec::max_speed(const Vec4* velocities, const uint32_t* count, uint32_t n, uint32_t* out_bits) {
+void CpuExec::reduce_feedback(const HeightFrame& frame, const Vec4* positions, const Vec4* velocities,
+                              const uint32_t* count, uint32_t n, FeedbackBits* out) {
     const uint32_t live = std::min(n, *count);
-    float v2max = 0.0f;
-    for (uint32_t i = 0; i < live; ++i) v2max = fmaxf(v2max, length_sq(xyz(velocities[i])));
-    *out_bits = bits_from_float(sqrtf(v2max));
+    FeedbackSample m{0.0f, 0.0f, 0.0f};
+    for (uint32_t i = 0; i < live; ++i) {
+        const FeedbackSample f = feedback_sample(frame, positions[i], velocities[i]);
+        m = FeedbackSample{fmaxf(m.speed, f.speed), fmaxf(m.top, f.top), fmaxf(m.below, f.below)};
+    }
+    *out = FeedbackBits{bits_from_float(m.speed), bits_from_float(m.top), bits_from_float(m.below)};
 }
 void CpuExec::download(void* dst, const void* src, size_t bytes) {
     if (bytes) std::memcpy(dst, src, bytes);

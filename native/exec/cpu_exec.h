@@ -37,8 +37,9 @@ public:
     // The step's feedback is complete when for_each returns: always ready.
     void feedback_published() {}
     bool feedback_ready() const { return true; }
-    // *out_bits = bits of the largest |v| over live particles (i < *count).
-    void max_speed(const Vec4* velocities, const uint32_t* count, uint32_t n, uint32_t* out_bits);
+    // *out = the max over live particles (i < *count) of each field of feedback_sample.
+    void reduce_feedback(const HeightFrame& frame, const Vec4* positions, const Vec4* velocities,
+                         const uint32_t* count, uint32_t n, FeedbackBits* out);
     void* native_stream() const { return nullptr; }
     Status use_stream(void*) {
         return Status::error(PBF_ERROR_INVALID_STATE, "the world runs on the CPU backend: it has no CUDA stream");

@@ -234,22 +234,35 @@ void CudaExec::sum_compressive_error(const WorldConstants& s, const float* densi
 }
 
 namespace {
-__global__ void max_speed_kernel(const Vec4* velocities, const uint32_t* count, uint32_t n, uint32_t* out_bits) {
+__global__ void feedback_kernel(HeightFrame frame, const Vec4* positions, const Vec4* velocities,
+                                const uint32_t* count, uint32_t n, FeedbackBits* out) {
     const uint32_t live = min(n, *count);
-    float v2 = 0.0f;
-    for (uint32_t i = blockIdx.x * blockDim.x + threadIdx.x; i < live; i += gridDim.x * blockDim.x)
-        v2 = fmaxf(v2, length_sq(xyz(velocities[i])));
+    FeedbackSample m{0.0f, 0.0f, 0.0f};
+    for (uint32_t i = blockIdx.x * blockDim.x + threadIdx.x; i < live; i += gridDim.x * blockDim.x) {
+        const FeedbackSample f = feedback_sample(frame, positions[i], velocities[i]);
+        m = FeedbackSample{fmaxf(m.speed, f.speed), fmaxf(m.top, f.top), fmaxf(m.below, f.below)};
+    }
     using Reduce = cub::BlockReduce<float, kReduceBlock>;
     __shared__ typename Reduce::TempStorage temp;
-    const float block_max = Reduce(temp).Reduce(v2, [](float a, float b) { return fmaxf(a, b); });
-    if (threadIdx.x == 0 && block_max > 0.0f) atomicMax(out_bits, __float_as_uint(sqrtf(block_max)));
+    const auto fmax_op = [](float a, float b) { return fmaxf(a, b); };
+    const float speed = Reduce(temp).Reduce(m.speed, fmax_op);
+    __syncthreads();  // temp is reused
+    const float top = Reduce(temp).Reduce(m.top, fmax_op);
+    __syncthreads();
+    const float below = Reduce(temp).Reduce(m.below, fmax_op);
+    if (threadIdx.x != 0) return;
+    // Non-negative floats order like their bits: an integer max is a float max.
+    if (speed > 0.0f) atomicMax(&out->speed, __float_as_uint(speed));
+    if (top > 0.0f) atomicMax(&out->top, __float_as_uint(top));
+    if (below > 0.0f) atomicMax(&out->below, __float_as_uint(below));
 }
 }  // namespace
 
-void CudaExec::max_speed(const Vec4* velocities, const uint32_t* count, uint32_t n, uint32_t* out_bits) {
+void CudaExec::reduce_feedback(const HeightFrame& frame, const Vec4* positions, const Vec4* velocities,
+                               const uint32_t* count, uint32_t n, FeedbackBits* out) {
     if (n == 0) return;
     const uint32_t blocks = std::min<uint32_t>((n + kReduceBlock - 1) / kReduceBlock, 264);
-    max_speed_kernel<<<blocks, kReduceBlock, 0, stream_>>>(velocities, count, n, out_bits);
+    feedback_kernel<<<blocks, kReduceBlock, 0, stream_>>>(frame, positions, velocities, count, n, out);
     record(cudaGetLastError());
 }
 

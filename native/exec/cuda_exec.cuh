@@ -57,8 +57,9 @@ public:
     // whether the latest marked step has finished.
     void feedback_published() { record(cudaEventRecord(feedback_event_, stream_)); }
     bool feedback_ready();
-    // *out_bits (device memory) = bits of the largest |v| over live particles (i < *count).
-    void max_speed(const Vec4* velocities, const uint32_t* count, uint32_t n, uint32_t* out_bits);
+    // *out (device memory) = the max over live particles (i < *count) of each field of feedback_sample.
+    void reduce_feedback(const HeightFrame& frame, const Vec4* positions, const Vec4* velocities,
+                         const uint32_t* count, uint32_t n, FeedbackBits* out);
     void* native_stream() const { return stream_; }
     // Runs on stream from now on (null: the world's own); work queued before is ordered first.
     Status use_stream(void* stream);

@@ -11,12 +11,16 @@ namespace {
 constexpr int kCopyBlock = 256;
 constexpr uint32_t kMaxCopyBlocks = 4096;
 
-// Copies min(*count, capacity) elements; block 0's thread 0 writes the draw arguments.
+// Copies min(*count, capacity) elements of `words` T each; block 0's thread 0 writes the draw
+// arguments (in elements).
 template <class T>
-__global__ void copy_live_kernel(const T* __restrict__ src, T* __restrict__ dst, const uint32_t* __restrict__ count,
-                                 uint32_t capacity, uint32_t* __restrict__ draw_args, uint32_t draw_vertices) {
+__global__ void copy_live_kernel(const T* __restrict__ src, T* __restrict__ dst, uint32_t words,
+                                 const uint32_t* __restrict__ count, uint32_t capacity, uint32_t* __restrict__ draw_args,
+                                 uint32_t draw_vertices) {
     const uint32_t n = min(*count, capacity);
-    for (uint32_t i = blockIdx.x * blockDim.x + threadIdx.x; i < n; i += gridDim.x * blockDim.x) dst[i] = src[i];
+    const uint64_t total = uint64_t(n) * words;
+    for (uint64_t i = blockIdx.x * uint64_t(blockDim.x) + threadIdx.x; i < total; i += uint64_t(gridDim.x) * blockDim.x)
+        dst[i] = src[i];
     if (draw_args && blockIdx.x == 0 && threadIdx.x == 0) {
         draw_args[0] = draw_vertices ? draw_vertices : n;
         draw_args[1] = draw_vertices ? n : 1u;
@@ -32,14 +36,17 @@ __global__ void copy_live_kernel(const T* __restrict__ src, T* __restrict__ dst,
 cudaError_t launch_copy(const LiveBuffers& live, pbf_buffer source, void* dst, uint32_t capacity, uint32_t* draw_args,
                         uint32_t draw_vertices, cudaStream_t stream) {
     const uint32_t blocks = std::max<uint32_t>(1, std::min<uint32_t>((capacity + kCopyBlock - 1) / kCopyBlock, kMaxCopyBlocks));
+    const void* src = live_buffer(live, source);
+    if (!src) return cudaErrorInvalidValue;  // refused by the API layer before it gets here
     if (source == PBF_BUFFER_IDS) {
-        copy_live_kernel<uint32_t><<<blocks, kCopyBlock, 0, stream>>>(live.ids, static_cast<uint32_t*>(dst), live.count,
+        copy_live_kernel<uint32_t><<<blocks, kCopyBlock, 0, stream>>>(static_cast<const uint32_t*>(src),
+                                                                      static_cast<uint32_t*>(dst), 1u, live.count,
                                                                       capacity, draw_args, draw_vertices);
     } else {
-        const void* src = source == PBF_BUFFER_VELOCITIES ? live.velocities : live.positions;
-        copy_live_kernel<float4><<<blocks, kCopyBlock, 0, stream>>>(static_cast<const float4*>(src),
-                                                                    static_cast<float4*>(dst), live.count, capacity,
-                                                                    draw_args, draw_vertices);
+        // Vec4 buffers, one float4 per particle or three (anisotropy).
+        copy_live_kernel<float4><<<blocks, kCopyBlock, 0, stream>>>(
+            static_cast<const float4*>(src), static_cast<float4*>(dst), buffer_element_bytes(source) / 16u, live.count,
+            capacity, draw_args, draw_vertices);
     }
     return cudaGetLastError();
 }

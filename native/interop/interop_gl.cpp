@@ -7,10 +7,6 @@
 namespace pbf::cuda_interop {
 
 #if PBF_HAVE_GL_INTEROP
-namespace {
-uint32_t element_bytes(pbf_buffer source) { return source == PBF_BUFFER_IDS ? 4u : 16u; }
-}  // namespace
-
 Status CudaInterop::register_now(GlBuffer& b) {
     const pbf_gl_buffer_desc& d = b.desc;
     Status st = activate();
@@ -47,11 +43,11 @@ Status CudaInterop::register_now(GlBuffer& b) {
                              cudaGraphicsResourceGetMappedPointer(&p, &args_size, b.args_resource));
         Status unmapped = cuda_status("unmapping " + name, cudaGraphicsUnmapResources(n, resources, stream()));
         if (st.ok()) st = unmapped;
-        const uint64_t need = d.offset_bytes + uint64_t(d.capacity) * element_bytes(d.source);
+        const uint64_t need = d.offset_bytes + uint64_t(d.capacity) * buffer_element_bytes(d.source);
         if (st.ok() && need > size)
             st = Status::error(PBF_ERROR_INVALID_ARGUMENT,
                                name + " holds " + std::to_string(size) + " bytes; offset_bytes + capacity * " +
-                                   std::to_string(element_bytes(d.source)) + " needs " + std::to_string(need));
+                                   std::to_string(buffer_element_bytes(d.source)) + " needs " + std::to_string(need));
         if (st.ok() && b.args_resource && d.draw_args_offset_bytes + 16 > args_size)
             st = Status::error(PBF_ERROR_INVALID_ARGUMENT,
                                "draw-arguments GL buffer " + std::to_string(d.draw_args_buffer) + " holds " +

@@ -11,6 +11,7 @@
 #include "../exec/exec_common.h"
 #include "../common/status.h"
 #include "../core/params.h"
+#include "../core/render_ops.h"
 #include "pbf_c_api.h"
 
 namespace pbf {
@@ -68,7 +69,7 @@ struct StepFeedback {
     float max_speed = 0.0f;     // fastest particle at the end of the step (m/s)
     uint32_t speed_clamps = 0;  // particle-substeps whose speed a limit cut
     uint32_t steps = 0;         // steps finished (0: no feedback yet)
-    uint32_t pad = 0;
+    float fluid_depth = 0.0f;   // the particles' extent along gravity at the end of the step (m)
 };
 
 struct BlockEmission {
@@ -91,6 +92,7 @@ enum Stage : int {
     kStageVorticity,
     kStageVorticityXsph,
     kStageDensityEnd,
+    kStageRender,  // render data (only in worlds that ask for it)
     kStageCount
 };
 const char* stage_name(int stage);
@@ -103,16 +105,35 @@ struct LiveBuffers {
     void* positions = nullptr;        // Vec4 x, y, z, density ratio
     void* velocities = nullptr;       // Vec4 vx, vy, vz, 0
     uint32_t* ids = nullptr;
+    void* smoothed_positions = nullptr;  // Vec4 x̄, ȳ, z̄, density ratio; null when not computed
+    void* anisotropy = nullptr;          // 3 Vec4 per particle (axis, radius); null when not computed
     const uint32_t* count = nullptr;  // the live count, in the same memory
     uint32_t capacity = 0;
     int32_t cuda_device = -1;         // -1 on the CPU
 };
+
+// The buffer of source (a pbf_buffer) in b; null when the world does not compute it.
+inline const void* live_buffer(const LiveBuffers& b, pbf_buffer source) {
+    switch (source) {
+        case PBF_BUFFER_POSITIONS: return b.positions;
+        case PBF_BUFFER_VELOCITIES: return b.velocities;
+        case PBF_BUFFER_IDS: return b.ids;
+        case PBF_BUFFER_SMOOTHED_POSITIONS: return b.smoothed_positions;
+        case PBF_BUFFER_ANISOTROPY: return b.anisotropy;
+        default: return nullptr;
+    }
+}
+// Bytes per particle of source: 4 (ids), 48 (anisotropy) or 16.
+inline uint32_t buffer_element_bytes(pbf_buffer source) {
+    return source == PBF_BUFFER_IDS ? 4u : source == PBF_BUFFER_ANISOTROPY ? 48u : 16u;
+}
 
 struct BackendConfig {
     uint32_t capacity;
     uint32_t max_colliders;
     GridDims grid;
     int32_t cuda_device;
+    RenderConstants render;  // flags 0: no render buffers are allocated and no pass runs
 };
 
 class Backend {
@@ -141,9 +162,15 @@ public:
     // Emits a lattice block (waits for the device); *emitted = particles that fitted.
     virtual Status emit_block(const BlockEmission& block, const WorldConstants& constants, uint32_t* emitted) = 0;
     virtual Status particle_count(uint32_t* count) = 0;
-    // Copy-out in storage order. what: 0 positions, 1 velocities.
-    virtual Status copy_vec4(int what, float* out, uint32_t max_count, uint32_t* written) = 0;
-    virtual Status copy_ids(uint32_t* out, uint32_t max_count, uint32_t* written) = 0;
+    // Copy-out of one buffer in storage order (out holds max_count elements of
+    // buffer_element_bytes(source)); the source must exist (live_buffer non-null).
+    virtual Status copy_buffer(pbf_buffer source, void* out, uint32_t max_count, uint32_t* written) = 0;
+    // New render constants from the next pass on (flags unchanged: the buffers are the creation's).
+    virtual void set_render_constants(const RenderConstants& render) = 0;
+    // Render passes run so far (steps and emissions that computed render data).
+    virtual uint64_t render_updates() const = 0;
+    // Bytes of the render buffers (0 when the world computes none).
+    virtual uint64_t render_bytes() const = 0;
     // Densities at the current positions, then sums over particles (waits for the device).
     virtual Status read_stats(const WorldConstants& constants, StatsReadback* out) = 0;
     // Milliseconds the last step took on the backend (waits for it).

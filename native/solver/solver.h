@@ -8,6 +8,7 @@
 
 #include "backend.h"
 #include "../core/passes.h"
+#include "../core/render_ops.h"
 
 namespace pbf {
 
@@ -20,9 +21,9 @@ struct DeviceCounters {
     unsigned long long emitted_total;
     unsigned long long drained_total;
     IterationControl control;
-    uint32_t speed_clamps;    // particle-substeps a speed limit cut, this step
-    uint32_t max_speed_bits;  // the fastest particle's speed at the end of the step (float bits)
-    uint32_t steps;           // steps finished
+    uint32_t speed_clamps;  // particle-substeps a speed limit cut, this step
+    uint32_t steps;         // steps finished
+    FeedbackBits feedback;  // the fastest particle and the fluid's extent at the end of the step
     uint32_t pad2;
 };
 
@@ -34,21 +35,22 @@ struct BeginStepOp {
         c->control.error_sum = 0.0f;
         c->control.iterations_used = 0;
         c->speed_clamps = 0;
-        c->max_speed_bits = 0;
+        c->feedback = FeedbackBits{0, 0, 0};
     }
 };
 
 // One thread at the end of a step: publishes what the host reads without waiting.
 struct PublishFeedbackOp {
     DeviceCounters* c;
+    HeightFrame frame;
     StepFeedback* out;  // host-visible memory
     PBF_HD void operator()(uint32_t) const {
         ++c->steps;
         StepFeedback f;
-        f.max_speed = float_from_bits(c->max_speed_bits);
+        f.max_speed = float_from_bits(c->feedback.speed);
         f.speed_clamps = c->speed_clamps;
         f.steps = c->steps;
-        f.pad = 0;
+        f.fluid_depth = fluid_depth(frame, c->feedback);
         *out = f;
     }
 };
@@ -98,6 +100,12 @@ public:
         alloc(collider_impulses_, colliders);
         alloc(collider_forces_, colliders);
         host_forces_.assign(colliders, ColliderForce{});
+        // Render data only where the world asks for it: nothing at all otherwise.
+        const RenderConstants& r = config.render;
+        if (r.flags & kRenderSmoothed) alloc(smoothed_, n);
+        if (r.flags & kRenderAnisotropy) alloc(anisotropy_, n * 3);
+        render_bytes_ = ((r.flags & kRenderSmoothed) ? n : 0) * sizeof(Vec4) +
+                        ((r.flags & kRenderAnisotropy) ? n * 3 : 0) * sizeof(Vec4);
         feedback_ = exec_.template alloc_host_visible<StepFeedback>(1);
         ok = ok && feedback_ != nullptr;
         if (!ok) {
@@ -119,6 +127,8 @@ public:
         exec_.zero(counters_, sizeof(DeviceCounters));
         exec_.zero(collider_impulses_, colliders * sizeof(ColliderForce));
         exec_.zero(collider_forces_, colliders * sizeof(ColliderForce));
+        if (smoothed_) exec_.zero(smoothed_, n * sizeof(Vec4));
+        if (anisotropy_) exec_.zero(anisotropy_, n * 3 * sizeof(Vec4));
         *feedback_ = StepFeedback{};
         return exec_.check("world initialisation");
     }
@@ -163,9 +173,11 @@ public:
         if (dynamic)
             exec_.for_each(count, ColliderForceOp{collider_shapes_, collider_impulses_, collider_forces_, 1.0f / in.step_dt});
         host_forces_valid_ = false;
-        exec_.max_speed(vel_, &counters_->count, bound_, &counters_->max_speed_bits);
-        exec_.for_each(1, PublishFeedbackOp{counters_, feedback_});
+        const HeightFrame frame = height_frame(s);
+        exec_.reduce_feedback(frame, pos_, vel_, &counters_->count, bound_, &counters_->feedback);
+        exec_.for_each(1, PublishFeedbackOp{counters_, frame, feedback_});
         exec_.feedback_published();
+        update_render_data(s);  // last, so its stage time is the pass alone
         exec_.profile_mark(kStageCount);
         exec_.timer_end();
         return exec_.check("pbf_world_step");
@@ -229,6 +241,7 @@ public:
             // Keep the grid valid between API calls (stats and LDC rely on it).
             build_grid(s, false);
             density_valid_ = false;
+            update_render_data(s);  // the particles moved in memory: keep the render data in their order
         }
         *emitted = fit;
         return exec_.check("pbf_world_emit_block");
@@ -239,27 +252,26 @@ public:
         return read_count(count);
     }
 
-    Status copy_vec4(int what, float* out, uint32_t max_count, uint32_t* written) override {
+    Status copy_buffer(pbf_buffer source, void* out, uint32_t max_count, uint32_t* written) override {
         exec_.activate();
+        const void* src = live_buffer(live_buffers(), source);
+        if (!src) return Status::error(PBF_ERROR_INVALID_STATE, "copy-out: the world does not compute this buffer");
         uint32_t count = 0;
         Status st = read_count(&count);
         if (!st.ok()) return st;
         const uint32_t n = std::min(count, max_count);
-        exec_.download(out, what == 0 ? static_cast<const void*>(pos_) : vel_, size_t(n) * sizeof(Vec4));
+        exec_.download(out, src, size_t(n) * buffer_element_bytes(source));
         *written = n;
         return exec_.check("copy-out");
     }
 
-    Status copy_ids(uint32_t* out, uint32_t max_count, uint32_t* written) override {
-        exec_.activate();
-        uint32_t count = 0;
-        Status st = read_count(&count);
-        if (!st.ok()) return st;
-        const uint32_t n = std::min(count, max_count);
-        exec_.download(out, ids_, size_t(n) * sizeof(uint32_t));
-        *written = n;
-        return exec_.check("copy-out");
+    void set_render_constants(const RenderConstants& render) override {
+        const uint32_t flags = config_.render.flags;
+        config_.render = render;
+        config_.render.flags = flags;
     }
+    uint64_t render_updates() const override { return render_updates_; }
+    uint64_t render_bytes() const override { return render_bytes_; }
 
     Status read_stats(const WorldConstants& s, StatsReadback* out) override {
         exec_.activate();
@@ -292,6 +304,8 @@ public:
         b.positions = pos_;
         b.velocities = vel_;
         b.ids = ids_;
+        b.smoothed_positions = smoothed_;
+        b.anisotropy = anisotropy_;
         b.count = &counters_->count;
         b.capacity = config_.capacity;
         b.cuda_device = Exec::kKind == PBF_BACKEND_CUDA ? config_.cuda_device : -1;
@@ -390,6 +404,16 @@ private:
         }
     }
 
+    // Smoothed positions and anisotropy from the current grid (one pass; none when the world
+    // computes no render data). After a step the last substep's masks serve as neighbour lists.
+    void update_render_data(const WorldConstants& s) {
+        if (!config_.render.flags) return;
+        exec_.profile_mark(kStageRender);
+        exec_.for_each(bound_, RenderDataOp{s.grid, s.h2, config_.render, cell_begin_, valid_masks(), pos_, smoothed_,
+                                            anisotropy_});
+        ++render_updates_;
+    }
+
     // Sorts particles by the cell of x (by_predicted false) or of x*, moves their data into
     // that order and rebuilds cell_begin; drops dead particles from the count.
     void build_grid(const WorldConstants& s, bool by_predicted) {
@@ -453,6 +477,8 @@ private:
         exec_.release(rest_poses_);
         exec_.release(collider_impulses_);
         exec_.release(collider_forces_);
+        exec_.release(smoothed_);
+        exec_.release(anisotropy_);
         exec_.release_host_visible(feedback_);
     }
 
@@ -481,6 +507,10 @@ private:
     std::vector<ColliderForce> host_forces_;      // the host's copy of collider_forces_
     bool host_forces_valid_ = false;
     ColliderView rest_colliders_{};           // the colliders outside a step
+    Vec4* smoothed_ = nullptr;                // render data: null unless the world asks for it
+    Vec4* anisotropy_ = nullptr;              // 3 per particle
+    uint64_t render_bytes_ = 0;
+    uint64_t render_updates_ = 0;
     StepFeedback* feedback_ = nullptr;        // host-visible; written by the step's last op
     StepFeedback last_feedback_{};
     uint32_t bound_ = 0;  // upper bound of the live count known on the host (launch size)

@@ -61,6 +61,34 @@ float boundary_lattice_scale(float spacing, float h) {
     return static_cast<float>(missing * poly6 / c.kernel_sum / boundary_phi(0.5f * spacing / h));
 }
 
+double rest_render_variance(float spacing, float h) {
+    const double d = spacing, hh = h;
+    const int reach = static_cast<int>(std::ceil(hh / d));
+    double wsum = 0.0, wxx = 0.0;
+    for (int z = -reach; z <= reach; ++z)
+        for (int y = -reach; y <= reach; ++y)
+            for (int x = -reach; x <= reach; ++x) {
+                const double r2 = d * d * double(x * x + y * y + z * z);
+                const double w = render_weight(float(r2), float(hh * hh));
+                wsum += w;
+                wxx += w * d * d * double(x * x);
+            }
+    return wxx / wsum;
+}
+
+RenderConstants render_constants(const pbf_render_params& p, float radius, float h) {
+    RenderConstants r;
+    r.flags = p.flags & (kRenderSmoothed | kRenderAnisotropy);
+    r.min_neighbors = p.min_neighbors;
+    r.smoothing = p.smoothing;
+    r.max_stretch = p.max_stretch;
+    // Yu & Turk scale the covariance by a constant k_s; here k_s is the radius (in particle radii)
+    // of a particle whose neighbourhood is a rest lattice, so the same value suits any radius.
+    r.radius_per_variance = static_cast<float>(p.scale * radius / rest_render_variance(2.0f * radius, h));
+    r.isolated_radius = p.isolated_scale * radius;
+    return r;
+}
+
 std::unique_ptr<World> World::create(const pbf_world_desc& desc, Status* status) {
     std::unique_ptr<World> w(new World());
     w->desc_ = desc;
@@ -120,7 +148,8 @@ std::unique_ptr<World> World::create(const pbf_world_desc& desc, Status* status)
     g.nz = static_cast<int32_t>(std::max(1.0, cells[2]));
     g.num_cells = static_cast<uint32_t>(total);
 
-    BackendConfig config{desc.max_particles, desc.max_colliders, g, desc.cuda_device};
+    BackendConfig config{desc.max_particles, desc.max_colliders, g, desc.cuda_device,
+                         render_constants(desc.render, desc.particle_radius, w->h_)};
     pbf_backend kind = desc.backend;
     if (kind == PBF_BACKEND_AUTO) kind = cuda_device_available(desc.cuda_device) ? PBF_BACKEND_CUDA : PBF_BACKEND_CPU;
     w->backend_ = kind == PBF_BACKEND_CUDA ? create_cuda_backend(config, status) : create_cpu_backend(config, status);
@@ -206,10 +235,12 @@ uint32_t World::substeps_for(float dt) {
     v += float(g) * dt;
     const double travel = double(params_.substep_travel) * h_;
     double n = std::ceil(double(v) * dt / travel);
-    // Deep fluid at rest: gravity moves every particle g·Δt² per substep and the iterations
-    // must carry that to the floor; a column many layers deep compresses (and its rebound adds
-    // energy) unless g·Δt² stays under travel / 64 (measured on the frame benchmark's tank).
+    // Fluid at rest: gravity moves every particle g·Δt² per substep and the iterations must
+    // carry that to the floor. Shallow fluid compressed unless g·Δt² stays under travel / 64
+    // (measured on the frame benchmark's tank); deep fluid by the depth rule below.
     if (g > 0.0) n = std::max(n, std::ceil(dt * std::sqrt(64.0 * g / travel) - 1e-6));
+    const double depth = std::fmax(fb.fluid_depth, emitted_depth_);
+    if (g > 0.0 && depth > 0.0) n = std::max(n, std::ceil(dt * depth_substep_rate(g, depth) - 1e-6));
     return static_cast<uint32_t>(std::clamp(n, 1.0, double(params_.max_substeps)));
 }
 
@@ -225,6 +256,23 @@ uint32_t World::gather_colliders(bool moving, std::vector<Collider>* shapes, std
         keys->push_back(k);
     });
     return dynamic;
+}
+
+// The depth rule's substeps per second. A fixed number of Jacobi iterations per substep is a
+// spring of finite stiffness: a column of depth H at rest settles with its bottom compressed by
+// about C = κ(k) · g · H · Δt² / h² (k iterations; measured on a resting column 16 x 100 x 4
+// particles, h = 8 mm, and 50 layers deep: C ∝ H and ∝ Δt², κ = 2.38, 1.38, 1.04, 0.83 for
+// k = 1..4 with LDC, 1.98 and 1.07 for k = 2, 4 without; fitted as κ = 4 / (k + ½), at the
+// default relaxation). The substeps keep C at or under kBottomCompression. Above it a 100-layer
+// tank sank ~10 % of its depth at 7 substeps and rebounded; the speed of that rebound raised the
+// substeps, which stiffened the compressed column and turned its compression into energy (KE +
+// ΔPE up to 0.2-0.4 M g a, the frame benchmark's "energy gain" at 1M particles). The depth is the
+// particles' extent along gravity (the last finished step's, or a block emitted since): fluid in
+// the air counts as deep, which costs substeps, never stability.
+double World::depth_substep_rate(double g, double depth) const {
+    constexpr double kBottomCompression = 0.1;
+    const double kappa = 4.0 / (double(params_.iterations) + 0.5);
+    return std::sqrt(kappa * g * depth / kBottomCompression) / h_;
 }
 
 Status World::colliders_changed() {
@@ -287,6 +335,7 @@ Status World::step(float dt) {
         last_substeps_ = substeps;
         last_iterations_ = params_.iterations * substeps;
         emitted_speed_ = 0.0f;
+        emitted_depth_ = 0.0f;
         if (attachment_) st = attachment_->after_step();  // e.g. copies into graphics buffers
     }
     return st;
@@ -304,6 +353,10 @@ void World::get_info(pbf_world_info* info) const {
     const std::string name = backend_->device_name();
     std::memset(info->device_name, 0, sizeof info->device_name);
     std::strncpy(info->device_name, name.c_str(), sizeof info->device_name - 1);
+    info->render_flags = desc_.render.flags;
+    info->reserved0 = 0;
+    info->render_bytes = backend_->render_bytes();
+    info->render_updates = backend_->render_updates();
 }
 
 Status World::get_stats(pbf_step_stats* out) {
@@ -381,6 +434,12 @@ Status World::emit_block(const pbf_block_desc& d, uint32_t* emitted) {
     if (*emitted > 0) {
         mapped_ = false;  // new particles reorder storage; a failed emit keeps the map
         emitted_speed_ = std::fmax(emitted_speed_, length(b.velocity));
+        // The block's extent along gravity (what the next step's depth rule needs before any
+        // step has measured it).
+        const float g = length(gravity_);
+        const float along = std::fabs(gravity_.x) * float(b.nx - 1) + std::fabs(gravity_.y) * float(b.ny - 1) +
+                            std::fabs(gravity_.z) * float(b.nz - 1);
+        if (g > 0.0f) emitted_depth_ = std::fmax(emitted_depth_, along * b.spacing / g);
     }
     if (st.ok() && *emitted == 0)
         return Status::error(PBF_ERROR_CAPACITY, "world is full (max_particles = " +

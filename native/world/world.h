@@ -32,6 +32,11 @@ LatticeCalibration calibrate_lattice(float spacing, float h);
 // lattice layers beyond it), over the continuum half-space integral Φ at its distance (one
 // radius): so a rest lattice against a wall has rest density in its first layer.
 float boundary_lattice_scale(float spacing, float h);
+// The eigenvalue (m²) of the render covariance of a rest lattice around one particle (isotropic
+// by the lattice's symmetry): the reference the render scale k_s is given against.
+double rest_render_variance(float spacing, float h);
+// The render pass's constants from the desc's render params.
+RenderConstants render_constants(const pbf_render_params& p, float radius, float h);
 
 // State another layer keeps with a world (the interop layer, native/interop): told after each
 // successful step, destroyed with the world before its backend.
@@ -75,9 +80,25 @@ public:
     ColliderEntry* find_collider(pbf_collider_id id) { return colliders_.find(id.index, id.generation); }
 
     Status particle_count(uint32_t* count) { return backend_->particle_count(count); }
-    Status copy_positions(float* out, uint32_t max, uint32_t* written) { return backend_->copy_vec4(0, out, max, written); }
-    Status copy_velocities(float* out, uint32_t max, uint32_t* written) { return backend_->copy_vec4(1, out, max, written); }
-    Status copy_ids(uint32_t* out, uint32_t max, uint32_t* written) { return backend_->copy_ids(out, max, written); }
+    Status copy_positions(float* out, uint32_t max, uint32_t* written) {
+        return backend_->copy_buffer(PBF_BUFFER_POSITIONS, out, max, written);
+    }
+    Status copy_velocities(float* out, uint32_t max, uint32_t* written) {
+        return backend_->copy_buffer(PBF_BUFFER_VELOCITIES, out, max, written);
+    }
+    Status copy_ids(uint32_t* out, uint32_t max, uint32_t* written) {
+        return backend_->copy_buffer(PBF_BUFFER_IDS, out, max, written);
+    }
+    // Any particle buffer (source valid; has_buffer(source) true).
+    Status copy_buffer(pbf_buffer source, void* out, uint32_t max, uint32_t* written) {
+        return backend_->copy_buffer(source, out, max, written);
+    }
+    // Whether the world has this buffer (the render buffers only when desc.render asked for them).
+    bool has_buffer(pbf_buffer source) { return live_buffer(backend_->live_buffers(), source) != nullptr; }
+    uint32_t render_flags() const { return desc_.render.flags; }
+    const pbf_render_params& render_params() const { return desc_.render; }
+    // params validated, with the world's flags.
+    void set_render_params(const pbf_render_params& params);
     void unmap() { mapped_ = false; }
     bool mapped() const { return mapped_; }
 
@@ -123,6 +144,7 @@ private:
     Status check_nozzle(const pbf_emitter_desc& d, Vec3 position) const;
     static void set_nozzle_direction(pbf_emitter_desc& d, Vec3 direction);
     uint32_t substeps_for(float dt);
+    double depth_substep_rate(double g, double depth) const;
     StepContext step_context(float sub_dt) const;
     Status colliders_changed();
     // The step's colliders: shapes (bounds over the motion from the current pose to the
@@ -135,6 +157,7 @@ private:
     Vec3 gravity_{};
     float mass_ = 0.0f, h_ = 0.0f, gradient_norm2_ = 0.0f, boundary_scale_ = 0.0f;
     float emitted_speed_ = 0.0f;  // fastest particle emitted since the last step (block velocity)
+    float emitted_depth_ = 0.0f;  // tallest block emitted since the last step, along gravity (m)
     GridDims grid_{};
     std::unique_ptr<Backend> backend_;
     SlotTable<EmitterEntry> emitters_;

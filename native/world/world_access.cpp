@@ -65,6 +65,11 @@ Status World::map_particles(bool wait_for_count, Mapping* out) {
     return Status{};
 }
 
+void World::set_render_params(const pbf_render_params& params) {
+    desc_.render = params;
+    backend_->set_render_constants(render_constants(params, desc_.particle_radius, h_));
+}
+
 LiveBuffers World::live_buffers() { return backend_->live_buffers(); }
 void* World::cuda_stream() const { return backend_->cuda_stream(); }
 Status World::set_cuda_stream(void* stream) { return backend_->set_cuda_stream(stream); }

@@ -18,7 +18,8 @@ constexpr float kGravity = 9.81f;
 // Two scenes of the same particle count, sized by a (metres) and na (particles across a):
 // - dam:  a column a wide and 2a high (Martin & Moyce's n² = 2) at the left end of a tank
 //         tank_length·a long and 2.5a high;
-// - tank: a resting layer 2a long and a deep in a tank 2a long and 1.5a high.
+// - tank: a resting layer tank_width·a long (default 2a) and a deep in a tank as long and 1.5a
+//         high (tank_width small: a narrow deep column).
 // Both are nz particle layers deep in z between two frictionless walls.
 struct SceneSpec {
     bool dam = true;
@@ -26,11 +27,15 @@ struct SceneSpec {
     uint32_t na = 32;
     uint32_t nz = 6;
     float tank_length = 5.0f;  // dam only, in units of a
+    float tank_width = 2.0f;   // tank only, in units of a
     pbf_backend backend = PBF_BACKEND_CPU;
 
     float spacing() const { return a / float(na); }
     float depth() const { return float(nz) * spacing(); }
-    float domain_x() const { return dam ? tank_length * a : 2.0f * a; }
+    float domain_x() const { return dam ? tank_length * a : tank_width * a; }
+    // Lattice columns of the fluid in x (the box is padded by a quarter spacing in emit_fluid).
+    uint32_t columns_x() const { return dam ? na : uint32_t(tank_width * float(na) + 0.25f); }
+    uint32_t particles() const { return columns_x() * (dam ? 2 * na : na) * nz; }
     float domain_y() const { return dam ? 2.5f * a : 1.5f * a; }
 };
 
@@ -56,19 +61,19 @@ inline pbf_world_desc make_desc(const SceneSpec& s) {
     pbf_world_desc d = pbf_world_desc_default();
     d.backend = s.backend;
     d.particle_radius = 0.5f * s.spacing();
-    const uint32_t n = 2 * s.na * s.na * s.nz;
+    const uint32_t n = s.particles();
     d.max_particles = n + n / 16 + 256;
     set3(d.domain_min, 0.0f, 0.0f, 0.0f);
     set3(d.domain_max, s.domain_x(), s.domain_y(), s.depth());
     return d;
 }
 
-// Emits the fluid: na × 2na × nz (dam) or 2na × na × nz (tank) particles on the rest lattice.
+// Emits the fluid: na × 2na × nz (dam) or columns_x × na × nz (tank) particles on the rest lattice.
 // The box is padded by a quarter spacing so float rounding cannot drop a lattice layer.
 inline pbf_result emit_fluid(pbf_world_id w, const SceneSpec& s, uint32_t* emitted) {
     pbf_block_desc b = pbf_block_desc_default();
     const float pad = 0.25f * s.spacing();
-    const float fx = s.dam ? s.a : 2.0f * s.a;
+    const float fx = s.dam ? s.a : s.tank_width * s.a;
     const float fy = s.dam ? 2.0f * s.a : s.a;
     set3(b.box_min, 0.0f, 0.0f, 0.0f);
     set3(b.box_max, fx + pad, fy + pad, s.depth() + pad);

@@ -68,6 +68,7 @@ int main(int argc, char** argv) {
     int frames = 120;
     uint32_t na = 0, nz = 0, max_substeps = 16;
     double budget = 60.0;
+    float tank_width = 2.0f;
     float scorr_k = -1.0f, relaxation = -1.0f, travel = -1.0f, sound_speed = -1.0f;
 
     auto* run = app.add_subcommand("run", "one run; prints its CSV row");
@@ -94,6 +95,7 @@ int main(int argc, char** argv) {
         sub->add_option("--frames", frames, "1/60 s frames per run (120 = 2 s)");
         sub->add_option("--na", na, "override: particles across a");
         sub->add_option("--nz", nz, "override: layers in z");
+        sub->add_option("--tank-width", tank_width, "tank: its length in x in units of a (default 2; small: a deep column)");
         sub->add_option("--max-substeps", max_substeps, "cap of automatic substeps");
         sub->add_option("--budget-s", budget, "wall-clock seconds per run before it counts as unstable");
         sub->add_option("--csv", csv_path, "CSV output (default stdout)");
@@ -115,6 +117,7 @@ int main(int argc, char** argv) {
                          uint32_t l) {
         frames::FrameCase c;
         c.scene = scene_for(sc, sl, n, na, nz, backend);
+        c.scene.tank_width = tank_width;
         c.substeps = parse_substeps(s);
         c.max_substeps = max_substeps;
         c.iterations = it;

@@ -34,6 +34,8 @@ int main(void) {
     CONST(PBF_INTEROP_SUPPORT_EXTERNAL_FD);
     CONST(PBF_INTEROP_SUPPORT_EXTERNAL_WIN32);
     CONST(PBF_MAP_NO_WAIT);
+    CONST(PBF_RENDER_SMOOTHED_POSITIONS);
+    CONST(PBF_RENDER_ANISOTROPY);
     CONST(PBF_COUNT_ON_DEVICE);
     CONST(PBF_RENDER_EVENT_ALL_WORLDS);
 
@@ -82,6 +84,8 @@ int main(void) {
     ENUM(pbf_buffer, PBF_BUFFER_POSITIONS);
     ENUM(pbf_buffer, PBF_BUFFER_VELOCITIES);
     ENUM(pbf_buffer, PBF_BUFFER_IDS);
+    ENUM(pbf_buffer, PBF_BUFFER_SMOOTHED_POSITIONS);
+    ENUM(pbf_buffer, PBF_BUFFER_ANISOTROPY);
     ENUM(pbf_buffer, PBF_BUFFER_FORCE32);
 
     ENUM(pbf_copy_mode, PBF_COPY_ON_STEP);
@@ -148,6 +152,15 @@ int main(void) {
     FIELD(pbf_solver_params, substep_travel);
     FIELD(pbf_solver_params, sound_speed);
 
+    STRUCT(pbf_render_params);
+    FIELD(pbf_render_params, struct_size);
+    FIELD(pbf_render_params, flags);
+    FIELD(pbf_render_params, smoothing);
+    FIELD(pbf_render_params, max_stretch);
+    FIELD(pbf_render_params, scale);
+    FIELD(pbf_render_params, isolated_scale);
+    FIELD(pbf_render_params, min_neighbors);
+    FIELD(pbf_render_params, reserved0);
     STRUCT(pbf_world_desc);
     FIELD(pbf_world_desc, struct_size);
     FIELD(pbf_world_desc, header_version);
@@ -160,6 +173,7 @@ int main(void) {
     FIELD(pbf_world_desc, domain_min);
     FIELD(pbf_world_desc, domain_max);
     FIELD(pbf_world_desc, solver);
+    FIELD(pbf_world_desc, render);
     FIELD(pbf_world_desc, max_colliders);
 
     STRUCT(pbf_world_info);
@@ -173,6 +187,10 @@ int main(void) {
     FIELD(pbf_world_info, grid_cells);
     FIELD(pbf_world_info, device_bytes);
     FIELD(pbf_world_info, device_name);
+    FIELD(pbf_world_info, render_flags);
+    FIELD(pbf_world_info, reserved0);
+    FIELD(pbf_world_info, render_bytes);
+    FIELD(pbf_world_info, render_updates);
 
     STRUCT(pbf_step_stats);
     FIELD(pbf_step_stats, struct_size);
@@ -266,6 +284,10 @@ int main(void) {
     FIELD(pbf_device_buffers, id_stride_bytes);
     FIELD(pbf_device_buffers, cuda_device);
     FIELD(pbf_device_buffers, reserved0);
+    FIELD(pbf_device_buffers, smoothed_positions);
+    FIELD(pbf_device_buffers, anisotropy);
+    FIELD(pbf_device_buffers, anisotropy_stride_bytes);
+    FIELD(pbf_device_buffers, render_flags);
 
     STRUCT(pbf_gl_buffer_desc);
     FIELD(pbf_gl_buffer_desc, struct_size);

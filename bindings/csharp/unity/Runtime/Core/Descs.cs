@@ -44,8 +44,9 @@ namespace Pbf
         /// <summary>Substeps per <see cref="World.Step"/>. 0 (default): automatic, chosen per step
         /// (from the last finished step's fastest particle, read without waiting, the nozzles and the
         /// kinematic colliders) so that the fastest particle moves at most <see cref="SubstepTravel"/>·h
-        /// per substep and gravity alone moves a resting one at most SubstepTravel·h/64, up to
-        /// <see cref="MaxSubsteps"/>. 1..64: exactly that many.</summary>
+        /// per substep, gravity alone moves a resting one at most SubstepTravel·h/64, and a resting
+        /// column as deep as the fluid's extent along gravity compresses at most ~10 % at its bottom,
+        /// up to <see cref="MaxSubsteps"/>. 1..64: exactly that many.</summary>
         public int Substeps { get { return (int)_raw.substeps; } set { _raw.substeps = (uint)value; } }
         /// <summary>Constraint force mixing ε, relative to a rest particle's gradient norm; &gt; 0 (default 1).</summary>
         public float Relaxation { get { return _raw.relaxation; } set { _raw.relaxation = value; } }
@@ -85,6 +86,51 @@ namespace Pbf
         public float SoundSpeed { get { return _raw.sound_speed; } set { _raw.sound_speed = value; } }
     }
 
+    /// <summary>
+    /// Render data (pbf_render_params): smoothed positions and anisotropy after Yu &amp; Turk 2013,
+    /// computed at the end of every step from the step's neighbour lists. Off by default (no
+    /// buffers, no pass); fixed at world creation. Read them with
+    /// <see cref="World.CopySmoothedPositions(float[])"/>, <see cref="World.CopyAnisotropy(float[])"/>,
+    /// <see cref="DeviceBuffers"/> or GL / external buffers of source SmoothedPositions / Anisotropy.
+    /// </summary>
+    public struct RenderParams
+    {
+        pbf_render_params _raw;
+
+        /// <summary>Wraps a raw pbf_render_params.</summary>
+        public RenderParams(pbf_render_params raw) { _raw = raw; }
+
+        /// <summary>The library's defaults (pbf_render_params_init): render data off.</summary>
+        public static RenderParams Default
+        {
+            get
+            {
+                var p = new pbf_render_params { struct_size = Native.SizeOf<pbf_render_params>() };
+                PbfException.Check(Native.pbf_render_params_init(ref p, p.struct_size));
+                return new RenderParams(p);
+            }
+        }
+
+        public pbf_render_params ToNative() { return _raw; }
+
+        /// <summary>What the world computes (default None).</summary>
+        public RenderFlags Flags { get { return (RenderFlags)_raw.flags; } set { _raw.flags = (uint)value; } }
+        /// <summary>λ of the Laplacian smoothing, 0..1 (default 0.9): x̄ = (1 - λ) x + λ · the
+        /// weighted mean of the neighbours within h. Surface particles move inward.</summary>
+        public float Smoothing { get { return _raw.smoothing; } set { _raw.smoothing = value; } }
+        /// <summary>k_r: longest over shortest radius at most this, 1..100 (default 4).</summary>
+        public float MaxStretch { get { return _raw.max_stretch; } set { _raw.max_stretch = value; } }
+        /// <summary>k_s: radius, in particle radii, of a particle with a rest-lattice neighbourhood;
+        /// radii scale linearly with the covariance's eigenvalues. (0, 100] (default 1).</summary>
+        public float Scale { get { return _raw.scale; } set { _raw.scale = value; } }
+        /// <summary>k_n: radius, in particle radii, of a particle with fewer than
+        /// <see cref="MinNeighbors"/> neighbours (a sphere), (0, 100] (default 0.5).</summary>
+        public float IsolatedScale { get { return _raw.isolated_scale; } set { _raw.isolated_scale = value; } }
+        /// <summary>N_ε: neighbours within h (itself included) below which a particle stays round,
+        /// 0..1000 (default 6).</summary>
+        public int MinNeighbors { get { return (int)_raw.min_neighbors; } set { _raw.min_neighbors = (uint)value; } }
+    }
+
     /// <summary>How to create a <see cref="World"/> (pbf_world_desc). A new WorldDesc holds the
     /// library's defaults: AUTO backend, 65536 particles of radius 0.025 m, water density,
     /// gravity -9.81 on y, domain (-1,0,-1)..(1,2,1).</summary>
@@ -92,12 +138,14 @@ namespace Pbf
     {
         pbf_world_desc _raw;
         SolverParams _solver;
+        RenderParams _render;
 
         public WorldDesc()
         {
             _raw.struct_size = Native.SizeOf<pbf_world_desc>();
             PbfException.Check(Native.pbf_world_desc_init(ref _raw, _raw.struct_size, Native.PBF_VERSION));
             _solver = new SolverParams(_raw.solver);
+            _render = new RenderParams(_raw.render);
         }
 
         /// <summary>The raw desc to pass to pbf_world_create (with <see cref="Solver"/> in it).</summary>
@@ -105,6 +153,7 @@ namespace Pbf
         {
             pbf_world_desc d = _raw;
             d.solver = _solver.ToNative();
+            d.render = _render.ToNative();
             return d;
         }
 
@@ -128,6 +177,8 @@ namespace Pbf
         public Vector3 DomainMax { get { return Convert3.FromNative(_raw.domain_max); } set { _raw.domain_max = Convert3.ToNative(value); } }
         /// <summary>The solver parameters, editable in place: desc.Solver.Iterations = 8.</summary>
         public ref SolverParams Solver { get { return ref _solver; } }
+        /// <summary>Render data, editable in place: desc.Render.Flags = RenderFlags.Anisotropy.</summary>
+        public ref RenderParams Render { get { return ref _render; } }
     }
 
     /// <summary>A one-shot fill of an axis-aligned box on a cubic lattice at rest spacing (pbf_block_desc).</summary>
@@ -386,5 +437,11 @@ namespace Pbf
         public long DeviceBytes { get { return (long)_raw.device_bytes; } }
         /// <summary>e.g. "NVIDIA H100 80GB HBM3" or "CPU (8 threads)".</summary>
         public string DeviceName { get { return _deviceName ?? string.Empty; } }
+        /// <summary>The render data the world computes.</summary>
+        public RenderFlags RenderFlags { get { return (RenderFlags)_raw.render_flags; } }
+        /// <summary>Part of <see cref="DeviceBytes"/> the render data takes (0 when off).</summary>
+        public long RenderBytes { get { return (long)_raw.render_bytes; } }
+        /// <summary>Render passes run so far (one per step and per block emission when on; 0 when off).</summary>
+        public long RenderUpdates { get { return (long)_raw.render_updates; } }
     }
 }

@@ -111,6 +111,23 @@ namespace Pbf
         Velocities = 2,
         /// <summary>4 bytes per particle: uint id.</summary>
         Ids = 3,
+        /// <summary>16 bytes per particle: float x̄, ȳ, z̄, density ratio (<see cref="RenderFlags.SmoothedPositions"/>).</summary>
+        SmoothedPositions = 4,
+        /// <summary>48 bytes per particle: 3 rows of (unit axis x, y, z, radius in m), longest
+        /// first (<see cref="RenderFlags.Anisotropy"/>).</summary>
+        Anisotropy = 5,
+    }
+
+    /// <summary>PBF_RENDER_*: the render data a world computes after every step (fixed at creation).</summary>
+    [System.Flags]
+    public enum RenderFlags
+    {
+        /// <summary>No render buffers, no render pass.</summary>
+        None = 0,
+        /// <summary>Laplacian-smoothed positions (Yu &amp; Turk 2013).</summary>
+        SmoothedPositions = 0x1,
+        /// <summary>Per-particle ellipsoids from the neighbourhood's covariance (Yu &amp; Turk 2013).</summary>
+        Anisotropy = 0x2,
     }
 
     /// <summary>pbf_copy_mode: when a graphics buffer receives the particles.</summary>

@@ -198,6 +198,15 @@ namespace Pbf
         public int IdStrideBytes { get { return (int)Raw.id_stride_bytes; } }
         /// <summary>The CUDA device the pointers belong to; -1 on the CPU backend.</summary>
         public int CudaDevice { get { return Raw.cuda_device; } }
+        /// <summary>float x̄, ȳ, z̄, density ratio per particle, stride 16; IntPtr.Zero unless the
+        /// world computes <see cref="Pbf.RenderFlags.SmoothedPositions"/>.</summary>
+        public IntPtr SmoothedPositions { get { return Raw.smoothed_positions; } }
+        /// <summary>3 float4 rows (unit axis, radius) per particle, <see cref="AnisotropyStrideBytes"/>
+        /// apart; IntPtr.Zero unless the world computes <see cref="Pbf.RenderFlags.Anisotropy"/>.</summary>
+        public IntPtr Anisotropy { get { return Raw.anisotropy; } }
+        public int AnisotropyStrideBytes { get { return (int)Raw.anisotropy_stride_bytes; } }
+        /// <summary>The render data the world computes.</summary>
+        public RenderFlags RenderFlags { get { return (RenderFlags)Raw.render_flags; } }
 
         /// <summary>Ends the world's mapping; does nothing when a step or another call already ended it.</summary>
         public void Dispose()

@@ -83,6 +83,8 @@ namespace Pbf.Interop
         PBF_BUFFER_POSITIONS = 1,
         PBF_BUFFER_VELOCITIES = 2,
         PBF_BUFFER_IDS = 3,
+        PBF_BUFFER_SMOOTHED_POSITIONS = 4,
+        PBF_BUFFER_ANISOTROPY = 5,
         PBF_BUFFER_FORCE32 = 0x7FFFFFFF,
     }
 
@@ -273,6 +275,19 @@ namespace Pbf.Interop
     }
 
     [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_render_params
+    {
+        public uint struct_size;
+        public uint flags;
+        public float smoothing;
+        public float max_stretch;
+        public float scale;
+        public float isolated_scale;
+        public uint min_neighbors;
+        public uint reserved0;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
     public struct pbf_world_desc
     {
         public uint struct_size;
@@ -286,6 +301,7 @@ namespace Pbf.Interop
         public Float3 domain_min;
         public Float3 domain_max;
         public pbf_solver_params solver;
+        public pbf_render_params render;
         public uint max_colliders;
     }
 
@@ -302,6 +318,10 @@ namespace Pbf.Interop
         public uint grid_cells;
         public ulong device_bytes;
         public Char128 device_name;
+        public uint render_flags;
+        public uint reserved0;
+        public ulong render_bytes;
+        public ulong render_updates;
     }
 
     [StructLayout(LayoutKind.Sequential)]
@@ -419,6 +439,10 @@ namespace Pbf.Interop
         public uint id_stride_bytes;
         public int cuda_device;
         public uint reserved0;
+        public IntPtr smoothed_positions;
+        public IntPtr anisotropy;
+        public uint anisotropy_stride_bytes;
+        public uint render_flags;
     }
 
     [StructLayout(LayoutKind.Sequential)]
@@ -541,6 +565,10 @@ namespace Pbf.Interop
         public const uint PBF_INTEROP_SUPPORT_EXTERNAL_WIN32 = 0x8u;
         /// <summary>pbf_world_map_device_buffers flag: do not wait for the world's stream.</summary>
         public const uint PBF_MAP_NO_WAIT = 0x1u;
+        /// <summary>pbf_render_params.flags: smoothed positions, 16 bytes per particle.</summary>
+        public const uint PBF_RENDER_SMOOTHED_POSITIONS = 0x1u;
+        /// <summary>pbf_render_params.flags: anisotropy, 3 float4 (unit axis, radius) per particle.</summary>
+        public const uint PBF_RENDER_ANISOTROPY = 0x2u;
         /// <summary>pbf_device_buffers.count when mapped with PBF_MAP_NO_WAIT on CUDA.</summary>
         public const uint PBF_COUNT_ON_DEVICE = 0xFFFFFFFFu;
         /// <summary>The render event id that runs the render work of every world.</summary>
@@ -567,6 +595,10 @@ namespace Pbf.Interop
         public static extern pbf_result pbf_solver_params_init(ref pbf_solver_params @params, uint struct_size);
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_solver_params_init(IntPtr @params, uint struct_size);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_render_params_init(ref pbf_render_params @params, uint struct_size);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_render_params_init(IntPtr @params, uint struct_size);
 
         // World
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
@@ -600,6 +632,14 @@ namespace Pbf.Interop
         public static extern pbf_result pbf_world_set_gravity(pbf_world_id world, ref Float3 gravity);
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_world_set_gravity(pbf_world_id world, IntPtr gravity);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_get_render_params(pbf_world_id world, ref pbf_render_params out_params);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_get_render_params(pbf_world_id world, IntPtr out_params);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_set_render_params(pbf_world_id world, ref pbf_render_params @params);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_set_render_params(pbf_world_id world, IntPtr @params);
 
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_world_get_info(pbf_world_id world, ref pbf_world_info out_info);
@@ -719,6 +759,15 @@ namespace Pbf.Interop
         public static extern pbf_result pbf_world_copy_ids(pbf_world_id world, IntPtr out_ids, uint max_count, out uint out_written);
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_world_copy_ids(pbf_world_id world, IntPtr out_ids, uint max_count, IntPtr out_written);
+
+        /// <summary>out: out_bytes bytes (a multiple of the source's element size: 4 ids, 48
+        /// anisotropy, else 16). The ref overload passes the first element's address.</summary>
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_copy_buffer(pbf_world_id world, pbf_buffer source, ref float @out, ulong out_bytes, out uint out_written);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_copy_buffer(pbf_world_id world, pbf_buffer source, IntPtr @out, ulong out_bytes, out uint out_written);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_copy_buffer(pbf_world_id world, pbf_buffer source, IntPtr @out, ulong out_bytes, IntPtr out_written);
 
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_world_map_positions(pbf_world_id world, ref pbf_mapped_buffer out_buffer);
@@ -845,6 +894,14 @@ namespace Pbf.Interop
         {
             var p = new pbf_solver_params { struct_size = SizeOf<pbf_solver_params>() };
             pbf_solver_params_init(ref p, p.struct_size);
+            return p;
+        }
+
+        /// <summary>pbf_render_params_default(): the library's defaults (render data off).</summary>
+        public static pbf_render_params pbf_render_params_default()
+        {
+            var p = new pbf_render_params { struct_size = SizeOf<pbf_render_params>() };
+            pbf_render_params_init(ref p, p.struct_size);
             return p;
         }
 

@@ -87,6 +87,23 @@ namespace Pbf
             PbfException.Check(Native.pbf_world_set_solver_params(Handle, ref p));
         }
 
+        /// <summary>A copy of the world's render parameters (its desc's).</summary>
+        public RenderParams GetRenderParams()
+        {
+            var p = new pbf_render_params { struct_size = Native.SizeOf<pbf_render_params>() };
+            PbfException.Check(Native.pbf_world_get_render_params(Handle, ref p));
+            return new RenderParams(p);
+        }
+
+        /// <summary>Replaces the render parameters from the next step or emission on. Flags are
+        /// fixed at creation: a different <see cref="RenderParams.Flags"/> throws
+        /// <see cref="Result.InvalidState"/>.</summary>
+        public void SetRenderParams(RenderParams parameters)
+        {
+            pbf_render_params p = parameters.ToNative();
+            PbfException.Check(Native.pbf_world_set_render_params(Handle, ref p));
+        }
+
         public void SetGravity(Vector3 gravity)
         {
             Float3 g = Convert3.ToNative(gravity);
@@ -209,17 +226,32 @@ namespace Pbf
         /// <summary>Copies min(ParticleCount, destination.Length / 4) particles as x, y, z, w
         /// (w = density ratio ρ/ρ0, for colouring); returns how many. Index k of positions,
         /// velocities and ids copied between two steps is one particle. Allocates nothing.</summary>
-        public int CopyPositions(float[] destination) { return CopyVec4(0, Floats(destination)); }
-        public int CopyPositions(Span<float> destination) { return CopyVec4(0, destination); }
+        public int CopyPositions(float[] destination) { return CopyBuffer(BufferSource.Positions, Floats(destination)); }
+        public int CopyPositions(Span<float> destination) { return CopyBuffer(BufferSource.Positions, destination); }
         /// <summary>Into any 16-byte vector type (System.Numerics.Vector4, UnityEngine.Vector4, ...).</summary>
-        public int CopyPositions<T>(T[] destination) where T : struct { return CopyVec4(0, Floats<T>(destination)); }
-        public int CopyPositions<T>(Span<T> destination) where T : struct { return CopyVec4(0, MemoryMarshal.Cast<T, float>(destination)); }
+        public int CopyPositions<T>(T[] destination) where T : struct { return CopyBuffer(BufferSource.Positions, Floats<T>(destination)); }
+        public int CopyPositions<T>(Span<T> destination) where T : struct { return CopyBuffer(BufferSource.Positions, MemoryMarshal.Cast<T, float>(destination)); }
 
         /// <summary>Velocities as vx, vy, vz, 0; same order as <see cref="CopyPositions(float[])"/>.</summary>
-        public int CopyVelocities(float[] destination) { return CopyVec4(1, Floats(destination)); }
-        public int CopyVelocities(Span<float> destination) { return CopyVec4(1, destination); }
-        public int CopyVelocities<T>(T[] destination) where T : struct { return CopyVec4(1, Floats<T>(destination)); }
-        public int CopyVelocities<T>(Span<T> destination) where T : struct { return CopyVec4(1, MemoryMarshal.Cast<T, float>(destination)); }
+        public int CopyVelocities(float[] destination) { return CopyBuffer(BufferSource.Velocities, Floats(destination)); }
+        public int CopyVelocities(Span<float> destination) { return CopyBuffer(BufferSource.Velocities, destination); }
+        public int CopyVelocities<T>(T[] destination) where T : struct { return CopyBuffer(BufferSource.Velocities, Floats<T>(destination)); }
+        public int CopyVelocities<T>(Span<T> destination) where T : struct { return CopyBuffer(BufferSource.Velocities, MemoryMarshal.Cast<T, float>(destination)); }
+
+        /// <summary>Smoothed positions x̄, ȳ, z̄, density ratio (4 floats per particle); same order as
+        /// the positions. Throws <see cref="Result.InvalidState"/> unless the world was created with
+        /// <see cref="RenderFlags.SmoothedPositions"/>.</summary>
+        public int CopySmoothedPositions(float[] destination) { return CopyBuffer(BufferSource.SmoothedPositions, Floats(destination)); }
+        public int CopySmoothedPositions(Span<float> destination) { return CopyBuffer(BufferSource.SmoothedPositions, destination); }
+        public int CopySmoothedPositions<T>(T[] destination) where T : struct { return CopyBuffer(BufferSource.SmoothedPositions, Floats<T>(destination)); }
+
+        /// <summary>Anisotropy: 12 floats per particle, 3 rows of (unit axis x, y, z, radius in m),
+        /// longest axis first; same order as the positions. Throws <see cref="Result.InvalidState"/>
+        /// unless the world was created with <see cref="RenderFlags.Anisotropy"/>.</summary>
+        public int CopyAnisotropy(float[] destination) { return CopyBuffer(BufferSource.Anisotropy, Floats(destination)); }
+        public int CopyAnisotropy(Span<float> destination) { return CopyBuffer(BufferSource.Anisotropy, destination); }
+        /// <summary>Into any 16-byte vector type: 3 elements per particle.</summary>
+        public int CopyAnisotropy<T>(T[] destination) where T : struct { return CopyBuffer(BufferSource.Anisotropy, Floats<T>(destination)); }
 
         /// <summary>Stable particle ids (assigned 0, 1, 2, ... at emission), same order as the positions.</summary>
         public int CopyIds(uint[] destination)
@@ -251,19 +283,18 @@ namespace Pbf
             return MemoryMarshal.Cast<T, float>(new Span<T>(destination));
         }
 
-        int CopyVec4(int which, Span<float> destination)
+        /// <summary>Copies min(ParticleCount, whole particles that fit) of a float buffer (4 floats
+        /// per particle, 12 for the anisotropy) into destination; returns how many particles.</summary>
+        public int CopyBuffer(BufferSource source, Span<float> destination)
         {
+            if (source == BufferSource.Ids) throw new ArgumentException("ids are uint: use CopyIds", "source");
+            int floats = source == BufferSource.Anisotropy ? 12 : 4;
+            ulong bytes = (ulong)(destination.Length / floats) * (ulong)(floats * 4);
             pbf_world_id id = Handle;
-            uint max = (uint)(destination.Length / 4);
             uint written;
-            pbf_result r;
-            if (max == 0)
-                r = which == 0 ? Native.pbf_world_copy_positions(id, IntPtr.Zero, 0, out written)
-                               : Native.pbf_world_copy_velocities(id, IntPtr.Zero, 0, out written);
-            else if (which == 0)
-                r = Native.pbf_world_copy_positions(id, ref MemoryMarshal.GetReference(destination), max, out written);
-            else
-                r = Native.pbf_world_copy_velocities(id, ref MemoryMarshal.GetReference(destination), max, out written);
+            pbf_result r = bytes == 0
+                ? Native.pbf_world_copy_buffer(id, (pbf_buffer)source, IntPtr.Zero, 0, out written)
+                : Native.pbf_world_copy_buffer(id, (pbf_buffer)source, ref MemoryMarshal.GetReference(destination), bytes, out written);
             PbfException.Check(r);
             return (int)written;
         }
