@@ -230,6 +230,10 @@ typedef struct pbf_world_desc {
     float domain_max[3];        /* (default -1,0,-1 .. 1,2,1) */
     pbf_solver_params solver;
     pbf_render_params render;   /* render data (default: none) */
+    uint32_t max_colliders;     /* collider capacity, 1..2048, allocated up front (default 256).
+                                   Each collider costs about 3.3 KB of backend memory (its poses
+                                   for up to 64 substeps); every particle scans the colliders'
+                                   bounding boxes, so the cost grows linearly with the count. */
 } pbf_world_desc;
 
 PBF_API pbf_result PBF_CALL pbf_world_desc_init(pbf_world_desc* desc, uint32_t struct_size,
@@ -406,6 +410,13 @@ typedef struct pbf_collider_desc {
     float friction;             /* Coulomb friction coefficient μ, 0..1 (default 0, slip): on contact
                                    the tangential motion relative to the collider is removed up
                                    to μ times the depth the contact pushed the particle out */
+    uint32_t dynamic;           /* 0 or 1 (default 0). 1: the library records the force and torque
+                                   the fluid exerts on the collider each step
+                                   (pbf_collider_get_force); the engine integrates its body and
+                                   moves it (motion KINEMATIC, pbf_collider_set_target_pose). A STATIC
+                                   dynamic collider only measures (a load on a fixed wall). */
+    float center_of_mass[3];    /* dynamic: the point torques are taken about, in the collider's
+                                   own frame (default 0: its position) */
 } pbf_collider_desc;
 PBF_API pbf_result PBF_CALL pbf_collider_desc_init(pbf_collider_desc* desc, uint32_t struct_size);
 static inline pbf_collider_desc pbf_collider_desc_default(void) {
@@ -423,6 +434,22 @@ PBF_API pbf_result PBF_CALL pbf_world_destroy_collider(pbf_world_id world, pbf_c
  * by slerp in rotation, one pose per substep). A static collider gives PBF_ERROR_INVALID_STATE. */
 PBF_API pbf_result PBF_CALL pbf_collider_set_target_pose(pbf_world_id world, pbf_collider_id collider,
                                                          const float position[3], const float rotation[4]);
+
+/* ---- Two-way coupling --------------------------------------------------------------------- *
+ * The fluid's push on a dynamic collider over one step, as its mean force (N) and its torque
+ * about the collider's center_of_mass at its pose at the end of the step (N·m): the impulse the
+ * contacts and the boundary density gave the particles, reversed, over the step's length. */
+typedef struct pbf_collider_force {
+    float force[3];
+    float torque[3];
+} pbf_collider_force;
+/* The force of the last step (zero before the collider's first step). Waits for that step to
+ * finish on the backend (on CUDA: one copy of the whole table per step, later calls read the
+ * host copy). Refused with PBF_ERROR_INVALID_STATE when the collider is not dynamic. */
+PBF_API pbf_result PBF_CALL pbf_collider_get_force(pbf_world_id world, pbf_collider_id collider,
+                                                   pbf_collider_force* out_force);
+/* The same forces in backend memory for engines that read them on the GPU:
+ * pbf_world_map_collider_forces, below pbf_mapped_buffer. */
 
 /* ---- Particles ---------------------------------------------------------------------------- */
 /* Storage order: the solver reorders particles every step (by grid cell). All copy-out calls
@@ -480,6 +507,13 @@ typedef struct pbf_mapped_buffer {
  * is complete when this returns (the call waits for the world's stream). */
 PBF_API pbf_result PBF_CALL pbf_world_map_positions(pbf_world_id world, pbf_mapped_buffer* out_buffer);
 PBF_API pbf_result PBF_CALL pbf_world_unmap(pbf_world_id world);
+/* The table of every collider's force in backend memory, for engines that read it on the GPU:
+ * count = max_colliders rows of pbf_collider_force (stride 24 bytes), row k for the collider whose
+ * handle has index k (rows of colliders that are not dynamic hold zero or stale values). The
+ * pointer is valid until the world is destroyed; no unmap. On CUDA the rows are written at the end
+ * of each pbf_world_step on the world's stream: read them on that stream or after an event
+ * recorded after the step (pbf_world_record_cuda_event); the next step overwrites them. */
+PBF_API pbf_result PBF_CALL pbf_world_map_collider_forces(pbf_world_id world, pbf_mapped_buffer* out_buffer);
 
 /* ==== Interop: zero-copy rendering ======================================================== *
  * The particles go from the solver to the engine's renderer without passing through host

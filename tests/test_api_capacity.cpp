@@ -87,15 +87,19 @@ TEST_CASE("capacity: a nozzle in a full world emits nothing", "[api][capacity][e
     CHECK(ids.back() == 999u);
 }
 
-TEST_CASE("capacity: the collider table holds 32", "[api][capacity][collider]") {
-    TestWorld w;
-    const uint32_t n = w.emit_default_block();
+TEST_CASE("capacity: the collider table holds max_colliders, 300 of them rest particles", "[api][capacity][collider]") {
+    pbf_world_desc d = small_desc();
+    d.max_colliders = 300;
+    TestWorld w(d);
+    // 300 small boxes tiling the floor of the domain, a block of water dropped on them.
     std::vector<pbf_collider_id> ids;
-    for (int i = 0; i < 32; ++i) {
-        pbf_collider_desc c = collider_desc(PBF_SHAPE_SPHERE);
-        c.position[0] = -0.45f + 0.028f * i;
-        c.position[1] = 0.9f;
-        c.radius = 0.01f;
+    for (int i = 0; i < 300; ++i) {
+        pbf_collider_desc c = collider_desc(PBF_SHAPE_BOX);
+        c.position[0] = -0.475f + 0.05f * float(i % 20);
+        c.position[1] = 0.05f;
+        c.position[2] = -0.35f + 0.05f * float(i / 20);
+        c.half_extents[0] = c.half_extents[2] = 0.025f;
+        c.half_extents[1] = 0.05f;
         pbf_collider_id id{};
         INFO("collider " << i);
         REQUIRE_OK(pbf_world_create_collider(w, &c, &id));
@@ -103,8 +107,20 @@ TEST_CASE("capacity: the collider table holds 32", "[api][capacity][collider]") 
     }
     pbf_collider_desc c = collider_desc(PBF_SHAPE_BOX);
     pbf_collider_id extra{9, 9};
-    CHECK_FAILS(pbf_world_create_collider(w, &c, &extra), PBF_ERROR_CAPACITY, "32");
+    CHECK_FAILS(pbf_world_create_collider(w, &c, &extra), PBF_ERROR_CAPACITY, "max_colliders = 300");
     CHECK(extra.generation == 0);
+    const uint32_t n = w.emit(block(-0.2f, 0.2f, -0.2f, 0.2f, 0.4f, 0.2f));
+    for (int k = 0; k < 60; ++k) REQUIRE_OK(pbf_world_step(w, 1.0f / 60.0f));
+    // Every particle above the boxes (|z| < 0.375) rests on their tops (y = 0.1), none flies off.
+    const std::vector<float> p = w.positions();
+    REQUIRE(p.size() == size_t(n) * 4);
+    const float r = 0.025f;
+    for (uint32_t i = 0; i < n; ++i) {
+        const float x = p[4 * i], y = p[4 * i + 1], z = p[4 * i + 2];
+        INFO("particle " << i << " at " << x << ", " << y << ", " << z);
+        if (std::fabs(z) < 0.375f - r) REQUIRE(y >= 0.1f + r - 1e-3f);
+        REQUIRE(y <= 0.5f);
+    }
     w.require_usable(n);
     // One freed slot makes room for exactly one more.
     REQUIRE_OK(pbf_world_destroy_collider(w, ids[7]));

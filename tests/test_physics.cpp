@@ -231,15 +231,23 @@ TEST_CASE("density constraint: λ < 0 only where compressed, and Δp reduces com
     CHECK(std::fabs(sc.pred[centre].x - sc.pos[centre].x) < 1e-5f);
 }
 
+// A collider standing unrotated at p, with the broad-phase bounds the world would give it.
+static Collider standing(Collider c, Vec3 p) {
+    const Quat identity{0, 0, 0, 1};
+    c.bounds = swept_bounds(c, ColliderKey{p, p, identity, identity});
+    return c;
+}
+
 TEST_CASE("colliders push particle centres out to one radius from the surface", "[collide]") {
     Scene sc(0.05f);
     const float r = sc.s.radius;
     auto pose = [](Vec3 p) { return ColliderPose{p, Mat3{{1, 0, 0, 0, 1, 0, 0, 0, 1}}}; };
-    const Collider shapes[4] = {{kShapeSphere, 0.2f, 0.0f, 0.0f, Vec3{0, 0, 0}},
-                                {kShapeBox, 0.0f, 0.0f, 0.0f, Vec3{0.1f, 0.2f, 0.3f}},
-                                {kShapeCapsule, 0.1f, 0.3f, 0.0f, Vec3{0, 0, 0}},
-                                {kShapePlane, 0.0f, 0.0f, 0.0f, Vec3{0, 0, 0}}};
-    const ColliderPose poses[4] = {pose(Vec3{0, 0, 0}), pose(Vec3{1, 0, 0}), pose(Vec3{0, 1, 0}), pose(Vec3{0, -1, 0})};
+    const Vec3 at[4] = {Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, -1, 0}};
+    const Collider shapes[4] = {standing({kShapeSphere, 0.2f, 0.0f, 0.0f, Vec3{0, 0, 0}}, at[0]),
+                                standing({kShapeBox, 0.0f, 0.0f, 0.0f, Vec3{0.1f, 0.2f, 0.3f}}, at[1]),
+                                standing({kShapeCapsule, 0.1f, 0.3f, 0.0f, Vec3{0, 0, 0}}, at[2]),
+                                standing({kShapePlane, 0.0f, 0.0f, 0.0f, Vec3{0, 0, 0}}, at[3])};
+    const ColliderPose poses[4] = {pose(at[0]), pose(at[1]), pose(at[2]), pose(at[3])};
     const ColliderView set{shapes, poses, poses, 4};
     Vec3 n;
     const Vec3 in_sphere = collide(sc.s, set, Vec3{0.05f, 0.0f, 0.0f}, Vec3{0, 0, 0});
@@ -282,7 +290,7 @@ TEST_CASE("particle ids wrap past 0xFFFFFFFE to 0 and never take the dead marker
 TEST_CASE("collider friction is Coulomb: tangential motion removed up to mu times the contact depth", "[collide]") {
     Scene sc(0.05f);
     const float r = sc.s.radius;
-    const Collider floor{kShapePlane, 0.0f, 0.0f, 0.5f, Vec3{0, 0, 0}};
+    const Collider floor = standing({kShapePlane, 0.0f, 0.0f, 0.5f, Vec3{0, 0, 0}}, Vec3{0, 0, 0});
     const ColliderPose at_origin{Vec3{0, 0, 0}, Mat3{{1, 0, 0, 0, 1, 0, 0, 0, 1}}};
     const ColliderView set{&floor, &at_origin, &at_origin, 1};
     // Pushed out by depth 0.2 r while sliding 0.1 r: static friction holds it (0.1 r <= mu 0.2 r).

@@ -69,6 +69,8 @@ TEST_CASE("validate: world desc and solver parameters name the failed check", "[
         {"gravity Inf", [](pbf_world_desc& d) { d.gravity[2] = INFINITY; }, Check::WORLD_GRAVITY},
         {"domain NaN", [](pbf_world_desc& d) { d.domain_max[0] = NAN; }, Check::WORLD_DOMAIN_FINITE},
         {"flat domain", [](pbf_world_desc& d) { d.domain_max[1] = d.domain_min[1]; }, Check::WORLD_DOMAIN_SIZE},
+        {"max_colliders 0", [](pbf_world_desc& d) { d.max_colliders = 0; }, Check::WORLD_MAX_COLLIDERS},
+        {"max_colliders 2049", [](pbf_world_desc& d) { d.max_colliders = 2049; }, Check::WORLD_MAX_COLLIDERS},
         {"iterations 0", [](pbf_world_desc& d) { d.solver.iterations = 0; }, Check::SOLVER_ITERATIONS},
         {"substeps 65", [](pbf_world_desc& d) { d.solver.substeps = 65; }, Check::SOLVER_SUBSTEPS},
         {"max_substeps 0", [](pbf_world_desc& d) { d.solver.max_substeps = 0; }, Check::SOLVER_MAX_SUBSTEPS},
@@ -179,6 +181,8 @@ TEST_CASE("validate: collider descs and poses name the failed check", "[api][val
         {"capsule half_height -1", [](pbf_collider_desc& c) { c.shape = PBF_SHAPE_CAPSULE; c.half_height = -1; }, Check::COLLIDER_HALF_HEIGHT},
         {"box extents 0", [](pbf_collider_desc& c) { c.shape = PBF_SHAPE_BOX; }, Check::COLLIDER_HALF_EXTENTS},
         {"sphere with NaN extents", [](pbf_collider_desc& c) { c.half_extents[1] = NAN; }, Check::COLLIDER_UNUSED_FINITE},
+        {"dynamic 2", [](pbf_collider_desc& c) { c.dynamic = 2; }, Check::COLLIDER_DYNAMIC},
+        {"centre NaN", [](pbf_collider_desc& c) { c.center_of_mass[2] = NAN; }, Check::COLLIDER_CENTER},
     };
     for (const Case& k : cases) {
         INFO(k.what);

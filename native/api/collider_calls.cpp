@@ -1,4 +1,5 @@
-// The C ABI's collider calls: create, destroy, and the target pose of kinematic colliders.
+// The C ABI's collider calls: create, destroy, the target pose of kinematic colliders, and the
+// fluid's force on dynamic ones.
 #include <string>
 
 #include "api_common.h"
@@ -36,6 +37,29 @@ PBF_API pbf_result PBF_CALL pbf_collider_set_target_pose(pbf_world_id id, pbf_co
         PBF_VALIDATE(pbf::api::validate_collider_pose(position, rotation));
         PBF_LOCK_WORLD(w, id);
         return fail(fn, w->set_collider_target(c, position, rotation));
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_collider_get_force(pbf_world_id id, pbf_collider_id c, pbf_collider_force* out) {
+    const char* fn = "pbf_collider_get_force";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_REQUIRE_ARG(out != nullptr, "out_force is NULL");
+        PBF_LOCK_WORLD(w, id);
+        return fail(fn, w->collider_force(c, out));
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_map_collider_forces(pbf_world_id id, pbf_mapped_buffer* out) {
+    const char* fn = "pbf_world_map_collider_forces";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_CHECK_STRUCT(pbf_mapped_buffer, out);
+        PBF_LOCK_WORLD(w, id);
+        out->memory = w->backend_kind() == PBF_BACKEND_CUDA ? PBF_MEMORY_CUDA_DEVICE : PBF_MEMORY_HOST;
+        out->data = const_cast<void*>(w->collider_force_table());
+        out->count = w->max_colliders();
+        out->stride_bytes = sizeof(pbf_collider_force);
+        out->reserved0 = out->reserved1 = 0;
+        return PBF_OK;
     });
 }
 

@@ -2,6 +2,8 @@
 // earlier releases were given, so a desc with several faults is refused for the same one.
 #include "validate.h"
 
+#include "../world/world.h"
+
 #include <cmath>
 
 namespace pbf::api {
@@ -88,6 +90,8 @@ Verdict validate_world_desc(const pbf_world_desc& d) {
     V(finite3(d.gravity), WORLD_GRAVITY);
     V(finite3(d.domain_min) && finite3(d.domain_max), WORLD_DOMAIN_FINITE);
     for (int a = 0; a < 3; ++a) V(d.domain_max[a] - d.domain_min[a] >= 4.0f * d.particle_radius, WORLD_DOMAIN_SIZE);
+    if (d.max_colliders < 1 || d.max_colliders > kMaxColliderCapacity)
+        return Verdict{Check::WORLD_MAX_COLLIDERS, kMaxColliderCapacity};
     return {};
 }
 
@@ -169,6 +173,8 @@ Verdict validate_collider_desc(const pbf_collider_desc& d) {
         V(finite3(d.half_extents) && d.half_extents[0] > 0.0f && d.half_extents[1] > 0.0f && d.half_extents[2] > 0.0f,
           COLLIDER_HALF_EXTENTS);
     V(std::isfinite(d.radius) && std::isfinite(d.half_height) && finite3(d.half_extents), COLLIDER_UNUSED_FINITE);
+    V(d.dynamic <= 1, COLLIDER_DYNAMIC);
+    V(finite3(d.center_of_mass), COLLIDER_CENTER);
     return {};
 }
 

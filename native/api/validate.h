@@ -60,6 +60,7 @@ inline uint32_t element_alignment(pbf_buffer source) { return raw(source) == PBF
     X(WORLD_DOMAIN_FINITE, PBF_ERROR_INVALID_ARGUMENT, "domain bounds must be finite")                               \
     X(WORLD_DOMAIN_SIZE, PBF_ERROR_INVALID_ARGUMENT,                                                                 \
       "domain_max must exceed domain_min by at least 2 particle diameters on every axis")                            \
+    X(WORLD_MAX_COLLIDERS, PBF_ERROR_INVALID_ARGUMENT, "max_colliders must be 1..{a}")                               \
     /* render data (pbf_render_params, inside pbf_world_desc) */                                                   \
     X(RENDER_FLAGS, PBF_ERROR_INVALID_ARGUMENT,                                                                      \
       "render.flags must combine PBF_RENDER_SMOOTHED_POSITIONS and PBF_RENDER_ANISOTROPY only")                     \
@@ -103,6 +104,8 @@ inline uint32_t element_alignment(pbf_buffer source) { return raw(source) == PBF
     X(COLLIDER_HALF_EXTENTS, PBF_ERROR_INVALID_ARGUMENT, "half_extents must be finite and > 0")                      \
     X(COLLIDER_UNUSED_FINITE, PBF_ERROR_INVALID_ARGUMENT,                                                            \
       "radius, half_height and half_extents must be finite, also where the shape does not use them")                 \
+    X(COLLIDER_DYNAMIC, PBF_ERROR_INVALID_ARGUMENT, "dynamic must be 0 or 1")                                        \
+    X(COLLIDER_CENTER, PBF_ERROR_INVALID_ARGUMENT, "center_of_mass must be finite")                                  \
     /* interop: pbf_gl_buffer_desc, pbf_external_buffer_desc, pbf_semaphore_desc, pbf_external_sync */               \
     X(GL_BUFFER_NAME, PBF_ERROR_INVALID_ARGUMENT, "buffer must be a GL buffer object name (non-zero)")               \
     X(COPY_SOURCE, PBF_ERROR_INVALID_ARGUMENT,                                                                       \

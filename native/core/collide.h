@@ -2,6 +2,7 @@
 // `radius` outside every collider and inside the walls), Coulomb friction, a swept test against
 // fast colliders, and the boundary density that walls and colliders contribute.
 #pragma once
+#include "bodies.h"
 #include "params.h"
 
 namespace pbf {
@@ -87,32 +88,44 @@ PBF_HD bool swept_contact(const Collider& c, const ColliderPose& prev, const Col
     return true;
 }
 
-// Projects predicted position p (the particle was at x_old at the start of the substep).
-// Friction is Coulomb's, in position form: the tangential motion relative to the collider
-// over the substep is removed up to μ times the depth this projection pushed out.
+// One collider's contact with a particle that moved from x_old to p over the substep: the
+// swept test, then the projection to `radius` outside the surface at the end pose, then
+// friction. Friction is Coulomb's, in position form: the tangential motion relative to the
+// collider over the substep is removed up to μ times the depth this projection pushed out.
+PBF_HD Vec3 contact(const WorldConstants& s, const Collider& c, const ColliderPose& prev, const ColliderPose& cur,
+                    Vec3 p, Vec3 x_old) {
+    Vec3 hit;
+    if (swept_contact(c, prev, cur, x_old, p, s.radius, hit)) p = hit;
+    Vec3 n;
+    const float d = collider_distance(c, cur, p, n);
+    if (d >= s.radius) return p;
+    const float depth = s.radius - d;
+    p += n * depth;
+    if (c.friction > 0.0f) {
+        // Where the contact point was at the start of the substep, had it moved with the collider.
+        const Vec3 local = mul_transpose(cur.rotation, p - cur.position);
+        const Vec3 carried = prev.position + mul(prev.rotation, local);
+        // The particle moved p - x_old, the surface point p - carried: relative motion is the difference.
+        const Vec3 rel = carried - x_old;
+        const Vec3 tangential = rel - n * dot(n, rel);
+        const float t_len = length(tangential);
+        const float removable = c.friction * depth;
+        p -= t_len <= removable ? tangential : tangential * (removable / t_len);
+    }
+    return p;
+}
+
+// Projects predicted position p (the particle was at x_old at the start of the substep) out of
+// every collider whose step bounds its path's box (grown by the radius) meets, then into the
+// walls. A dynamic collider's push is recorded as its reaction (record_push).
 PBF_HD Vec3 collide(const WorldConstants& s, const ColliderView& cv, Vec3 p, Vec3 x_old) {
+    const Vec3 r{s.radius, s.radius, s.radius};
     for (uint32_t k = 0; k < cv.count; ++k) {
         const Collider& c = cv.shapes[k];
-        const ColliderPose& cur = cv.cur[k];
-        Vec3 hit;
-        if (swept_contact(c, cv.prev[k], cur, x_old, p, s.radius, hit)) p = hit;
-        Vec3 n;
-        const float d = collider_distance(c, cur, p, n);
-        if (d >= s.radius) continue;
-        const float depth = s.radius - d;
-        p += n * depth;
-        if (c.friction > 0.0f) {
-            // Where the contact point was at the start of the substep, had it moved with the collider.
-            const ColliderPose& prev = cv.prev[k];
-            const Vec3 local = mul_transpose(cur.rotation, p - cur.position);
-            const Vec3 carried = prev.position + mul(prev.rotation, local);
-            // The particle moved p - x_old, the surface point p - carried: relative motion is the difference.
-            const Vec3 rel = carried - x_old;
-            const Vec3 tangential = rel - n * dot(n, rel);
-            const float t_len = length(tangential);
-            const float removable = c.friction * depth;
-            p -= t_len <= removable ? tangential : tangential * (removable / t_len);
-        }
+        if (!overlaps(c.bounds, min3(x_old, p) - r, max3(x_old, p) + r)) continue;
+        const Vec3 moved = contact(s, c, cv.prev[k], cv.cur[k], p, x_old);
+        if (cv.impulses && (c.flags & kColliderDynamic)) record_push(cv, c, cv.cur[k], moved, moved - p);
+        p = moved;
     }
     return min3(max3(p, s.wall_min), s.wall_max);
 }
@@ -176,7 +189,9 @@ PBF_HD BoundarySample boundary_at(const WorldConstants& s, const ColliderView& c
     if (lo.z < s.h) w.add(half_space(s, lo.z, Vec3{0.0f, 0.0f, 1.0f}));
     if (hi.z < s.h) w.add(half_space(s, hi.z, Vec3{0.0f, 0.0f, -1.0f}));
     BoundarySample b{1.0f - w.p, -w.grad};
+    const Vec3 reach{s.h, s.h, s.h};
     for (uint32_t k = 0; k < cv.count; ++k) {
+        if (!overlaps(cv.shapes[k].bounds, p - reach, p + reach)) continue;
         Vec3 n;
         const float d = collider_distance(cv.shapes[k], cv.cur[k], p, n);
         if (d >= s.h) continue;
@@ -185,6 +200,20 @@ PBF_HD BoundarySample boundary_at(const WorldConstants& s, const ColliderView& c
         b.gradient += c.gradient;
     }
     return b;
+}
+
+// The boundary's push on a particle at p (its share of Δp: ∇C_boundary·λ, DeltaOp) recorded
+// as the reaction on each dynamic collider within h.
+PBF_HD void record_boundary_push(const WorldConstants& s, const ColliderView& cv, Vec3 p, float lambda) {
+    if (!cv.impulses || cv.dynamic_count == 0 || lambda == 0.0f) return;
+    const Vec3 reach{s.h, s.h, s.h};
+    for (uint32_t k = 0; k < cv.count; ++k) {
+        const Collider& c = cv.shapes[k];
+        if (!(c.flags & kColliderDynamic) || !overlaps(c.bounds, p - reach, p + reach)) continue;
+        Vec3 n;
+        const float d = collider_distance(c, cv.cur[k], p, n);
+        if (d < s.h) record_push(cv, c, cv.cur[k], p, half_space(s, d, n).gradient * lambda);
+    }
 }
 
 }  // namespace pbf

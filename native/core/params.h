@@ -30,22 +30,57 @@ struct ColliderPose {
     Mat3 rotation;  // body axes in world space
 };
 
-// A collider's shape; its poses live beside it (ColliderView).
+// A quaternion (x, y, z, w); unit length wherever it describes a rotation.
+struct Quat {
+    float x, y, z, w;
+};
+
+// Collider flags.
+constexpr uint32_t kColliderDynamic = 1u;  // the fluid's force and torque on it are accumulated
+
+// An axis-aligned box in world space.
+struct Bounds {
+    Vec3 lo, hi;
+};
+
+// A collider's shape and what a step knows about it; its poses live beside it (ColliderView).
 struct Collider {
     uint32_t shape;
     float radius;
     float half_height;
     float friction;  // Coulomb coefficient μ
     Vec3 half_extents;
+    uint32_t flags;       // kCollider*
+    uint32_t row;         // its row of the force tables (the collider handle's index)
+    Vec3 center_local;    // the point torques are taken about, in the body frame
+    Bounds bounds;        // contains the collider at every pose of the step (the broad phase)
+};
+
+// Where a collider starts and ends a step (or, between steps, stands: from = to).
+struct ColliderKey {
+    Vec3 from_position, to_position;
+    Quat from_rotation, to_rotation;
+};
+
+// What the fluid gave a dynamic collider: an impulse and its moment during a step (N·s, N·m·s),
+// or, once the step is over, their mean rate (N, N·m). Rows as pbf_collider_force.
+struct ColliderForce {
+    Vec3 force;
+    Vec3 torque;
 };
 
 // The colliders of one substep, in backend memory: shapes[k] moves from prev[k] (the substep's
 // start) to cur[k] (its end). Outside a step, prev = cur = the poses the last step reached.
+// impulses: where position corrections of dynamic colliders' contacts go (null: nowhere, e.g.
+// outside a step); impulse_scale = m / Δt turns a particle's displacement into its impulse.
 struct ColliderView {
     const Collider* shapes = nullptr;
     const ColliderPose* prev = nullptr;
     const ColliderPose* cur = nullptr;
     uint32_t count = 0;
+    uint32_t dynamic_count = 0;
+    ColliderForce* impulses = nullptr;
+    float impulse_scale = 0.0f;
 };
 
 struct WorldConstants {

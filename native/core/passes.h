@@ -2,20 +2,12 @@
 // every particle i by the CPU backend (a parallel loop) and the CUDA backend (one thread each).
 // Ops hold raw pointers into the backend's buffers and the substep's constants by value.
 #pragma once
+#include "atomics.h"
 #include "collide.h"
 #include "grid.h"
 #include "sph.h"
 
 namespace pbf {
-
-// ---- atomics usable from both backends -------------------------------------------------------
-PBF_HD uint32_t atomic_add_u32(uint32_t* addr, uint32_t v) {
-#if defined(__CUDA_ARCH__)
-    return atomicAdd(addr, v);
-#else
-    return __atomic_fetch_add(addr, v, __ATOMIC_RELAXED);
-#endif
-}
 
 // ---- grid build ------------------------------------------------------------------------------
 // Sort key of each slot: its cell, or num_cells for dead particles and slots past the count.
@@ -322,6 +314,7 @@ struct DeltaOp {
             });
             // The boundary's share of ∇C_i, weighted by λ_i alone (the boundary has no λ).
             dp = dp * (s.mass * s.inv_rest_density) + boundary_at(s, ctx.colliders, xi).gradient * lambda_i;
+            record_boundary_push(s, ctx.colliders, xi, lambda_i);
             c = collide(s, ctx.colliders, xi + dp, xyz(positions[i]));
         }
         if (finish_positions) {

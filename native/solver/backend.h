@@ -28,10 +28,14 @@ struct DrainBox {
     Vec3 box_min, box_max;
 };
 
-// Limits of the per-step buffers, allocated with the world: colliders, and substeps per step
-// (the pose table holds kMaxSubsteps + 1 rows of kMaxColliders).
-constexpr uint32_t kMaxColliders = 32;
+// Substeps per step: the pose table holds kMaxSubsteps + 1 rows of the world's max_colliders.
 constexpr uint32_t kMaxSubsteps = 64;
+// The largest max_colliders a world may ask for. Each step uploads its colliders' shapes (72 B
+// each) and start and end poses (56 B each) through pinned staging slots of 256 KB without a
+// host wait: 2048 keep each upload within one slot. On the backend a world holds 65 pose rows
+// of 48 B per collider (6.4 MB at 2048), and every particle pass scans the bounds of all of
+// them (linear cost: a spatial index would be needed for many thousands).
+constexpr uint32_t kMaxColliderCapacity = 2048;
 
 // Everything one substep needs; built by the world on the host. The solver points
 // ctx.colliders at the substep's poses in backend memory.
@@ -42,19 +46,21 @@ struct SubstepInput {
     uint32_t iterations = 1;
 };
 
-// One pbf_world_step: its substeps and the colliders they see. collider_poses holds
-// (substeps + 1) rows of collider_shapes.size() poses: row k is where each collider stands at
-// the start of substep k, the last row where the step leaves it.
+// One pbf_world_step: its substeps and the colliders they see. Each collider moves from its
+// key's start to its end over the step; the solver interpolates the substeps' poses on the
+// backend. dynamic_count: colliders flagged kColliderDynamic; step_dt: the step's length.
 struct StepInput {
     std::vector<SubstepInput> substeps;
     std::vector<Collider> collider_shapes;
-    std::vector<ColliderPose> collider_poses;
+    std::vector<ColliderKey> collider_keys;
+    uint32_t dynamic_count = 0;
+    float step_dt = 0.0f;
 };
 
-// Colliders standing still (between steps): one pose each.
+// Colliders standing still (between steps): keys whose start is their end.
 struct ColliderSetAtRest {
     std::vector<Collider> shapes;
-    std::vector<ColliderPose> poses;
+    std::vector<ColliderKey> keys;
 };
 
 // What a step leaves for the host to read without waiting (the next step's substep choice):
@@ -124,6 +130,7 @@ inline uint32_t buffer_element_bytes(pbf_buffer source) {
 
 struct BackendConfig {
     uint32_t capacity;
+    uint32_t max_colliders;
     GridDims grid;
     int32_t cuda_device;
     RenderConstants render;  // flags 0: no render buffers are allocated and no pass runs
@@ -144,6 +151,14 @@ public:
     // The colliders between steps (for densities outside a step): after the world creates or
     // destroys one. A step leaves them at its end poses itself.
     virtual Status set_colliders_at_rest(const ColliderSetAtRest& colliders) = 0;
+    // The fluid's force on the dynamic colliders over the last step, max_colliders rows indexed
+    // by Collider::row. collider_forces waits for the step and copies the table to the host
+    // once per step (*rows points into the backend's copy, valid until the next step or clear);
+    // collider_force_table is the table in backend memory, written at the end of each step.
+    virtual Status collider_forces(const ColliderForce** rows) = 0;
+    virtual const ColliderForce* collider_force_table() const = 0;
+    // Zeroes one row (a collider created there has felt nothing yet).
+    virtual Status clear_collider_force(uint32_t row) = 0;
     // Emits a lattice block (waits for the device); *emitted = particles that fitted.
     virtual Status emit_block(const BlockEmission& block, const WorldConstants& constants, uint32_t* emitted) = 0;
     virtual Status particle_count(uint32_t* count) = 0;

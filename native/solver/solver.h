@@ -4,6 +4,7 @@
 #pragma once
 #include <algorithm>
 #include <utility>
+#include <vector>
 
 #include "backend.h"
 #include "../core/passes.h"
@@ -91,9 +92,14 @@ public:
         alloc(density_, n);
         alloc(cell_begin_, size_t(config.grid.num_cells) + 1);
         alloc(counters_, 1);
-        alloc(collider_shapes_, kMaxColliders);
-        alloc(collider_poses_, size_t(kMaxColliders) * (kMaxSubsteps + 1));
-        alloc(rest_poses_, kMaxColliders);
+        const size_t colliders = config.max_colliders;
+        alloc(collider_shapes_, colliders);
+        alloc(collider_keys_, colliders);
+        alloc(collider_poses_, colliders * (kMaxSubsteps + 1));
+        alloc(rest_poses_, colliders);
+        alloc(collider_impulses_, colliders);
+        alloc(collider_forces_, colliders);
+        host_forces_.assign(colliders, ColliderForce{});
         // Render data only where the world asks for it: nothing at all otherwise.
         const RenderConstants& r = config.render;
         if (r.flags & kRenderSmoothed) alloc(smoothed_, n);
@@ -119,6 +125,8 @@ public:
         exec_.zero(density_, n * sizeof(float));
         exec_.zero(cell_begin_, (size_t(config.grid.num_cells) + 1) * sizeof(uint32_t));
         exec_.zero(counters_, sizeof(DeviceCounters));
+        exec_.zero(collider_impulses_, colliders * sizeof(ColliderForce));
+        exec_.zero(collider_forces_, colliders * sizeof(ColliderForce));
         if (smoothed_) exec_.zero(smoothed_, n * sizeof(Vec4));
         if (anisotropy_) exec_.zero(anisotropy_, n * 3 * sizeof(Vec4));
         *feedback_ = StepFeedback{};
@@ -132,28 +140,39 @@ public:
     Status step(const WorldConstants& s, const StepInput& in) override {
         exec_.activate();
         const uint32_t count = static_cast<uint32_t>(in.collider_shapes.size());
-        const size_t substeps = in.substeps.size();
-        if (count > kMaxColliders || substeps > kMaxSubsteps || in.collider_poses.size() != count * (substeps + 1))
+        const uint32_t substeps = static_cast<uint32_t>(in.substeps.size());
+        if (count > config_.max_colliders || substeps > kMaxSubsteps || in.collider_keys.size() != count)
             return Status::error(PBF_ERROR_INTERNAL, "step input exceeds the solver's collider buffers");
         exec_.timer_begin();
         exec_.profile_reset();
-        // The step's colliders go up once, before its first kernel; every substep reads its
-        // rows of the pose table.
+        // The step's colliders go up once, before its first kernel (shapes and where each starts
+        // and ends); the substeps' poses are interpolated here, on the backend.
         if (count > 0) {
             exec_.upload(collider_shapes_, in.collider_shapes.data(), count * sizeof(Collider));
-            exec_.upload(collider_poses_, in.collider_poses.data(), in.collider_poses.size() * sizeof(ColliderPose));
+            exec_.upload(collider_keys_, in.collider_keys.data(), count * sizeof(ColliderKey));
+            exec_.for_each(count * (substeps + 1), ColliderPoseOp{collider_keys_, collider_poses_, count, substeps});
         }
+        const bool dynamic = in.dynamic_count > 0;
+        if (dynamic) exec_.zero(collider_impulses_, size_t(config_.max_colliders) * sizeof(ColliderForce));
         exec_.for_each(1, BeginStepOp{counters_});
-        for (size_t k = 0; k < substeps; ++k) {
+        for (uint32_t k = 0; k < substeps; ++k) {
             SubstepInput sub = in.substeps[k];
-            sub.ctx.colliders = ColliderView{collider_shapes_, collider_poses_ + k * count,
-                                             collider_poses_ + (k + 1) * count, count};
+            ColliderView& view = sub.ctx.colliders;
+            view = ColliderView{collider_shapes_, collider_poses_ + k * count, collider_poses_ + (k + 1) * count, count};
+            if (dynamic) {
+                view.dynamic_count = in.dynamic_count;
+                view.impulses = collider_impulses_;
+                view.impulse_scale = s.mass * sub.ctx.inv_dt;
+            }
             sub.ctx.clamped = &counters_->speed_clamps;
             substep(s, sub);
         }
         // Between steps the colliders stand at the step's end poses.
         rest_colliders_ = ColliderView{collider_shapes_, collider_poses_ + substeps * count,
                                        collider_poses_ + substeps * count, count};
+        if (dynamic)
+            exec_.for_each(count, ColliderForceOp{collider_shapes_, collider_impulses_, collider_forces_, 1.0f / in.step_dt});
+        host_forces_valid_ = false;
         const HeightFrame frame = height_frame(s);
         exec_.reduce_feedback(frame, pos_, vel_, &counters_->count, bound_, &counters_->feedback);
         exec_.for_each(1, PublishFeedbackOp{counters_, frame, feedback_});
@@ -173,16 +192,37 @@ public:
     Status set_colliders_at_rest(const ColliderSetAtRest& c) override {
         exec_.activate();
         const uint32_t count = static_cast<uint32_t>(c.shapes.size());
-        if (count > kMaxColliders || c.poses.size() != count)
+        if (count > config_.max_colliders || c.keys.size() != count)
             return Status::error(PBF_ERROR_INTERNAL, "collider set exceeds the solver's collider buffers");
         // The shapes table is also the steps': rewritten here, ordered after earlier steps.
         if (count > 0) {
             exec_.upload(collider_shapes_, c.shapes.data(), count * sizeof(Collider));
-            exec_.upload(rest_poses_, c.poses.data(), count * sizeof(ColliderPose));
+            exec_.upload(collider_keys_, c.keys.data(), count * sizeof(ColliderKey));
+            exec_.for_each(count, ColliderPoseOp{collider_keys_, rest_poses_, count, 0});
         }
         rest_colliders_ = ColliderView{collider_shapes_, rest_poses_, rest_poses_, count};
         density_valid_ = false;
         return exec_.check("updating colliders");
+    }
+
+    Status collider_forces(const ColliderForce** rows) override {
+        exec_.activate();
+        if (!host_forces_valid_) {
+            exec_.download(host_forces_.data(), collider_forces_, host_forces_.size() * sizeof(ColliderForce));
+            Status st = exec_.check("reading collider forces");
+            if (!st.ok()) return st;
+            host_forces_valid_ = true;
+        }
+        *rows = host_forces_.data();
+        return Status{};
+    }
+    const ColliderForce* collider_force_table() const override { return collider_forces_; }
+    Status clear_collider_force(uint32_t row) override {
+        exec_.activate();
+        if (row >= config_.max_colliders) return Status::error(PBF_ERROR_INTERNAL, "collider row out of range");
+        exec_.zero(collider_forces_ + row, sizeof(ColliderForce));
+        host_forces_valid_ = false;
+        return exec_.check("clearing a collider's force");
     }
 
     Status emit_block(const BlockEmission& b, const WorldConstants& s, uint32_t* emitted) override {
@@ -432,8 +472,11 @@ private:
         exec_.release(cell_begin_);
         exec_.release(counters_);
         exec_.release(collider_shapes_);
+        exec_.release(collider_keys_);
         exec_.release(collider_poses_);
         exec_.release(rest_poses_);
+        exec_.release(collider_impulses_);
+        exec_.release(collider_forces_);
         exec_.release(smoothed_);
         exec_.release(anisotropy_);
         exec_.release_host_visible(feedback_);
@@ -455,9 +498,14 @@ private:
     float* density_ = nullptr;
     uint32_t* cell_begin_ = nullptr;
     DeviceCounters* counters_ = nullptr;
-    Collider* collider_shapes_ = nullptr;    // kMaxColliders
-    ColliderPose* collider_poses_ = nullptr;  // (kMaxSubsteps + 1) rows of kMaxColliders
-    ColliderPose* rest_poses_ = nullptr;      // kMaxColliders, set between steps
+    Collider* collider_shapes_ = nullptr;    // max_colliders
+    ColliderKey* collider_keys_ = nullptr;    // max_colliders: where each starts and ends the step
+    ColliderPose* collider_poses_ = nullptr;  // (kMaxSubsteps + 1) rows of the step's colliders
+    ColliderPose* rest_poses_ = nullptr;      // max_colliders, set between steps
+    ColliderForce* collider_impulses_ = nullptr;  // max_colliders rows: the running step's impulses
+    ColliderForce* collider_forces_ = nullptr;    // max_colliders rows: the last step's mean forces
+    std::vector<ColliderForce> host_forces_;      // the host's copy of collider_forces_
+    bool host_forces_valid_ = false;
     ColliderView rest_colliders_{};           // the colliders outside a step
     Vec4* smoothed_ = nullptr;                // render data: null unless the world asks for it
     Vec4* anisotropy_ = nullptr;              // 3 per particle

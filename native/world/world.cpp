@@ -23,19 +23,7 @@ Vec3 to_vec3(const float v[3]) { return Vec3{v[0], v[1], v[2]}; }
 
 Eigen::Quaternionf to_quat(const float q[4]) { return Eigen::Quaternionf(q[3], q[0], q[1], q[2]).normalized(); }
 
-Mat3 to_mat3(const Eigen::Quaternionf& q) {
-    const Eigen::Matrix3f r = q.toRotationMatrix();
-    Mat3 m;
-    for (int row = 0; row < 3; ++row)
-        for (int col = 0; col < 3; ++col) m.m[row * 3 + col] = r(row, col);
-    return m;
-}
-
-ColliderPose pose_at(const ColliderEntry& e, float t) {
-    const Vec3 p = e.position + (e.target_position - e.position) * t;
-    const Eigen::Quaternionf q = to_quat(e.rotation).slerp(t, to_quat(e.target_rotation));
-    return ColliderPose{p, to_mat3(q)};
-}
+Quat quat_of(const float q[4]) { return Quat{q[0], q[1], q[2], q[3]}; }
 
 }  // namespace
 
@@ -160,7 +148,7 @@ std::unique_ptr<World> World::create(const pbf_world_desc& desc, Status* status)
     g.nz = static_cast<int32_t>(std::max(1.0, cells[2]));
     g.num_cells = static_cast<uint32_t>(total);
 
-    BackendConfig config{desc.max_particles, g, desc.cuda_device,
+    BackendConfig config{desc.max_particles, desc.max_colliders, g, desc.cuda_device,
                          render_constants(desc.render, desc.particle_radius, w->h_)};
     pbf_backend kind = desc.backend;
     if (kind == PBF_BACKEND_AUTO) kind = cuda_device_available(desc.cuda_device) ? PBF_BACKEND_CUDA : PBF_BACKEND_CPU;
@@ -239,13 +227,7 @@ uint32_t World::substeps_for(float dt) {
         if (e.desc.enabled && e.desc.type == PBF_EMITTER_NOZZLE) v = std::fmax(v, e.desc.speed);
     });
     colliders_.for_each([&](ColliderEntry& e) {
-        float reach = 0.0f;  // distance of the farthest surface point from the centre
-        switch (e.collider.shape) {
-            case kShapeSphere: reach = e.collider.radius; break;
-            case kShapeCapsule: reach = e.collider.radius + e.collider.half_height; break;
-            case kShapeBox: reach = length(e.collider.half_extents); break;
-            default: reach = 0.0f;  // a plane: its translation only
-        }
+        const float reach = collider_reach(e.collider);  // a plane: 0, its translation only
         const float angle = to_quat(e.rotation).angularDistance(to_quat(e.target_rotation));
         v = std::fmax(v, (length(e.target_position - e.position) + angle * reach) / dt);
     });
@@ -260,6 +242,20 @@ uint32_t World::substeps_for(float dt) {
     const double depth = std::fmax(fb.fluid_depth, emitted_depth_);
     if (g > 0.0 && depth > 0.0) n = std::max(n, std::ceil(dt * depth_substep_rate(g, depth) - 1e-6));
     return static_cast<uint32_t>(std::clamp(n, 1.0, double(params_.max_substeps)));
+}
+
+uint32_t World::gather_colliders(bool moving, std::vector<Collider>* shapes, std::vector<ColliderKey>* keys) {
+    uint32_t dynamic = 0;
+    colliders_.for_each([&](ColliderEntry& e) {
+        ColliderKey k{e.position, moving ? e.target_position : e.position, quat_of(e.rotation),
+                      quat_of(moving ? e.target_rotation : e.rotation)};
+        Collider c = e.collider;
+        c.bounds = swept_bounds(c, k);
+        if (c.flags & kColliderDynamic) ++dynamic;
+        shapes->push_back(c);
+        keys->push_back(k);
+    });
+    return dynamic;
 }
 
 // The depth rule's substeps per second. A fixed number of Jacobi iterations per substep is a
@@ -281,10 +277,7 @@ double World::depth_substep_rate(double g, double depth) const {
 
 Status World::colliders_changed() {
     ColliderSetAtRest rest;
-    colliders_.for_each([&](ColliderEntry& e) {
-        rest.shapes.push_back(e.collider);
-        rest.poses.push_back(pose_at(e, 0.0f));
-    });
+    gather_colliders(false, &rest.shapes, &rest.keys);
     return backend_->set_colliders_at_rest(rest);
 }
 
@@ -300,9 +293,8 @@ Status World::step(float dt) {
     const float spacing = rest_spacing();
     StepInput input;
     input.substeps.resize(substeps);
-    colliders_.for_each([&](ColliderEntry& e) { input.collider_shapes.push_back(e.collider); });
-    for (uint32_t k = 0; k <= substeps; ++k)
-        colliders_.for_each([&](ColliderEntry& e) { input.collider_poses.push_back(pose_at(e, float(k) / substeps)); });
+    input.dynamic_count = gather_colliders(true, &input.collider_shapes, &input.collider_keys);
+    input.step_dt = dt;
     const StepContext ctx = step_context(sub_dt);
     for (uint32_t k = 0; k < substeps; ++k) {
         SubstepInput& in = input.substeps[k];
@@ -493,15 +485,18 @@ Status World::create_emitter(const pbf_emitter_desc& desc, pbf_emitter_id* out) 
 }
 
 Status World::create_collider(const pbf_collider_desc& d, pbf_collider_id* out) {
-    if (colliders_.size() >= kMaxColliders)
-        return Status::error(PBF_ERROR_CAPACITY,
-                             "a world holds at most " + std::to_string(kMaxColliders) + " colliders");
+    if (colliders_.size() >= desc_.max_colliders)
+        return Status::error(PBF_ERROR_CAPACITY, "the world holds max_colliders = " +
+                                                     std::to_string(desc_.max_colliders) +
+                                                     " colliders already (pbf_world_desc.max_colliders)");
     ColliderEntry e{};
     e.collider.shape = static_cast<uint32_t>(d.shape);
     e.collider.radius = d.radius;
     e.collider.half_height = d.half_height;
     e.collider.friction = d.friction;
     e.collider.half_extents = to_vec3(d.half_extents);
+    e.collider.flags = d.dynamic ? kColliderDynamic : 0u;
+    e.collider.center_local = to_vec3(d.center_of_mass);
     e.motion = static_cast<uint32_t>(d.motion);
     e.position = e.target_position = to_vec3(d.position);
     const Eigen::Quaternionf q = to_quat(d.rotation);
@@ -509,9 +504,33 @@ Status World::create_collider(const pbf_collider_desc& d, pbf_collider_id* out) 
     std::memcpy(e.rotation, qn, sizeof qn);
     std::memcpy(e.target_rotation, qn, sizeof qn);
     const auto h = colliders_.insert(e);
+    // The handle's index is the collider's row of the force tables (indices stay below
+    // max_colliders: the table reuses freed ones first).
+    colliders_.find(h.index, h.generation)->collider.row = h.index;
+    Status st = backend_->clear_collider_force(h.index);
+    if (st.ok()) st = colliders_changed();
+    if (!st.ok()) {
+        colliders_.erase(h.index, h.generation);
+        return st;
+    }
     *out = pbf_collider_id{h.index, h.generation};
-    return colliders_changed();
+    return st;
 }
 
+Status World::collider_force(pbf_collider_id id, pbf_collider_force* out) {
+    const ColliderEntry* e = find_collider(id);
+    if (!e) return Status::error(PBF_ERROR_INVALID_HANDLE, "collider is not live");
+    if (!(e->collider.flags & kColliderDynamic))
+        return Status::error(PBF_ERROR_INVALID_STATE,
+                             "the collider is not dynamic (pbf_collider_desc.dynamic = 1 records its force)");
+    const ColliderForce* rows = nullptr;
+    Status st = backend_->collider_forces(&rows);
+    if (!st.ok()) return st;
+    const ColliderForce& f = rows[e->collider.row];
+    const float values[6] = {f.force.x, f.force.y, f.force.z, f.torque.x, f.torque.y, f.torque.z};
+    std::memcpy(out->force, values, 3 * sizeof(float));
+    std::memcpy(out->torque, values + 3, 3 * sizeof(float));
+    return st;
+}
 
 }  // namespace pbf

@@ -71,6 +71,12 @@ public:
 
     Status create_collider(const pbf_collider_desc& desc, pbf_collider_id* out);
     bool destroy_collider(pbf_collider_id id);
+    // The fluid's mean force and torque on a dynamic collider over the last step (waits for
+    // it): INVALID_HANDLE when not live, INVALID_STATE when not dynamic.
+    Status collider_force(pbf_collider_id id, pbf_collider_force* out);
+    // The backend's table of them (max_colliders rows by handle index), for pbf_mapped_buffer.
+    const void* collider_force_table() const { return backend_->collider_force_table(); }
+    uint32_t max_colliders() const { return desc_.max_colliders; }
     ColliderEntry* find_collider(pbf_collider_id id) { return colliders_.find(id.index, id.generation); }
 
     Status particle_count(uint32_t* count) { return backend_->particle_count(count); }
@@ -141,6 +147,9 @@ private:
     double depth_substep_rate(double g, double depth) const;
     StepContext step_context(float sub_dt) const;
     Status colliders_changed();
+    // The step's colliders: shapes (bounds over the motion from the current pose to the
+    // target) and keys; returns how many are dynamic.
+    uint32_t gather_colliders(bool moving, std::vector<Collider>* shapes, std::vector<ColliderKey>* keys);
 
     WorldConstants constants_{};
     pbf_world_desc desc_{};

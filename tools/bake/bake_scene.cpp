@@ -548,7 +548,9 @@ Scene parse_scene(const std::string& text, const std::string& file, bool toml) {
     list("blocks", [&](const json& j, const std::string& p) { s.blocks.push_back(parse_block(c, j, p)); });
     list("emitters", [&](const json& j, const std::string& p) { s.emitters.push_back(parse_emitter(c, j, p)); });
     list("colliders", [&](const json& j, const std::string& p) { s.colliders.push_back(parse_collider(c, j, p)); });
-    if (s.colliders.size() > 32) c.fail("/colliders", "at most 32 colliders, got " + std::to_string(s.colliders.size()));
+    // The world is made to hold every collider of the scene (the library's limit is 2048).
+    if (s.colliders.size() > 2048) c.fail("/colliders", "at most 2048 colliders, got " + std::to_string(s.colliders.size()));
+    s.world.max_colliders = std::max<uint32_t>(s.world.max_colliders, uint32_t(s.colliders.size()));
     if (const json* v = find(root, "frames")) parse_frames(c, *v, "/frames", s);
     s.output.name = stem_of(file);
     s.output.directory = s.output.name + "_bake";

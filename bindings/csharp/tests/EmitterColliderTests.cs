@@ -57,6 +57,32 @@ namespace Pbf.Tests
         }
 
         [Test]
+        public void DynamicBoxUnderWaterFeelsItsWeightAndTheTableAgrees()
+        {
+            using (var world = Scene.CpuWorld())
+            {
+                // A 0.3 m cube of water dropped onto a dynamic box: resting on it, the water pushes
+                // it down by about its weight (the walls take what spills over the sides).
+                var d = ColliderDesc.Box(new Vector3(0, 0.1f, 0), Quaternion.Identity, new Vector3(0.2f, 0.1f, 0.2f));
+                d.Dynamic = true;
+                d.CenterOfMass = new Vector3(0, -0.1f, 0);
+                Assert.IsTrue(d.Dynamic);
+                Collider box = world.CreateCollider(d);
+                Assert.AreEqual(Vector3.Zero, box.GetForce().Force, "nothing felt before the first step");
+                world.EmitBlock(new Vector3(-0.15f, 0.25f, -0.15f), new Vector3(0.15f, 0.55f, 0.15f));
+                Scene.Steps(world, 60);
+                ColliderForce f = box.GetForce();
+                Assert.Less(f.Force.Y, 0f, "the water pushes it down");
+                ColliderForceTable table = world.MapColliderForces();
+                Assert.AreEqual(MemoryKind.Host, table.Memory);
+                Assert.AreEqual(256, table.Count, "one row per collider the world can hold");
+                Assert.AreEqual(24, table.StrideBytes);
+                Assert.AreEqual(f.Force, table.Read((int)box.Id.index).Force);
+                Assert.AreEqual(f.Torque, table.Read((int)box.Id.index).Torque);
+            }
+        }
+
+        [Test]
         public void DrainRemovesTheParticlesInsideIt()
         {
             using (var world = Scene.CpuWorld())

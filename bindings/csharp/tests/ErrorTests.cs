@@ -221,13 +221,32 @@ namespace Pbf.Tests
         [Test]
         public void ColliderTableIsBounded()
         {
-            var colliders = new Collider[32];
-            for (int i = 0; i < colliders.Length; ++i)
-                colliders[i] = _world.CreateCollider(ColliderDesc.Sphere(new Vector3(0, 1.5f, 0), 0.01f));
-            Scene.ExpectError(Result.Capacity, () => _world.CreateCollider(ColliderDesc.Sphere(Vector3.UnitY, 0.01f)),
-                "at most 32 colliders");
-            colliders[5].Destroy();
-            _world.CreateCollider(ColliderDesc.Sphere(Vector3.UnitY, 0.01f));  // a freed slot is reused
+            var desc = Scene.CpuDesc(1024);
+            desc.MaxColliders = 300;
+            using (var world = World.Create(desc))
+            {
+                var colliders = new Collider[300];
+                for (int i = 0; i < colliders.Length; ++i)
+                    colliders[i] = world.CreateCollider(ColliderDesc.Sphere(new Vector3(0, 1.5f, 0), 0.01f));
+                Scene.ExpectError(Result.Capacity, () => world.CreateCollider(ColliderDesc.Sphere(Vector3.UnitY, 0.01f)),
+                    "max_colliders = 300");
+                colliders[5].Destroy();
+                world.CreateCollider(ColliderDesc.Sphere(Vector3.UnitY, 0.01f));  // a freed slot is reused
+            }
+            var bad = Scene.CpuDesc(1024);
+            bad.MaxColliders = 2049;
+            Scene.ExpectError(Result.InvalidArgument, () => World.Create(bad), "max_colliders must be 1..2048");
+        }
+
+        [Test]
+        public void ForceOfAColliderThatIsNotDynamicIsRefused()
+        {
+            Collider c = _world.CreateCollider(ColliderDesc.Sphere(new Vector3(0, 1, 0), 0.1f));
+            Scene.ExpectError(Result.InvalidState, () => c.GetForce(), "pbf_collider_get_force", "not dynamic");
+            var d = ColliderDesc.Sphere(new Vector3(0.3f, 1, 0), 0.1f);
+            d.CenterOfMass = new Vector3(float.NaN, 0, 0);
+            d.Dynamic = true;
+            Scene.ExpectError(Result.InvalidArgument, () => _world.CreateCollider(d), "center_of_mass must be finite");
         }
 
         [Test]

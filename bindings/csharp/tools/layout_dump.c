@@ -174,6 +174,7 @@ int main(void) {
     FIELD(pbf_world_desc, domain_max);
     FIELD(pbf_world_desc, solver);
     FIELD(pbf_world_desc, render);
+    FIELD(pbf_world_desc, max_colliders);
 
     STRUCT(pbf_world_info);
     FIELD(pbf_world_info, struct_size);
@@ -239,6 +240,12 @@ int main(void) {
     FIELD(pbf_collider_desc, half_height);
     FIELD(pbf_collider_desc, half_extents);
     FIELD(pbf_collider_desc, friction);
+    FIELD(pbf_collider_desc, dynamic);
+    FIELD(pbf_collider_desc, center_of_mass);
+
+    STRUCT(pbf_collider_force);
+    FIELD(pbf_collider_force, force);
+    FIELD(pbf_collider_force, torque);
 
     STRUCT(pbf_mapped_buffer);
     FIELD(pbf_mapped_buffer, struct_size);

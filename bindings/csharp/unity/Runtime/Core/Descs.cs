@@ -163,6 +163,8 @@ namespace Pbf
         public int CudaDevice { get { return _raw.cuda_device; } set { _raw.cuda_device = value; } }
         /// <summary>Capacity, fixed for the world's life (default 65536).</summary>
         public int MaxParticles { get { return (int)_raw.max_particles; } set { _raw.max_particles = (uint)value; } }
+        /// <summary>Collider capacity, 1..2048, allocated up front (default 256).</summary>
+        public int MaxColliders { get { return (int)_raw.max_colliders; } set { _raw.max_colliders = (uint)value; } }
         /// <summary>Rest spacing is 2·radius, kernel radius 4·radius (default 0.025 m).</summary>
         public float ParticleRadius { get { return _raw.particle_radius; } set { _raw.particle_radius = value; } }
         /// <summary>kg/m³ (default 1000).</summary>
@@ -330,6 +332,51 @@ namespace Pbf
         /// motion relative to the collider is removed up to μ times the depth the contact pushed the
         /// particle out.</summary>
         public float Friction { get { return _raw.friction; } set { _raw.friction = value; } }
+        /// <summary>Default false. True: the library records the force and torque the fluid exerts
+        /// on the collider each step (<see cref="Collider.GetForce"/>); the engine integrates its
+        /// body and moves it (Kinematic, <see cref="Collider.SetTargetPose"/>).</summary>
+        public bool Dynamic { get { return _raw.dynamic != 0; } set { _raw.dynamic = value ? 1u : 0u; } }
+        /// <summary>Dynamic: the point torques are taken about, in the collider's own frame (default 0).</summary>
+        public Vector3 CenterOfMass { get { return Convert3.FromNative(_raw.center_of_mass); } set { _raw.center_of_mass = Convert3.ToNative(value); } }
+    }
+
+    /// <summary>The force table of <see cref="World.MapColliderForces"/>.</summary>
+    public struct ColliderForceTable
+    {
+        public readonly MemoryKind Memory;
+        public readonly IntPtr Data;
+        public readonly int Count;
+        public readonly int StrideBytes;
+        public ColliderForceTable(MemoryKind memory, IntPtr data, int count, int strideBytes)
+        {
+            Memory = memory;
+            Data = data;
+            Count = count;
+            StrideBytes = strideBytes;
+        }
+
+        /// <summary>Row k, read from host memory (MemoryKind.Host only).</summary>
+        public ColliderForce Read(int row)
+        {
+            if (Memory != MemoryKind.Host) throw new InvalidOperationException("the table is in device memory");
+            if (row < 0 || row >= Count) throw new ArgumentOutOfRangeException("row");
+            var raw = (pbf_collider_force)System.Runtime.InteropServices.Marshal.PtrToStructure(
+                new IntPtr(Data.ToInt64() + (long)row * StrideBytes), typeof(pbf_collider_force));
+            return new ColliderForce(raw);
+        }
+    }
+
+    /// <summary>The fluid's push on a dynamic collider over the last step (pbf_collider_force): the
+    /// mean force (N) and the torque about its CenterOfMass (N·m).</summary>
+    public struct ColliderForce
+    {
+        public Vector3 Force;
+        public Vector3 Torque;
+        public ColliderForce(pbf_collider_force raw)
+        {
+            Force = Convert3.FromNative(raw.force);
+            Torque = Convert3.FromNative(raw.torque);
+        }
     }
 
     /// <summary>Statistics of the last step (pbf_step_stats); all zero before the first.</summary>

@@ -110,6 +110,16 @@ namespace Pbf
             PbfException.Check(Native.pbf_collider_set_target_pose(World.Handle, Id, ref p, ref q));
         }
 
+        /// <summary>Dynamic colliders only (else <see cref="Result.InvalidState"/>): the fluid's mean
+        /// force and torque over the last step (zero before the first). Waits for that step to finish
+        /// on the backend; on CUDA the first call after a step copies every collider's row at once.</summary>
+        public ColliderForce GetForce()
+        {
+            pbf_collider_force f;
+            PbfException.Check(Native.pbf_collider_get_force(World.Handle, Id, out f));
+            return new ColliderForce(f);
+        }
+
         internal override pbf_result DestroyNative() { return Native.pbf_world_destroy_collider(World.Handle, Id); }
     }
 }

@@ -302,6 +302,7 @@ namespace Pbf.Interop
         public Float3 domain_max;
         public pbf_solver_params solver;
         public pbf_render_params render;
+        public uint max_colliders;
     }
 
     [StructLayout(LayoutKind.Sequential)]
@@ -397,6 +398,15 @@ namespace Pbf.Interop
         public float half_height;
         public Float3 half_extents;
         public float friction;
+        public uint dynamic;
+        public Float3 center_of_mass;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_collider_force
+    {
+        public Float3 force;
+        public Float3 torque;
     }
 
     [StructLayout(LayoutKind.Sequential)]
@@ -712,6 +722,13 @@ namespace Pbf.Interop
         public static extern pbf_result pbf_collider_set_target_pose(pbf_world_id world, pbf_collider_id collider, ref Float3 position, ref Float4 rotation);
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_collider_set_target_pose(pbf_world_id world, pbf_collider_id collider, IntPtr position, IntPtr rotation);
+
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_collider_get_force(pbf_world_id world, pbf_collider_id collider, out pbf_collider_force out_force);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_collider_get_force(pbf_world_id world, pbf_collider_id collider, IntPtr out_force);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_map_collider_forces(pbf_world_id world, ref pbf_mapped_buffer out_buffer);
 
         // Particles
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]

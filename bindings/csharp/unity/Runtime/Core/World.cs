@@ -305,6 +305,17 @@ namespace Pbf
         /// <see cref="Unmap"/>, the next <see cref="Step"/>, any call that adds or removes
         /// particles, or Dispose. Read-only. Dispose the result (or call Unmap) when done.
         /// </summary>
+        /// <summary>Every collider's force row in backend memory (pbf_world_map_collider_forces):
+        /// MaxColliders rows of pbf_collider_force, 24 bytes apart, row k for the collider whose
+        /// handle index is k. Valid until the world is disposed; on CUDA a device pointer written at
+        /// the end of each step on the world's stream (read it there, or after an event).</summary>
+        public ColliderForceTable MapColliderForces()
+        {
+            var b = new pbf_mapped_buffer { struct_size = Native.SizeOf<pbf_mapped_buffer>() };
+            PbfException.Check(Native.pbf_world_map_collider_forces(Handle, ref b));
+            return new ColliderForceTable((MemoryKind)b.memory, b.data, (int)b.count, (int)b.stride_bytes);
+        }
+
         public MappedPositions MapPositions()
         {
             var buffer = new pbf_mapped_buffer { struct_size = Native.SizeOf<pbf_mapped_buffer>() };
