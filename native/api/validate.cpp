@@ -29,7 +29,7 @@ bool finite_nonzero_quat(const float q[4]) {
     return q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3] > 1e-6f;
 }
 bool in(float v, float lo, float hi) { return std::isfinite(v) && v >= lo && v <= hi; }
-bool valid_source(pbf_buffer source) {
+bool valid_source(const pbf_buffer& source) {
     const int32_t s = raw(source);
     return s >= PBF_BUFFER_POSITIONS && s <= PBF_BUFFER_ANISOTROPY;
 }
@@ -106,7 +106,7 @@ Verdict validate_render_params(const pbf_render_params& p) {
     return {};
 }
 
-Verdict validate_copy_out(pbf_buffer source, uint64_t out_bytes) {
+Verdict validate_copy_out(const pbf_buffer& source, uint64_t out_bytes) {
     V(valid_source(source), COPY_SOURCE);
     if (out_bytes % element_bytes(source) != 0) return Verdict{Check::COPY_OUT_SIZE, element_bytes(source)};
     return {};

@@ -151,7 +151,7 @@ Verdict validate_solver_params(const pbf_solver_params& p);  // struct_size chec
 Verdict validate_world_desc(const pbf_world_desc& d);        // all but the nested solver params
 Verdict validate_render_params(const pbf_render_params& p);  // struct_size checked by the caller
 // pbf_world_copy_buffer: a known source, out_bytes a whole number of its elements.
-Verdict validate_copy_out(pbf_buffer source, uint64_t out_bytes);
+Verdict validate_copy_out(const pbf_buffer& source, uint64_t out_bytes);
 Verdict validate_gravity(const float g[3]);
 Verdict validate_block_desc(const pbf_block_desc& d);
 Verdict validate_emitter_desc(const pbf_emitter_desc& d);
