@@ -5,7 +5,6 @@
 #include <string>
 
 #include "api_common.h"
-#include "../world/world.h"
 
 using pbf::Status;
 using pbf::World;
