@@ -17,6 +17,7 @@ import re
 import sys
 
 import matplotlib
+import matplotlib.ticker
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -38,6 +39,15 @@ SUBSTEPS = [1, 2, 4, 7, 10, 16]
 DAM_COLLAPSE_T = 3.5  # the dam's compression is averaged over 0 < T <= this (before the impact)
 ENERGY_TOL = 0.02
 RECOMMENDED_GAIN = 0.3  # from the sweep (README §4)  # max(KE + ΔPE)/(M g a) above this: the run created energy (unstable)
+# The equal-cost comparison (tools/paper/report_runs.sh cost_runs; data/cost/): methods and
+# substeps per frame, and the frame benchmark's verdict rules (samples/common/frame_run.h).
+COST_METHODS = ["conv1", "conv2", "conv3", "conv4", "ldc1", "ldc2", "ldc3"]
+COST_SUBSTEPS = ["auto", "3", "5", "7", "10", "14"]
+COST_TARGETS = [0.02, 0.01, 0.005]  # mean compressive error targets of the cheapest-setting table
+FRAME_ENERGY_TOL = 0.05  # KE + ΔPE above this (M g a): unstable (the frame benchmark's rule)
+FRAME_ERR_MAX = 3.0      # max density error above this: unstable
+FRAME_CLAMP_TOL = 1e-3   # speed-limited particle-substeps above this fraction: clamped
+FRAME_REST_KE, FRAME_REST_V = 1e-3, 0.5  # the tank must end with KE/(M g a) and top speed under these
 ADAPTIVE_ETAS = ["0.01", "0.005", "0.001"]  # adaptive_error_target of the §9 runs
 ADAPTIVE_METHODS = [("conv", "PBF"), ("ldc", "LDC 0.3")]
 GPU_ADAPTIVE_CMD = ("`ADAPTIVE_ONLY=1 OUT=dir tools/paper/gpu_paper.sh BUILD_DIR` on the GPU machine (a CUDA build with "
@@ -131,6 +141,44 @@ def tank_metrics(r):
     return m
 
 
+def frame_metrics(r, scene):
+    """A cost run (one row per 1/60 s frame) judged by the frame benchmark's rules
+    (samples/common/frame_run.h): unstable if non-finite, max density error > 3 or KE + ΔPE >
+    0.05 M g a; clamped if the speed limits cut > 0.1 % of particle-substeps; the tank must end
+    at rest. ms per frame: the backend's step time (one pbf_world_step per frame), mean over the
+    frames before the verdict. Compression as in §1: the dam's mean error over the collapse
+    (T <= 3.5), the tank's over its second half; and both over the whole run."""
+    sel = r["t"] > 0
+    n = int(np.sum(sel))
+    e = r["ke_norm"][sel] + r["pe_norm"][sel]
+    fin = np.isfinite(e) & np.isfinite(r["density_error_max"][sel])
+    bad = ~fin | (r["density_error_max"][sel] > FRAME_ERR_MAX) | (e > FRAME_ENERGY_TOL)
+    verdict, upto = "ok", n
+    if np.any(bad):
+        k = int(np.argmax(bad))
+        why = "non-finite" if not fin[k] else ("ρ" if r["density_error_max"][sel][k] > FRAME_ERR_MAX else "E")
+        verdict, upto = f"unstable ({why})", k + 1
+    used = r["substeps_used"][sel][:upto] if "substeps_used" in r else np.full(upto, r["substeps"][0])
+    clamps = r["speed_clamps"][sel][:upto] if "speed_clamps" in r else np.zeros(upto)
+    clamp_fraction = float(np.sum(clamps) / max(1.0, float(np.sum(r["particles"][sel][:upto] * used))))
+    if verdict == "ok" and clamp_fraction > FRAME_CLAMP_TOL:
+        verdict = "clamped"
+    if verdict == "ok" and scene == "tank" and not (r["ke_norm"][-1] < FRAME_REST_KE and r["max_speed"][-1] < FRAME_REST_V):
+        verdict = "not at rest"
+    m = dict(verdict=verdict, ok=verdict == "ok", frames=n, ms_frame=float(np.mean(r["step_ms"][sel][:upto])),
+             substeps_mean=float(np.mean(used)), substeps_max=int(np.max(used)), clamp_fraction=clamp_fraction,
+             e_gain=float(np.nanmax(e)) if np.any(np.isfinite(e)) else float("nan"),
+             err_run=float(np.mean(r["density_error_mean"][sel][:upto])),
+             err_max=float(np.max(r["density_error_max"][sel][:upto])),
+             vmax=float(np.max(r["max_speed"][sel][:upto])), particles=int(r["particles"][0]), na=int(r["na"][0]))
+    if scene == "dam":
+        win = sel & (r["T"] <= DAM_COLLAPSE_T)
+    else:
+        win = sel & (r["t"] >= 0.5 * r["t"][-1])
+    m["err"] = float(np.mean(r["density_error_mean"][win])) if np.any(win) else float("nan")
+    return m
+
+
 def fmt(v, spec=".2f"):
     if v is None or (isinstance(v, float) and math.isnan(v)):
         return "–"
@@ -174,8 +222,8 @@ def equivalent_iterations(conv_errors, value):
 
 # ---- the report ----------------------------------------------------------------------------------
 class Report:
-    def __init__(self, data, snaps, out):
-        self.data, self.snaps, self.out = data, snaps, out
+    def __init__(self, data, snaps, out, frames_dir):
+        self.data, self.snaps, self.out, self.frames_dir = data, snaps, out, frames_dir
         self.fields = {}
         self.missing = []
 
@@ -801,6 +849,125 @@ class Report:
                 "the GPU row.")
         return res
 
+    # equal cost per frame
+    def cost(self):
+        """The cost runs (data/cost: every method at automatic and fixed substeps, dam and tank) and
+        the frame benchmark's CSVs (docs/perf/h100_frames_*_262k.csv, if present): compression
+        against GPU ms per frame, and the cheapest setting per method that reaches a target."""
+        sets = []  # (title, {(scene, method, S): metrics}, err key)
+        runs = {}
+        for scene in ("dam", "tank"):
+            for m in COST_METHODS:
+                for S in COST_SUBSTEPS:
+                    r = load(os.path.join(self.data, "cost", f"cost_{scene}_{m}_S{S}.csv"))
+                    if r is not None:
+                        runs[(scene, m, S)] = frame_metrics(r, scene)
+        if runs:
+            any_r = next(iter(runs.values()))
+            sets.append((f"report scenes, {any_r['particles']:,} particles ({any_r['na']}/a), LDC gain 0.3", runs, "err"))
+        else:
+            self.missing.append("cost/cost_*.csv (tools/paper/gpu_report.sh)")
+        for path in sorted(glob.glob(os.path.join(self.frames_dir, "h100_frames_*_262k.csv"))):
+            fr = load(path)
+            if fr is None:
+                continue
+            res = {}
+            for i in range(len(fr["scene"])):
+                m = f"{'ldc' if int(fr['ldc'][i]) else 'conv'}{int(fr['iterations'][i])}"
+                S = str(fr["substeps"][i]).replace(".0", "")
+                res[(str(fr["scene"][i]), m, S)] = dict(
+                    verdict=str(fr["verdict"][i]), ok=str(fr["verdict"][i]) == "ok", ms_frame=float(fr["ms_per_frame"][i]),
+                    substeps_mean=float(fr["substeps_mean"][i]), err=float(fr["err_mean"][i]),
+                    err_run=float(fr["err_mean"][i]), err_max=float(fr["err_max"][i]), particles=int(fr["particles"][i]))
+            sets.append((f"frame benchmark, {os.path.basename(path)} (3D, whole-run mean error)", res, "err"))
+        if not sets:
+            self.fields["FIG_COST"] = ""
+            self.fields["TABLE_COST"] = "_No cost runs found (tools/paper/gpu_report.sh)._"
+            self.fields["TABLE_COST_CHEAPEST"] = ""
+            return None
+        methods = sorted({k[1] for _, res, _ in sets for k in res}, key=lambda m: (m.startswith("ldc"), m))
+        fig, ax = plt.subplots(len(sets), 2, figsize=(13, 4.2 * len(sets)), squeeze=False)
+        for i, (title, res, key) in enumerate(sets):
+            for j, scene in enumerate(("dam", "tank")):
+                a = ax[i, j]
+                for m in methods:
+                    pts = sorted((v["ms_frame"], v[key], v["ok"]) for (sc, mm, _), v in res.items()
+                                 if sc == scene and mm == m and v["ms_frame"] > 0 and v[key] > 0)
+                    if not pts:
+                        continue
+                    x, y, ok = (np.array(c) for c in zip(*pts))
+                    a.plot(x, 100 * y, style(m), color=colour(m), lw=0.8, alpha=0.6)
+                    a.plot(x[ok], 100 * y[ok], "o", color=colour(m), label=label(m), ms=5)
+                    a.plot(x[~ok], 100 * y[~ok], "x", color=colour(m), ms=6)
+                a.set_xscale("log")
+                a.set_yscale("log")
+                for axis in (a.xaxis, a.yaxis):  # plain numbers, not 3×10^0
+                    axis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+                    axis.set_minor_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+                a.set_xlabel("GPU ms per 1/60 s frame")
+                a.set_ylabel("mean compressive error [%]")
+                a.set_title(f"{scene}: {title}", fontsize=9)
+                a.grid(alpha=0.3, which="both")
+            ax[i, 0].legend(fontsize=7, ncol=2, title="o ok, x not ok", title_fontsize=7)
+        self.fields["FIG_COST"] = self.savefig(fig, "cost.png")
+        # the cheapest setting per method (dam and tank both ok and both under the target; the cost
+        # of the dearer scene, as the frame benchmark's cheapest-setting line)
+        rows, csv_rows = [], []
+        for title, res, key in sets:
+            for m in methods:
+                row = [title.split(",")[0] + (f", {next(iter(res.values()))['particles']:,} p." if res else ""), label(m)]
+                for target in [None] + COST_TARGETS:
+                    best = None
+                    for S in sorted({k[2] for k in res if k[1] == m}):
+                        d, t = res.get(("dam", m, S)), res.get(("tank", m, S))
+                        if not (d and t and d["ok"] and t["ok"]):
+                            continue
+                        if target is not None and not (d[key] <= target and t[key] <= target):
+                            continue
+                        ms = max(d["ms_frame"], t["ms_frame"])
+                        if best is None or ms < best[0]:
+                            best = (ms, S, d, t)
+                    if best is None:
+                        row.append("none")
+                    else:
+                        ms, S, d, t = best
+                        sm = f"S {S}" + (f" (S̄ {d['substeps_mean']:.1f} / {t['substeps_mean']:.1f})" if S == "auto" else "")
+                        row.append(f"{sm}: {ms:.2f} ms ({pct(d[key])} / {pct(t[key])})")
+                    csv_rows.append([title, m, target if target is not None else "ok", best and best[1],
+                                     best and best[0], best and best[2][key], best and best[3][key]])
+                rows.append(row)
+        self.fields["TABLE_COST_CHEAPEST"] = md_table(
+            ["runs", "method", "cheapest ok in both scenes"] + [f"… and mean error ≤ {100 * x:g} % in both"
+                                                                  for x in COST_TARGETS], rows)
+        write_csv(os.path.join(self.out, "cost_cheapest.csv"),
+                  ["runs", "method", "target", "substeps", "ms_per_frame_dearer_scene", "dam_err", "tank_err"], csv_rows)
+        # the whole matrix of the report's cost runs
+        rows, csv_rows = [], []
+        if runs:
+            for m in COST_METHODS:
+                for S in COST_SUBSTEPS:
+                    cells = [label(m), S]
+                    for scene in ("dam", "tank"):
+                        v = runs.get((scene, m, S))
+                        if v is None:
+                            cells.append("–")
+                            continue
+                        cells.append(f"{v['verdict']}, {v['ms_frame']:.2f} ms, {pct(v['err'])}"
+                                     + (f", S̄ {v['substeps_mean']:.1f}" if S == "auto" else ""))
+                        csv_rows.append([scene, m, S, v["verdict"], v["ms_frame"], v["substeps_mean"], v["substeps_max"],
+                                         v["err"], v["err_run"], v["err_max"], v["e_gain"], v["vmax"],
+                                         v["clamp_fraction"], v["frames"]])
+                    rows.append(cells)
+            write_csv(os.path.join(self.out, "cost.csv"),
+                      ["scene", "method", "substeps", "verdict", "ms_per_frame", "substeps_mean", "substeps_max",
+                       "err_mean_window", "err_mean_run", "err_max_peak", "energy_gain", "max_speed",
+                       "clamp_fraction", "frames"], csv_rows)
+        self.fields["TABLE_COST"] = md_table(
+            ["method", "substeps / frame", "dam: verdict, GPU ms/frame, mean err (collapse)",
+             "tank: verdict, GPU ms/frame, mean err (settled)"], rows) if rows else "_No cost runs found._"
+        self.cost_results = sets
+        return sets
+
     # ---- verdicts ---------------------------------------------------------------------------
     @staticmethod
     def lowest_stable(dm, tm=None):
@@ -1143,6 +1310,7 @@ class Report:
         self.diagnostics()
         val = self.validation()
         self.adaptive()
+        self.cost()
         runs = [("CPU", dm, tm)] + ([("GPU", gdm, gtm)] if gdm and gtm else [])
         timings = [(n, t) for n, t in (("CPU", tcpu), ("GPU", tgpu)) if t]
         s2 = {m: dam_metrics(r) for m in METHODS for r in [load(os.path.join(self.data, f"damS2_{m}.csv"))] if r is not None}
@@ -1193,8 +1361,10 @@ def main():
     ap.add_argument("--data", default="docs/paper/data")
     ap.add_argument("--snapshots", default="build-paper/paper-snapshots")
     ap.add_argument("--out", default="docs/paper")
+    ap.add_argument("--frames", default=os.path.join(HERE, "..", "..", "docs", "perf"),
+                    help="folder of the frame benchmark's CSVs (h100_frames_*_262k.csv)")
     a = ap.parse_args()
-    Report(a.data, a.snapshots, a.out).write()
+    Report(a.data, a.snapshots, a.out, a.frames).write()
     return 0
 
 
