@@ -623,7 +623,7 @@ class Report:
     # 7: Martin & Moyce
     def validation(self):
         sets = []
-        for sub, tag in (("", "CPU"), ("gpu", "GPU")):
+        for sub, tag in (("", self.main_tag), ("gpu", "GPU")):
             for f in sorted(glob.glob(os.path.join(self.data, sub, "mm_*_na*.csv"))):
                 # mm_ldc4_na*: gain 0.1 (the old default, set explicitly); mm_ldc4g0.3_na*: the default now
                 mt = re.match(r"mm_(ldc4|conv4)(?:g([0-9.]+))?_na(\d+)\.csv", os.path.basename(f))
@@ -879,7 +879,8 @@ class Report:
                     verdict=str(fr["verdict"][i]), ok=str(fr["verdict"][i]) == "ok", ms_frame=float(fr["ms_per_frame"][i]),
                     substeps_mean=float(fr["substeps_mean"][i]), err=float(fr["err_mean"][i]),
                     err_run=float(fr["err_mean"][i]), err_max=float(fr["err_max"][i]), particles=int(fr["particles"][i]))
-            sets.append((f"frame benchmark, {os.path.basename(path)} (3D, whole-run mean error)", res, "err"))
+            scale = os.path.basename(path)[len("h100_frames_"):-len(".csv")].replace("_", " ")  # e.g. "fine 262k"
+            sets.append((f"frame benchmark {scale}, 3D, {os.path.basename(path)}, whole-run mean error", res, "err"))
         if not sets:
             self.fields["FIG_COST"] = ""
             self.fields["TABLE_COST"] = "_No cost runs found (tools/paper/gpu_report.sh)._"
@@ -915,7 +916,8 @@ class Report:
         rows, csv_rows = [], []
         for title, res, key in sets:
             for m in methods:
-                row = [title.split(",")[0] + (f", {next(iter(res.values()))['particles']:,} p." if res else ""), label(m)]
+                row = [title.split(",")[0] + (f", {next(iter(res.values()))['particles']:,} p."
+                                              if res and title.startswith("report") else ""), label(m)]
                 for target in [None] + COST_TARGETS:
                     best = None
                     for S in sorted({k[2] for k in res if k[1] == m}):
@@ -1197,8 +1199,8 @@ class Report:
             L.append(f"**Cost ({t['device']}, {t['particles']:,} particles):** one iteration {t['per_iter']:.3g} ms, LDC "
                      f"{t['extra_ms']:.3g} ms = {t['fraction']:.2f} of an iteration (paper: ≈ 1/6).")
         if val:
-            test = [v for v in val if v["method"] == "ldc4" and v["na"] == 24 and v["tag"] == "CPU" and not v["gain"]]
-            test_now = [v for v in val if v["method"] == "ldc4" and v["na"] == 24 and v["tag"] == "CPU" and v["gain"]]
+            test = [v for v in val if v["method"] == "ldc4" and v["na"] == 24 and v["tag"] == self.main_tag and not v["gain"]]
+            test_now = [v for v in val if v["method"] == "ldc4" and v["na"] == 24 and v["tag"] == self.main_tag and v["gain"]]
             fine = max((v for v in val if v["method"] == "ldc4" and not v["gain"]), key=lambda v: v["n"])
             if test:
                 c = test[0]["cmp"]
@@ -1296,8 +1298,22 @@ class Report:
             ["layers in z", "slab thickness", "mean compressive error (settled)",
              "volume lost (COM sink, % of a/2)"], rows) if rows else "_No wall-compaction runs found._"
 
+    def main_set_backend(self):
+        """The main set's tag ("CPU", or "CUDA 32/a" when gpu_report.sh ran it) and a sentence."""
+        r = load(os.path.join(self.data, "dam_conv1.csv"))
+        backend = str(r["backend"][0]) if r is not None and "backend" in r else "cpu"
+        if backend == "cpu":
+            return "CPU", ("the main set (§1–§4, §6, §7, §9, §10) on the CPU backend; the GPU set (§5) and §11 "
+                           "on the CUDA backend")
+        dev = os.path.join(self.data, "device.txt")
+        dev = open(dev).read().strip() if os.path.exists(dev) else "device not recorded"
+        return "CUDA 32/a", (f"every simulation on the CUDA backend ({dev}; the main set of §1–§4, §6, §7, §9, §10 "
+                             f"at the CPU route's resolution, tagged “CUDA 32/a”); the CPU appears only in the "
+                             f"timing tables of §5 and §9")
+
     def write(self):
         os.makedirs(self.out, exist_ok=True)
+        self.main_tag, self.fields["MAIN_SET_BACKEND"] = self.main_set_backend()
         dm, tm = self.methods()
         dm, tm = dm or {}, tm or {}
         self.methods(prefix="S2_", dam_name="damS2", with_tank=False)
@@ -1311,13 +1327,16 @@ class Report:
         val = self.validation()
         self.adaptive()
         self.cost()
-        runs = [("CPU", dm, tm)] + ([("GPU", gdm, gtm)] if gdm and gtm else [])
+        runs = [(self.main_tag, dm, tm)] + ([("GPU", gdm, gtm)] if gdm and gtm else [])
         timings = [(n, t) for n, t in (("CPU", tcpu), ("GPU", tgpu)) if t]
         s2 = {m: dam_metrics(r) for m in METHODS for r in [load(os.path.join(self.data, f"damS2_{m}.csv"))] if r is not None}
         self.verdicts(runs, timings, sub_curves, s2)
         self.summary(runs, timings, val)
         prov = os.path.join(self.data, "provenance.txt")
         self.fields["PROVENANCE"] = open(prov).read().strip().replace("\n", "  \n") if os.path.exists(prov) else "unknown"
+        gprov = os.path.join(self.data, "provenance_gpu_report.txt")  # gpu_report.sh's batch
+        if os.path.exists(gprov):
+            self.fields["PROVENANCE"] += "  \n" + open(gprov).read().strip().replace("\n", "  \n")
         self.fields["MISSING"] = ("Missing inputs (not plotted): " + ", ".join(sorted(set(self.missing)))
                                   if self.missing else "All inputs present.")
         for k in [k for k in self.fields if "FIG_" in k]:
