@@ -477,6 +477,9 @@ class Report:
                 continue
             ax[0].plot([p[0] for p in pts], [max(p[1]["e_gain"], 1e-3) for p in pts], "o-", color=colour(m),
                        label=label(m))
+            bad = [p for p in pts if p[1]["frame_verdict"] != "ok"]  # the frame benchmark's rules (§11)
+            ax[0].plot([p[0] for p in bad], [max(p[1]["e_gain"], 1e-3) for p in bad], "x", color="k", ms=9,
+                       label="not ok by the frame rules" if m == "conv1" else None)
             ax[1].plot([p[0] for p in pts], [100 * p[1]["err_mean_avg"] for p in pts], "o-", color=colour(m),
                        label=label(m))
         ax[0].axhline(ENERGY_TOL, color="k", lw=0.8, ls="--")
