@@ -965,6 +965,7 @@ class Report:
                 a.set_title(f"{scene}: " + title.replace(", ", "\n", 1), fontsize=9)
                 a.grid(alpha=0.3, which="both")
             ax[i, 0].legend(fontsize=7, ncol=2, title="o ok, x not ok", title_fontsize=7)
+        fig.subplots_adjust(hspace=0.42)  # room for the two-line titles under the x labels
         self.fields["FIG_COST"] = self.savefig(fig, "cost.png")
         # the cheapest setting per method (dam and tank both ok and both under the target; the cost
         # of the dearer scene, as the frame benchmark's cheapest-setting line)
