@@ -5,6 +5,7 @@
 #
 #   report_runs        # §1-§4, §6, §7, §9 and §10 of the report (12,288 particles per scene)
 #   cost_runs BASE     # the equal-cost comparison (README "Cost per frame"): cost_*.csv
+#   mm_ci_runs         # the CI test's two Martin & Moyce runs (for a CPU copy of a CUDA main set)
 source "$(dirname "${BASH_SOURCE[0]}")/k_sweep.sh"  # k_sweep BASE
 
 # The methods of the cost comparison: PBF 1..4 iterations, LDC (the default gain 0.3) 1..3.
@@ -93,6 +94,17 @@ report_runs() {
       run adapt_${scene}_ldc_eta$eta --scene $scene $BASE --iterations 30 --adaptive-target $eta --ldc 1 --gain 0.3 \
         --frames $frames --per-substep 1
     done
+  done
+}
+
+# The CI test's Martin & Moyce runs (24/a, LDC + 4 iterations at the old gain 0.1 and the default
+# 0.3), as report_runs makes them: run_report.sh --mm-cpu runs them on the CPU backend into
+# DATA/cpu when the main set came from CUDA, so the report compares the two backends (README §7).
+mm_ci_runs() {
+  local g
+  for g in 0.1 0.3; do
+    run "mm_ldc4$([[ $g == 0.1 ]] || echo g$g)_na24" --scene dam --a 0.4 --na 24 --nz 8 --length 5 --iterations 4 \
+      --ldc 1 --gain $g --frames 40 --per-substep 1
   done
 }
 

@@ -5,6 +5,8 @@
 #   tools/paper/run_report.sh --plots-only # re-plot and rewrite README from docs/paper/data
 #                                          # (e.g. after unpacking gpu_report.sh's archive)
 #   tools/paper/run_report.sh --cpu-timing # only the CPU timing tables (§5, §9), a few minutes
+#   tools/paper/run_report.sh --mm-cpu     # the CI test's two Martin & Moyce runs on the CPU into
+#                                          # docs/paper/data/cpu (§7 compares them with a CUDA main set)
 #
 # The same simulations run on the CUDA backend in one device call: tools/paper/gpu_report.sh.
 # COST=1 adds the equal-cost runs (cost_runs) at this resolution to docs/paper/data/cost.
@@ -22,6 +24,7 @@ set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 BUILD=${BUILD:-build-paper}
 DATA=docs/paper/data
+PROV=$DATA/provenance.txt
 SNAP=$BUILD/paper-snapshots
 NICE=${NICE:-5}
 PY=${PYTHON:-python3}
@@ -44,7 +47,7 @@ COMMIT=$(git describe --always --dirty 2>/dev/null || echo unknown)
   echo "run_report.sh started $(date -u +%Y-%m-%dT%H:%MZ) at $COMMIT (RESUME=${RESUME:-0}) on" \
        "$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //') x $(nproc --all)," \
        "load average $(cut -d' ' -f1-3 /proc/loadavg)"
-} >> "$DATA/provenance.txt"
+} >> "$PROV"
 
 # run NAME ARGS...: one simulation into $DATA/NAME.csv (kept with RESUME=1).
 run() {
@@ -53,7 +56,7 @@ run() {
   echo "== $name"
   nice -n "$NICE" "$BIN" run "$@" --csv "$DATA/$name.csv.tmp" | sed 's/^/   /'
   mv "$DATA/$name.csv.tmp" "$DATA/$name.csv"
-  echo "  $name: $COMMIT $(date -u +%H:%MZ)" >> "$DATA/provenance.txt"
+  echo "  $name: $COMMIT $(date -u +%H:%MZ)" >> "$PROV"
 }
 
 # 6. Time per step against iterations on this CPU (13,824 particles, one substep per step), and
@@ -65,18 +68,24 @@ cpu_timing() {
     "$BIN" timing --particles 13824 --iterations 1,2,3,4,5,6 --ldc 0,1 --steps 120 --warmup 10 \
       --csv "$DATA/timing_cpu.csv.tmp" | sed 's/^/   /'
     mv "$DATA/timing_cpu.csv.tmp" "$DATA/timing_cpu.csv"
-    echo "  timing_cpu: $COMMIT $(date -u +%H:%MZ)" >> "$DATA/provenance.txt"
+    echo "  timing_cpu: $COMMIT $(date -u +%H:%MZ)" >> "$PROV"
   fi
   if [[ "${RESUME:-0}" != 1 || ! -s "$DATA/timing_cpu_adaptive.csv" ]]; then
     echo "== timing_cpu_adaptive"
     nice -n "$NICE" "$BIN" timing --particles 13824 --iterations 30 --adaptive-target 0.01,0.005,0.001 --ldc 0,1 \
       --gain 0.3 --steps 120 --warmup 10 --csv "$DATA/timing_cpu_adaptive.csv.tmp" | sed 's/^/   /'
     mv "$DATA/timing_cpu_adaptive.csv.tmp" "$DATA/timing_cpu_adaptive.csv"
-    echo "  timing_cpu_adaptive: $COMMIT $(date -u +%H:%MZ)" >> "$DATA/provenance.txt"
+    echo "  timing_cpu_adaptive: $COMMIT $(date -u +%H:%MZ)" >> "$PROV"
   fi
 }
 if [[ "${1:-}" == "--cpu-timing" ]]; then
   cpu_timing
+  exit 0
+fi
+if [[ "${1:-}" == "--mm-cpu" ]]; then
+  DATA=$DATA/cpu
+  mkdir -p "$DATA"
+  mm_ci_runs  # tools/paper/report_runs.sh; about a minute on one idle core
   exit 0
 fi
 
