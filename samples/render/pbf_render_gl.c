@@ -4,7 +4,7 @@
  *   pbf_render_gl OUT_DIR [--mode surface|spheres] [--scene dam|pool] [--particles N=65536]
  *                         [--frames N=180] [--every K=15] [--save F1,F2,...] [--size WxH=640x360]
  *                         [--backend auto|cpu|cuda] [--color speed|density]
- *                         [--splat-scale S=1.6] [--smooth-iterations N=2] [--smooth-sigma R=2.5]
+ *                         [--splat-scale S=1.6] [--smooth-iterations N=3] [--smooth-sigma R=4]
  *                         [--write-background] [--bench N=0] [--bench-frames N=60]
  *
  * EGL on the device platform (no window, no X) with an OpenGL 4.3 core context. The vertex
@@ -42,7 +42,7 @@ static void usage(void) {
             "usage: pbf_render_gl OUT_DIR [--mode surface|spheres] [--scene dam|pool] [--particles N=65536]\n"
             "                     [--frames N=180] [--every K=15] [--save F1,F2,...] [--size WxH=640x360]\n"
             "                     [--backend auto|cpu|cuda] [--color speed|density]\n"
-            "                     [--splat-scale S=1.6] [--smooth-iterations N=2] [--smooth-sigma R=2.5]\n"
+            "                     [--splat-scale S=1.6] [--smooth-iterations N=3] [--smooth-sigma R=4]\n"
             "                     [--write-background] [--bench N=0] [--bench-frames N=60]\n");
     exit(2);
 }
@@ -83,8 +83,8 @@ static void parse(options* o, int argc, char** argv) {
     o->width = 640;
     o->height = 360;
     o->style.splat_scale = 1.6f;
-    o->style.smooth_iterations = 2;
-    o->style.smooth_sigma = 2.5f;
+    o->style.smooth_iterations = 3;
+    o->style.smooth_sigma = 4.0f;
     if (argc < 2 || argv[1][0] == '-') usage();
     o->out_dir = argv[1];
     for (i = 2; i < argc; ++i) {
@@ -125,6 +125,21 @@ static int is_saved(const options* o, long frame) {
     for (k = 0; k < o->save_count; ++k)
         if (o->save[k] == frame) return 1;
     return 0;
+}
+
+/* mkdir -p. */
+static void make_directories(const char* path) {
+    char buffer[4096];
+    size_t k, n = strlen(path);
+    if (n >= sizeof buffer) die("output path too long");
+    snprintf(buffer, sizeof buffer, "%s", path);
+    for (k = 1; k <= n; ++k)
+        if (buffer[k] == '/' || buffer[k] == '\0') {
+            char c = buffer[k];
+            buffer[k] = '\0';
+            mkdir(buffer, 0755);
+            buffer[k] = c;
+        }
 }
 
 static void draw(pbf_egl* e, const target* t, const camera* c, const scene* s, const options* o) {
@@ -222,7 +237,7 @@ int main(int argc, char** argv) {
     double loop_ms;
 
     parse(&o, argc, argv);
-    mkdir(o.out_dir, 0755);
+    make_directories(o.out_dir);
     if (!pbf_egl_init(&e, 0, err, sizeof err)) {
         fprintf(stderr, "pbf_render_gl: no EGL display, nothing rendered (skipped): %s\n", err);
         return 77;

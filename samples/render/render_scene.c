@@ -11,8 +11,8 @@
 
 /* Dam break as in samples/dam_break.c: a column a x 2a x a/2 in a 4a x 2.5a x a/2 tank. */
 static float dam_break_spacing(pbf_world_desc* d, scene* s, long particles) {
-    const float a = 0.4f, box[3] = {4.0f * a, 2.5f * a, 0.5f * a}, eye[3] = {0.80f, 0.70f, 1.95f},
-                at[3] = {0.80f, 0.44f, 0.10f};
+    const float a = 0.4f, box[3] = {4.0f * a, 2.5f * a, 0.5f * a}, eye[3] = {0.80f, 0.85f, 2.05f},
+                at[3] = {0.80f, 0.32f, 0.10f};
     memset(d->domain_min, 0, sizeof d->domain_min);
     memcpy(d->domain_max, box, sizeof box);
     memcpy(s->eye, eye, sizeof eye);
@@ -24,7 +24,7 @@ static float dam_break_spacing(pbf_world_desc* d, scene* s, long particles) {
  * high on the left that pours the rest in over the first 80 % of the frames. Spacing: all the
  * particles fill the tank 0.36 m deep. */
 static float pool_spacing(pbf_world_desc* d, scene* s, long particles) {
-    const float box[3] = {1.2f, 0.9f, 0.6f}, eye[3] = {0.60f, 0.95f, 1.75f}, at[3] = {0.60f, 0.22f, 0.25f};
+    const float box[3] = {1.2f, 0.9f, 0.6f}, eye[3] = {0.60f, 1.15f, 2.30f}, at[3] = {0.60f, 0.22f, 0.28f};
     memset(d->domain_min, 0, sizeof d->domain_min);
     memcpy(d->domain_max, box, sizeof box);
     memcpy(s->eye, eye, sizeof eye);
