@@ -35,7 +35,7 @@ static float pool_spacing(pbf_world_desc* d, scene* s, long particles) {
 static void pool_fill(scene* s, float spacing, long particles, long frames) {
     pbf_block_desc block = pbf_block_desc_default();
     pbf_emitter_desc n = pbf_emitter_desc_default();
-    const float speed = 2.5f, pour_s = 0.8f * (float)frames / 60.0f, dir[3] = {0.8f, -0.45f, 0.0f};
+    const float speed = 3.5f, pour_s = 0.8f * (float)frames / 60.0f, dir[3] = {0.8f, -0.45f, 0.0f};
     block.box_max[0] = s->box_max[0];
     block.box_max[1] = 0.12f;
     block.box_max[2] = s->box_max[2];
@@ -126,7 +126,7 @@ void scene_create(pbf_egl* e, scene* s, const scene_options* o) {
     /* substeps 0: enough for the fastest water (the dam front, or the nozzle's jet after its fall)
      * to move < 0.4 h per substep at 1/60 s steps (as dam_break.c); otherwise that many substeps
      * and a dt short enough for it (as pbf_bench). */
-    front_speed = o->kind == SCENE_POOL ? sqrtf(2.5f * 2.5f + 2.0f * 9.81f * 0.7f) : sqrtf(2.0f * 9.81f * 0.8f);
+    front_speed = o->kind == SCENE_POOL ? sqrtf(3.5f * 3.5f + 2.0f * 9.81f * 0.7f) : sqrtf(2.0f * 9.81f * 0.8f);
     if (substeps <= 0) substeps = (long)ceilf(front_speed * s->dt / (0.4f * 2.0f * spacing));
     else s->dt = fminf(s->dt, 0.4f * 2.0f * spacing / front_speed);
     desc.solver.substeps = (uint32_t)(substeps < 1 ? 1 : substeps > 16 ? 16 : substeps);
