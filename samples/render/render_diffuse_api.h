@@ -8,7 +8,7 @@
 #include "pbf_c_api.h"
 
 /* Asks the world for up to `capacity` diffuse particles. */
-static inline void diffuse_enable(pbf_world_desc* desc, uint32_t capacity) { desc->diffuse.max_particles = capacity; }
+static inline void diffuse_enable(pbf_world_desc* desc, uint32_t capacity) { desc->diffuse.max_diffuse = capacity; }
 /* Live diffuse particles after the last step. */
 static inline uint32_t diffuse_count(const pbf_step_stats* stats) { return stats->diffuse_count; }
 /* float4 per particle: x, y, z, kind (0 spray, 1 foam, 2 bubble). */
