@@ -60,10 +60,10 @@ grep -E "FAILED|failed|warning|WARN|not built|test cases|assertions|passed" "$OU
 gl_rc=skipped; gl2_rc=skipped
 if [ -x "$BUILD/samples/render/pbf_render_gl" ] && ! echo " $build_failed " | grep -q " pbf_render_gl "; then
   rm -rf "$OUT/frames_speed" "$OUT/frames_density"
-  timeout 600 "$BUILD/samples/render/pbf_render_gl" "$OUT/frames_speed" --particles 65536 --frames 180 --every 15 \
+  timeout 600 "$BUILD/samples/render/pbf_render_gl" "$OUT/frames_speed" --particles 65536 --frames 180 --every 15 --mode spheres --backend cuda \
     --color speed --bench 1000000 --bench-frames 60 > "$OUT/render_gl.log" 2>&1
   gl_rc=$?
-  timeout 300 "$BUILD/samples/render/pbf_render_gl" "$OUT/frames_density" --particles 65536 --frames 120 --every 30 \
+  timeout 300 "$BUILD/samples/render/pbf_render_gl" "$OUT/frames_density" --particles 65536 --frames 120 --every 30 --mode spheres --backend cuda \
     --color density --bench 0 > "$OUT/render_gl_density.log" 2>&1
   gl2_rc=$?
   [ "$gl_rc" = 0 ] && [ "$gl2_rc" = 0 ] || fail=1
@@ -93,7 +93,7 @@ echo
 echo "SUMMARY (device: $(head -1 "$OUT/device.txt"))"
 echo "  [interop] tests: rc=$tests_rc; $(grep -E '^(All tests passed|test cases:)' "$OUT/interop_tests.log" 2> /dev/null | tail -1)"
 [ -z "$build_failed" ] || echo "  build failed for:$build_failed"
-echo "  GL renderer: rc=$gl_rc/$gl2_rc; $(grep -h -E '^library host|^GL positions' "$OUT/render_gl.log" 2> /dev/null | tr '\n' ' ')"
+echo "  GL renderer: rc=$gl_rc/$gl2_rc; $(grep -h -E '^library host|^GL buffer' "$OUT/render_gl.log" 2> /dev/null | tr '\n' ' ')"
 echo "  render path cost: $(grep -h '^BENCH' "$OUT/render_gl.log" 2> /dev/null)"
 echo "  Vulkan: rc=$vk_rc; $(tail -1 "$OUT/render_vk.log" 2> /dev/null)"
 echo "  PNG frames in \$OUT: $pngs ($OUT/frames_speed, $OUT/frames_density)"

@@ -81,7 +81,19 @@
     X(PFNGLGENQUERIESPROC, GenQueries)                                       \
     X(PFNGLDELETEQUERIESPROC, DeleteQueries)                                 \
     X(PFNGLQUERYCOUNTERPROC, QueryCounter)                                   \
-    X(PFNGLGETQUERYOBJECTUI64VPROC, GetQueryObjectui64v)
+    X(PFNGLGETQUERYOBJECTUI64VPROC, GetQueryObjectui64v)                     \
+    X(PFNGLUNIFORM2FPROC, Uniform2f)                                         \
+    X(PFNGLUNIFORM2IPROC, Uniform2i)                                         \
+    X(PFNGLGENTEXTURESPROC, GenTextures)                                     \
+    X(PFNGLDELETETEXTURESPROC, DeleteTextures)                               \
+    X(PFNGLBINDTEXTUREPROC, BindTexture)                                     \
+    X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                                 \
+    X(PFNGLTEXIMAGE2DPROC, TexImage2D)                                       \
+    X(PFNGLTEXPARAMETERIPROC, TexParameteri)                                 \
+    X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D)                   \
+    X(PFNGLCLEARBUFFERFVPROC, ClearBufferfv)                                 \
+    X(PFNGLBLENDFUNCPROC, BlendFunc)                                         \
+    X(PFNGLDEPTHMASKPROC, DepthMask)
 
 typedef struct pbf_gl_functions {
 #define PBF_GL_DECLARE(type, name) type name;

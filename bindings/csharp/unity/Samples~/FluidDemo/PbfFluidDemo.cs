@@ -1,7 +1,9 @@
 // libpbf sample: a dam break in a tank, a nozzle pouring into it, and an optional sphere that
 // follows a Transform and pushes the fluid. The world steps in FixedUpdate; every frame the
 // positions are copied (no allocation) into a GraphicsBuffer and drawn as instanced spheres by
-// the "Pbf/Particles" shader, coloured by density.
+// the "Pbf/Particles" shader, coloured by density. With "Anisotropic" on (the default) the world
+// also computes smoothed positions and anisotropy (Yu & Turk 2013), and each sphere is drawn as
+// its particle's ellipsoid: flat along the surface, so the water reads as a surface, not beads.
 //
 // Setup: open FluidDemo.unity (beside this file) and press Play. Or add this component to any
 // GameObject: it uses the assigned material, else one made from the Pbf/Particles shader
@@ -39,18 +41,25 @@ public sealed class PbfFluidDemo : MonoBehaviour
     public Material particleMaterial;
     [Tooltip("Defaults to Unity's built-in sphere.")]
     public Mesh particleMesh;
+    [Tooltip("Draw each particle as its ellipsoid (smoothed position + anisotropy); fixed when the world is created.")]
+    public bool anisotropic = true;
 
     World _world;
     Emitter _nozzle;
     PbfCollider _pusher;
     GraphicsBuffer _positionsBuffer;
     Vector4[] _positions;  // CPU staging copy, allocated once
+    GraphicsBuffer _anisotropyBuffer;
+    Vector4[] _anisotropy;  // 3 rows per particle: unit axis, radius (m)
+    bool _anisotropic;
     int _count;
     bool _nozzleOn;
     MaterialPropertyBlock _props;
 
     static readonly int PositionsId = Shader.PropertyToID("_PbfPositions");
     static readonly int RadiusId = Shader.PropertyToID("_Radius");
+    static readonly int AnisotropyId = Shader.PropertyToID("_PbfAnisotropy");
+    static readonly int UseAnisotropyId = Shader.PropertyToID("_UseAnisotropy");
 
     void OnEnable()
     {
@@ -74,6 +83,8 @@ public sealed class PbfFluidDemo : MonoBehaviour
         };
         desc.Solver.Substeps = substeps;
         desc.Solver.Iterations = iterations;
+        _anisotropic = anisotropic;
+        if (_anisotropic) desc.Render.Flags = RenderFlags.SmoothedPositions | RenderFlags.Anisotropy;
         try
         {
             _world = World.Create(desc);
@@ -105,6 +116,9 @@ public sealed class PbfFluidDemo : MonoBehaviour
 
         _positions = new Vector4[maxParticles];
         _positionsBuffer = new GraphicsBuffer(GraphicsBuffer.Target.Structured, maxParticles, 16);
+        // The shader declares the buffer either way; without anisotropy it holds one unused row.
+        _anisotropy = new Vector4[_anisotropic ? 3 * maxParticles : 1];
+        _anisotropyBuffer = new GraphicsBuffer(GraphicsBuffer.Target.Structured, _anisotropy.Length, 16);
         _props = new MaterialPropertyBlock();
         if (particleMaterial == null)
         {
@@ -137,11 +151,19 @@ public sealed class PbfFluidDemo : MonoBehaviour
     {
         if (_world == null) return;
         // Copy the positions out (x, y, z, density ratio) and upload them: no allocation per frame.
-        _count = _world.CopyPositions(_positions);
+        // Ellipsoids are centred on the smoothed positions, which belong with the anisotropy.
+        _count = _anisotropic ? _world.CopySmoothedPositions(_positions) : _world.CopyPositions(_positions);
         if (_count == 0 || particleMaterial == null) return;
         _positionsBuffer.SetData(_positions, 0, 0, _count);
+        if (_anisotropic)
+        {
+            int rows = 3 * _world.CopyAnisotropy(_anisotropy);
+            _anisotropyBuffer.SetData(_anisotropy, 0, 0, rows);
+        }
 
         _props.SetBuffer(PositionsId, _positionsBuffer);
+        _props.SetBuffer(AnisotropyId, _anisotropyBuffer);
+        _props.SetFloat(UseAnisotropyId, _anisotropic ? 1.0f : 0.0f);
         _props.SetFloat(RadiusId, particleRadius);
         var bounds = new Bounds(0.5f * (domainMin + domainMax), domainMax - domainMin);
         Graphics.DrawMeshInstancedProcedural(particleMesh, 0, particleMaterial, bounds, _count, _props);
@@ -155,6 +177,8 @@ public sealed class PbfFluidDemo : MonoBehaviour
         _pusher = null;
         if (_positionsBuffer != null) _positionsBuffer.Release();
         _positionsBuffer = null;
+        if (_anisotropyBuffer != null) _anisotropyBuffer.Release();
+        _anisotropyBuffer = null;
         PbfUnityLog.Uninstall();
     }
 

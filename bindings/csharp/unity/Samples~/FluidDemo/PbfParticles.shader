@@ -1,6 +1,12 @@
 // Draws libpbf particles as instanced meshes (Graphics.DrawMeshInstancedProcedural): instance i
 // reads its position from _PbfPositions[i] (x, y, z, density ratio). A unit-diameter mesh such as
 // Unity's built-in sphere is scaled to the particle diameter. Built-in RP and URP (unlit pass).
+//
+// With _UseAnisotropy = 1 the positions are libpbf's smoothed positions and each sphere is
+// stretched into the particle's ellipsoid: _PbfAnisotropy holds 3 float4 per particle (unit axis
+// x, y, z, radius in m), longest axis first (PBF_BUFFER_ANISOTROPY, World.CopyAnisotropy). The
+// mesh's unit sphere u maps to centre + sum_k a_k r_k u_k; its normals to sum_k a_k n_k / r_k
+// (the inverse transpose of that map), so the lighting follows the flattened surface.
 Shader "Pbf/Particles"
 {
     Properties
@@ -8,6 +14,8 @@ Shader "Pbf/Particles"
         _Color ("Color", Color) = (0.15, 0.45, 0.95, 1)
         _DenseColor ("Compressed colour", Color) = (0.9, 0.95, 1, 1)
         _Radius ("Particle radius", Float) = 0.025
+        _UseAnisotropy ("Ellipsoids from _PbfAnisotropy (0 or 1)", Float) = 0
+        _EllipsoidScale ("Ellipsoid radii times", Float) = 1.25
     }
     SubShader
     {
@@ -21,9 +29,12 @@ Shader "Pbf/Particles"
             #include "UnityCG.cginc"
 
             StructuredBuffer<float4> _PbfPositions;
+            StructuredBuffer<float4> _PbfAnisotropy;
             float4 _Color;
             float4 _DenseColor;
             float _Radius;
+            float _UseAnisotropy;
+            float _EllipsoidScale;
 
             struct appdata
             {
@@ -40,10 +51,22 @@ Shader "Pbf/Particles"
             v2f vert(appdata v, uint instanceID : SV_InstanceID)
             {
                 float4 particle = _PbfPositions[instanceID];
-                float3 world = particle.xyz + v.vertex.xyz * (2.0 * _Radius);
+                float3 unit = v.vertex.xyz * 2.0;  // the mesh's unit-diameter sphere as a unit sphere
+                float3 world = particle.xyz + unit * _Radius;
+                float3 normal = v.normal;
+                if (_UseAnisotropy > 0.5)
+                {
+                    float4 a0 = _PbfAnisotropy[3 * instanceID + 0];
+                    float4 a1 = _PbfAnisotropy[3 * instanceID + 1];
+                    float4 a2 = _PbfAnisotropy[3 * instanceID + 2];
+                    // Radii floored at a tenth of the particle radius: never a degenerate ellipsoid.
+                    float3 r = max(float3(a0.w, a1.w, a2.w) * _EllipsoidScale, 0.1 * _Radius);
+                    world = particle.xyz + a0.xyz * (unit.x * r.x) + a1.xyz * (unit.y * r.y) + a2.xyz * (unit.z * r.z);
+                    normal = normalize(a0.xyz * (v.normal.x / r.x) + a1.xyz * (v.normal.y / r.y) + a2.xyz * (v.normal.z / r.z));
+                }
                 v2f o;
                 o.pos = mul(UNITY_MATRIX_VP, float4(world, 1.0));
-                float light = 0.45 + 0.55 * saturate(dot(v.normal, normalize(float3(0.3, 1.0, 0.2))));
+                float light = 0.45 + 0.55 * saturate(dot(normal, normalize(float3(0.3, 1.0, 0.2))));
                 float compressed = saturate((particle.w - 1.0) * 20.0);
                 o.color = lerp(_Color.rgb, _DenseColor.rgb, compressed) * light;
                 return o;
