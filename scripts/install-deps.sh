@@ -4,7 +4,7 @@
 # Prints nothing when everything is already installed.
 #
 #   scripts/install-deps.sh            the build, the tests, the samples, tools/bake (CLI11,
-#                                      nlohmann-json), the install check and the C# package
+#                                      nlohmann-json), the headless renderer (EGL, GL, Mesa), the install check and the C# package
 #                                      checks (nuget, unzip, python3)
 #   scripts/install-deps.sh windows    also the Windows cross build and its tests
 #                                      (MinGW-w64 posix-thread compilers, Wine)
@@ -12,7 +12,8 @@ set -euo pipefail
 
 packages=(cmake g++ make pkg-config libeigen3-dev catch2 libpng-dev
           mono-mcs mono-runtime nunit-console libnunit-cil-dev
-          libcli11-dev nlohmann-json3-dev nuget unzip python3)
+          libcli11-dev nlohmann-json3-dev nuget unzip python3
+          libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri)  # the renderer's smoke test (Mesa llvmpipe)
 if [ "${1:-}" = windows ]; then
   packages+=(g++-mingw-w64-x86-64-posix gcc-mingw-w64-x86-64-posix wine wine64)
 fi
