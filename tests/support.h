@@ -334,4 +334,40 @@ inline std::array<double, 6> ellipsoid(const RenderData& r, uint32_t i) {
     return e;
 }
 
+// ---- diffuse particles (pbf_diffuse_params) -------------------------------------------------
+// The diffuse particles: position (x, y, z, kind) and velocity (vx, vy, vz, remaining lifetime).
+struct Diffuse {
+    std::vector<float> pos, vel;
+    uint32_t count = 0;
+    uint32_t of_kind(float kind) const {
+        uint32_t n = 0;
+        for (uint32_t i = 0; i < count; ++i) n += pos[4 * i + 3] == kind ? 1u : 0u;
+        return n;
+    }
+};
+
+inline Diffuse read_diffuse(pbf_world_id w) {
+    Diffuse d;
+    d.count = stats(w).diffuse_count;
+    d.pos.assign(size_t(d.count) * 4, -7.0f);
+    d.vel.assign(size_t(d.count) * 4, -7.0f);
+    uint32_t n = 0;
+    REQUIRE_PBF(pbf_world_copy_buffer(w, PBF_BUFFER_DIFFUSE_POSITIONS, d.pos.data(), d.pos.size() * sizeof(float), &n));
+    REQUIRE(n == d.count);
+    REQUIRE_PBF(pbf_world_copy_buffer(w, PBF_BUFFER_DIFFUSE_VELOCITIES, d.vel.data(), d.vel.size() * sizeof(float), &n));
+    REQUIRE(n == d.count);
+    return d;
+}
+
+// The dam break of the diffuse tests: a 0.2 x 0.4 x 0.1 m column (512 particles) at one end of a
+// 0.8 x 0.5 x 0.1 m tank, diffuse capacity `capacity`.
+inline pbf_world_id diffuse_dam(pbf_backend backend, uint32_t capacity) {
+    pbf_world_desc d = tank(backend, 0.0125f, 0.8f, 0.5f, 0.1f, 4096);
+    d.solver.substeps = 2;
+    d.diffuse.max_diffuse = capacity;
+    pbf_world_id w = create(d);
+    REQUIRE(fill(w, 0, 0, 0, 0.2f, 0.4f, 0.1f) == 512u);
+    return w;
+}
+
 }  // namespace scene
