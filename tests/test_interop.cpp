@@ -643,3 +643,76 @@ TEST_CASE("interop: render data through device pointers and GL buffers equals co
     REQUIRE_PBF(pbf_world_destroy(w));
 #endif
 }
+
+TEST_CASE("interop: diffuse particles through device pointers and GL buffers equal copy-out", "[gpu][interop][diffuse]") {
+#if !PBF_TEST_HAVE_CUDART
+    WARN("not built: the test needs the CUDA runtime (a CUDA build)");
+#else
+    pbf_world_id w = diffuse_dam(PBF_BACKEND_CUDA, 20000);
+    for (int s = 0; s < 40; ++s) REQUIRE_PBF(pbf_world_step(w, kDt));
+
+    // Device pointers, read on the world's stream after a no-wait mapping; the count on the device.
+    pbf_device_buffers b;
+    std::memset(&b, 0, sizeof b);
+    b.struct_size = sizeof b;
+    REQUIRE_PBF(pbf_world_map_device_buffers(w, PBF_MAP_NO_WAIT, &b));
+    CHECK(b.diffuse_count == PBF_COUNT_ON_DEVICE);
+    CHECK(b.diffuse_capacity == 20000u);
+    REQUIRE(b.diffuse_positions != nullptr);
+    REQUIRE(b.diffuse_velocities != nullptr);
+    const uint32_t cap = b.diffuse_capacity;
+    std::vector<float> pos(size_t(cap) * 4), vel(size_t(cap) * 4);
+    uint32_t count = 0;
+    cudaStream_t stream = static_cast<cudaStream_t>(b.cuda_stream);
+    REQUIRE(cudaMemcpyAsync(pos.data(), b.diffuse_positions, pos.size() * 4, cudaMemcpyDeviceToHost, stream) == cudaSuccess);
+    REQUIRE(cudaMemcpyAsync(vel.data(), b.diffuse_velocities, vel.size() * 4, cudaMemcpyDeviceToHost, stream) == cudaSuccess);
+    REQUIRE(cudaMemcpyAsync(&count, b.diffuse_count_device, 4, cudaMemcpyDeviceToHost, stream) == cudaSuccess);
+    REQUIRE(cudaStreamSynchronize(stream) == cudaSuccess);
+    REQUIRE_PBF(pbf_world_unmap(w));
+    const Diffuse r = read_diffuse(w);
+    INFO(r.count << " diffuse particles after 40 steps");
+    REQUIRE(r.count > 0u);
+    CHECK(count == r.count);
+    CHECK(std::memcmp(pos.data(), r.pos.data(), size_t(r.count) * 16) == 0);
+    CHECK(std::memcmp(vel.data(), r.vel.data(), size_t(r.count) * 16) == 0);
+
+#if PBF_TEST_HAVE_EGL_GL
+    if (!(support() & PBF_INTEROP_SUPPORT_OPENGL)) {
+        WARN("this libpbf has no CUDA-GL interop (built without the OpenGL headers)");
+    } else {
+        Gl gl;
+        if (!gl.ok && env_set("PBF_TEST_ALLOW_NO_EGL")) {
+            WARN("EGL unavailable, accepted by PBF_TEST_ALLOW_NO_EGL: " << gl.error);
+        } else {
+            INFO("EGL: " << gl.error);
+            REQUIRE(gl.ok);
+            // On-step copies of both diffuse buffers; the draw arguments count diffuse particles.
+            const GLuint gp = gl.buffer(size_t(cap) * 16), gv = gl.buffer(size_t(cap) * 16), args = gl.buffer(16);
+            register_gl(w, gp, PBF_BUFFER_DIFFUSE_POSITIONS, PBF_COPY_ON_STEP, cap, args);
+            register_gl(w, gv, PBF_BUFFER_DIFFUSE_VELOCITIES, PBF_COPY_ON_STEP, cap);
+            const uint64_t t0 = transfers();
+            for (int s = 0; s < 2; ++s) REQUIRE_PBF(pbf_world_step(w, kDt));
+            CHECK(transfers() == t0);
+            const Diffuse q = read_diffuse(w);
+            CHECK(std::memcmp(gl.read<float>(gp, size_t(q.count) * 4).data(), q.pos.data(), size_t(q.count) * 16) == 0);
+            CHECK(std::memcmp(gl.read<float>(gv, size_t(q.count) * 4).data(), q.vel.data(), size_t(q.count) * 16) == 0);
+            CHECK(gl.read<uint32_t>(args, 4) == std::vector<uint32_t>{q.count, 1u, 0u, 0u});
+            // A world without diffuse particles refuses such a buffer before touching it.
+            pbf_world_desc od = tank(PBF_BACKEND_CUDA, 0.0125f, 0.8f, 0.5f, 0.2f, 8192);
+            pbf_world_id off;
+            REQUIRE_PBF(pbf_world_create(&od, &off));
+            pbf_gl_buffer_desc g = pbf_gl_buffer_desc_default();
+            g.buffer = gp;
+            g.source = PBF_BUFFER_DIFFUSE_POSITIONS;
+            g.capacity = cap;
+            pbf_gl_buffer_id gid;
+            CHECK_CODE(pbf_world_register_gl_buffer(off, &g, &gid), PBF_ERROR_INVALID_STATE);
+            REQUIRE_PBF(pbf_world_destroy(off));
+        }
+    }
+#else
+    WARN("GL part not built: EGL or the OpenGL headers were not found when configuring");
+#endif
+    REQUIRE_PBF(pbf_world_destroy(w));
+#endif
+}
