@@ -131,6 +131,9 @@ struct DiffuseSourceOp {
         const Vec4 ni4 = normals[i];
         const Vec3 ni = xyz(ni4);
         const bool surface = ni4.w > kSurface;
+        const float speed = length(vi);
+        // Crests only where the particle moves along its normal: the curvature sum is skipped elsewhere.
+        const bool crest = surface && dot(vi, ni) >= 0.6f * speed && d.wave_crest_rate > 0.0f;
         float trapped = 0.0f, curvature = 0.0f;
         for_each_neighbor_of(grid, cell_begin, masks, i, xi, [&](uint32_t j) {
             if (j == i) return;
@@ -143,10 +146,8 @@ struct DiffuseSourceOp {
             if (v2 > 0.0f && r2 > 0.0f)
                 trapped += sqrtf(v2) * (1.0f - dot(vij, xij) * inv_sqrt(v2 * r2)) * w;
             // x_ji · n_i < 0 is x_ij · n_i > 0: j lies behind i's surface.
-            if (surface && dot(xij, ni) > 0.0f && normals[j].w > kSurface) curvature += (1.0f - dot(ni, xyz(normals[j]))) * w;
+            if (crest && dot(xij, ni) > 0.0f && normals[j].w > kSurface) curvature += (1.0f - dot(ni, xyz(normals[j]))) * w;
         });
-        const float speed = length(vi);
-        const bool crest = surface && speed > 0.0f && dot(vi, ni) >= 0.6f * speed;
         const float rate = d.trapped_air_rate * diffuse_clamp(trapped, d.trapped_air_min, d.trapped_air_max) +
                            (crest ? d.wave_crest_rate * diffuse_clamp(curvature, d.wave_crest_min, d.wave_crest_max) : 0.0f);
         const float expected = fminf(energy * rate * dt, float(kMaxDiffusePerParticle));
