@@ -170,21 +170,30 @@ TEST_CASE("render: off costs nothing; on, its bytes, passes and pointers are acc
     CHECK(ib.render_flags == kBoth);
     CHECK(ib.render_updates == 4u);  // the emission and 3 steps: one pass each
 
-    // Profiled, the "render data" stage takes no time without render data: no pass ran.
+    // Profiled, the "render data" stage takes no time without render data: no pass ran. With
+    // render data it rides on the vorticity-force pass (stage 0 again) unless vorticity and XSPH
+    // are both off, when it is a pass of its own.
     uint32_t stage = 0;
     while (pbf_profile_stage_name(stage) && std::string(pbf_profile_stage_name(stage)) != "render data") ++stage;
     REQUIRE(pbf_profile_stage_name(stage) != nullptr);
-    for (TestWorld* t : {&off, &both}) {
+    pbf_world_desc plain_desc = render_desc(kBoth, cap);
+    plain_desc.solver.xsph_c = 0.0f;
+    plain_desc.solver.vorticity_epsilon = 0.0f;
+    TestWorld plain(plain_desc);
+    plain.emit_default_block();
+    for (TestWorld* t : {&off, &both, &plain}) {
         REQUIRE_OK(pbf_world_set_profiling(*t, 1));
         REQUIRE_OK(pbf_world_step(*t, kDt));
         pbf_step_profile prof;
         std::memset(&prof, 0, sizeof prof);
         prof.struct_size = sizeof prof;
         REQUIRE_OK(pbf_world_get_profile(*t, &prof));
-        if (t == &off) CHECK(prof.stage_ms[stage] == 0.0f);
-        else CHECK(prof.stage_ms[stage] > 0.0f);
+        if (t == &plain) CHECK(prof.stage_ms[stage] > 0.0f);
+        else CHECK(prof.stage_ms[stage] == 0.0f);
     }
     CHECK(world_info(off).render_updates == 0u);
+    CHECK(world_info(both).render_updates == 5u);
+    CHECK(world_info(plain).render_updates == 2u);  // the emission and 1 step
 
     // Device pointers (host memory on the CPU backend) hold what copy-out returns.
     pbf_device_buffers m0, mb;
@@ -333,4 +342,34 @@ TEST_CASE("render: parameters change between steps, flags stay the creation's", 
         REQUIRE_OK(pbf_world_set_render_params(off, &o));
         CHECK(world_info(off).render_bytes == 0u);
     }
+}
+
+TEST_CASE("render: the render data riding on the vorticity pass equals the pass of its own, bit for bit", "[api][render]") {
+    // One substep from a block at rest: vorticity and XSPH change velocities only, so both worlds
+    // end the step at the same positions; one computes the render data in its vorticity-force
+    // pass, the other (vorticity and XSPH off) in a pass of its own.
+    pbf_world_desc rider_desc = render_desc(kBoth), own_desc = render_desc(kBoth);
+    rider_desc.solver.substeps = own_desc.solver.substeps = 1;
+    // LDC off: with it, a world without the vorticity pass sums ρ in a pass of its own that also
+    // rewrites the positions' w (the density ratio), which the smoothed positions carry.
+    rider_desc.solver.ldc_enabled = own_desc.solver.ldc_enabled = 0;
+    own_desc.solver.xsph_c = 0.0f;
+    own_desc.solver.vorticity_epsilon = 0.0f;
+    TestWorld rider(rider_desc), own(own_desc);
+    for (TestWorld* t : {&rider, &own}) {
+        REQUIRE(t->emit_default_block() > 100u);
+        REQUIRE_OK(pbf_world_step(*t, kDt));
+    }
+    const RenderData a = read_render(rider), b = read_render(own);
+    REQUIRE(a.count == b.count);
+    REQUIRE(same_bits(a.pos, b.pos));
+    CHECK(same_bits(a.smoothed, b.smoothed));
+    CHECK(same_bits(a.aniso, b.aniso));
+    // And the data is that of the final positions, not of the block at emission.
+    const RenderData emitted = [&] {
+        TestWorld fresh(rider_desc);
+        fresh.emit_default_block();
+        return read_render(fresh);
+    }();
+    CHECK_FALSE(same_bits(emitted.smoothed, a.smoothed));
 }

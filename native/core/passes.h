@@ -365,6 +365,16 @@ struct VorticityXsphOp {
 // smoothed velocity in place (no thread reads another's velocity in this pass). The same walk
 // sums ρ at the final positions (a poly6 it computes anyway): the next step's LDC and the stats
 // read it, so no separate density pass runs at the end of a step.
+// Rider: what else a pass computes from the neighbours it walks (NoRider: nothing; RenderPass,
+// render_ops.h: the render data on the step's last substep).
+struct NoRider {
+    struct Sums {};
+    PBF_HD Sums begin() const { return Sums{}; }
+    PBF_HD void visit(Sums&, Vec3, float) const {}
+    PBF_HD void end(const Sums&, uint32_t, Vec4) const {}
+};
+
+template <class Rider = NoRider>
 struct VorticityForceOp {
     WorldConstants s;
     StepContext ctx;
@@ -374,21 +384,26 @@ struct VorticityForceOp {
     const Vec4* omega;
     Vec4* velocities;
     float* density;
+    Rider rider = Rider{};
     PBF_HD void operator()(uint32_t i) const {
-        const Vec3 xi = xyz(positions[i]);
+        const Vec4 pi = positions[i];
+        const Vec3 xi = xyz(pi);
         const float wi = omega[i].w;
         Vec3 eta{0.0f, 0.0f, 0.0f};
         float rho = 0.0f;
+        typename Rider::Sums sums = rider.begin();
         for_each_listed_neighbor(s.grid, cell_begin, masks, i, [&](uint32_t j) {
             const Vec4 pj = positions[j];
             const Vec3 d = xi - xyz(pj);
             const float r2 = length_sq(d);
             if (r2 >= s.h2) return;
             rho += poly6(r2, s.h2, s.poly6_coef);
+            rider.visit(sums, -d, r2);
             if (j == i) return;
             const float vol = fast_div(s.mass, fmaxf(pj.w, 1e-6f) * s.rest_density);
             eta += spiky_gradient_r2(d, r2, s.h, s.spiky_coef) * ((omega[j].w - wi) * vol);
         });
+        rider.end(sums, i, pi);
         density[i] = rho * s.mass + boundary_at(s, ctx.colliders, xi).density_ratio * s.rest_density;
         Vec3 v = xyz(velocities[i]);
         const float eta_len = length(eta);

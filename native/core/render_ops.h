@@ -102,44 +102,32 @@ PBF_HD float render_weight(float r2, float h2) {
 // clamped so that none is below the largest / k_r (Eq. 15); a particle with fewer than N_ε
 // neighbours is a sphere of radius k_n r. Radii are linear in the eigenvalues, as in Yu &
 // Turk's G; k_s is expressed relative to a rest lattice (see RenderConstants).
-// Neighbours: the last substep's recorded masks (or the grid when none), with the distance test
-// at the final positions: a particle that moved into range during the substep's iterations is
-// missed, as in the step's own passes.
-struct RenderDataOp {
-    GridDims grid;
-    float h2;
-    RenderConstants r;
-    const uint32_t* cell_begin;
-    NeighborMasks masks;
-    const Vec4* positions;
-    Vec4* smoothed;    // null: not computed
-    Vec4* anisotropy;  // 3 per particle; null: not computed
-    PBF_HD void operator()(uint32_t i) const {
-        const Vec4 pi = positions[i];
-        const Vec3 xi = xyz(pi);
-        // Offsets from x_i keep the float sums small (|d| < h) wherever the fluid is.
-        float wsum = 0.0f, cxx = 0.0f, cxy = 0.0f, cxz = 0.0f, cyy = 0.0f, cyz = 0.0f, czz = 0.0f;
-        Vec3 dsum{0.0f, 0.0f, 0.0f};
-        uint32_t n = 0;
-        for_each_neighbor_of(grid, cell_begin, masks, i, xi, [&](uint32_t j) {
-            const Vec3 d = xyz(positions[j]) - xi;
-            const float r2 = length_sq(d);
-            if (r2 >= h2) return;
-            const float w = render_weight(r2, h2);
-            ++n;
-            wsum += w;
-            dsum += d * w;
-            cxx += w * d.x * d.x;
-            cxy += w * d.x * d.y;
-            cxz += w * d.x * d.z;
-            cyy += w * d.y * d.y;
-            cyz += w * d.y * d.z;
-            czz += w * d.z * d.z;
-        });
+// RenderSums gathers a particle's neighbours (itself included) and writes its render data;
+// RenderDataOp walks the neighbours for it alone, RenderPass rides along another neighbour pass
+// (the step's last vorticity-force pass, which visits the same neighbours at the same positions).
+struct RenderSums {
+    // Offsets from x_i keep the float sums small (|d| < h) wherever the fluid is.
+    float wsum = 0.0f, cxx = 0.0f, cxy = 0.0f, cxz = 0.0f, cyy = 0.0f, cyz = 0.0f, czz = 0.0f;
+    Vec3 dsum{0.0f, 0.0f, 0.0f};
+    uint32_t n = 0;
+    // d = x_j - x_i, r2 = |d|² < h².
+    PBF_HD void add(Vec3 d, float r2, float h2) {
+        const float w = render_weight(r2, h2);
+        ++n;
+        wsum += w;
+        dsum += d * w;
+        cxx += w * d.x * d.x;
+        cxy += w * d.x * d.y;
+        cxz += w * d.x * d.z;
+        cyy += w * d.y * d.y;
+        cyz += w * d.y * d.z;
+        czz += w * d.z * d.z;
+    }
+    PBF_HD void write(const RenderConstants& r, uint32_t i, Vec4 pi, Vec4* smoothed, Vec4* anisotropy) const {
         // Itself is always a neighbour (w = 1), so wsum >= 1 for a live particle.
         const float inv_w = wsum > 0.0f ? 1.0f / wsum : 0.0f;
         const Vec3 mean = dsum * inv_w;
-        if (smoothed) smoothed[i] = make_vec4(xi + mean * r.smoothing, pi.w);
+        if (smoothed) smoothed[i] = make_vec4(xyz(pi) + mean * r.smoothing, pi.w);
         if (!anisotropy) return;
         Sym3 c{{{cxx * inv_w - mean.x * mean.x, cxy * inv_w - mean.x * mean.y, cxz * inv_w - mean.x * mean.z},
                 {0.0f, cyy * inv_w - mean.y * mean.y, cyz * inv_w - mean.y * mean.z},
@@ -163,6 +151,45 @@ struct RenderDataOp {
             out[k] = make_vec4(a, fmaxf(sigma[k], floor_sigma) * r.radius_per_variance);
         }
     }
+};
+
+// Neighbours: the last substep's recorded masks (or the grid when none), with the distance test
+// at the final positions: a particle that moved into range during the substep's iterations is
+// missed, as in the step's own passes.
+struct RenderDataOp {
+    GridDims grid;
+    float h2;
+    RenderConstants r;
+    const uint32_t* cell_begin;
+    NeighborMasks masks;
+    const Vec4* positions;
+    Vec4* smoothed;    // null: not computed
+    Vec4* anisotropy;  // 3 per particle; null: not computed
+    PBF_HD void operator()(uint32_t i) const {
+        const Vec4 pi = positions[i];
+        const Vec3 xi = xyz(pi);
+        RenderSums sums;
+        for_each_neighbor_of(grid, cell_begin, masks, i, xi, [&](uint32_t j) {
+            const Vec3 d = xyz(positions[j]) - xi;
+            const float r2 = length_sq(d);
+            if (r2 < h2) sums.add(d, r2, h2);
+        });
+        sums.write(r, i, pi, smoothed, anisotropy);
+    }
+};
+
+// The render data as a rider on a neighbour pass (VorticityForceOp<RenderPass>): the host pass
+// calls begin() per particle, visit() for each neighbour within h (itself included, d = x_j - x_i)
+// and end() with x_i and its w. Same sums, same order as RenderDataOp: the same results.
+struct RenderPass {
+    float h2;
+    RenderConstants r;
+    Vec4* smoothed;
+    Vec4* anisotropy;
+    using Sums = RenderSums;
+    PBF_HD Sums begin() const { return Sums{}; }
+    PBF_HD void visit(Sums& sums, Vec3 d, float r2) const { sums.add(d, r2, h2); }
+    PBF_HD void end(const Sums& sums, uint32_t i, Vec4 pi) const { sums.write(r, i, pi, smoothed, anisotropy); }
 };
 
 }  // namespace pbf

@@ -182,8 +182,10 @@ public:
                 view.impulse_scale = s.mass * sub.ctx.inv_dt;
             }
             sub.ctx.clamped = &counters_->speed_clamps;
+            last_substep_ = k + 1 == substeps;
             substep(s, sub);
         }
+        last_substep_ = false;
         // Between steps the colliders stand at the step's end poses.
         rest_colliders_ = ColliderView{collider_shapes_, collider_poses_ + substeps * count,
                                        collider_poses_ + substeps * count, count};
@@ -195,7 +197,10 @@ public:
         exec_.for_each(1, PublishFeedbackOp{counters_, frame, feedback_});
         exec_.feedback_published();
         update_diffuse(s, in.step_dt);
-        update_render_data(s);  // last, so its stage time is the pass alone
+        // Render data: computed by the last substep's vorticity-force pass where it ran
+        // (rendered_in_step_), else by a pass of its own, last, so its stage time is the pass alone.
+        if (!rendered_in_step_) update_render_data(s);
+        rendered_in_step_ = false;
         exec_.profile_mark(kStageCount);
         exec_.timer_end();
         return exec_.check("pbf_world_step");
@@ -448,7 +453,16 @@ private:
             exec_.profile_mark(kStageVorticity);
             exec_.for_each(bound_, VorticityXsphOp{s, ctx, cell_begin_, masks, pos_, vel_, omega, pred_});
             exec_.profile_mark(kStageVorticityXsph);
-            exec_.for_each(bound_, VorticityForceOp{s, ctx, cell_begin_, masks, pos_, omega, pred_, density_});
+            if (last_substep_ && config_.render.flags) {
+                // The step's last neighbour pass at the final positions also writes the render data.
+                const RenderPass render{s.h2, config_.render, smoothed_, anisotropy_};
+                exec_.for_each(bound_, VorticityForceOp<RenderPass>{s, ctx, cell_begin_, masks, pos_, omega, pred_,
+                                                                    density_, render});
+                ++render_updates_;
+                rendered_in_step_ = true;
+            } else {
+                exec_.for_each(bound_, VorticityForceOp<>{s, ctx, cell_begin_, masks, pos_, omega, pred_, density_});
+            }
             std::swap(vel_, pred_);
             density_valid_ = true;  // that pass also summed ρ at the final positions
         } else {
@@ -611,6 +625,8 @@ private:
     uint64_t diffuse_bytes_ = 0;
     uint64_t diffuse_updates_ = 0;
     uint32_t diffuse_steps_ = 0;  // the generator's random stream: one per step
+    bool last_substep_ = false;      // inside step(): the substep running is the step's last
+    bool rendered_in_step_ = false;  // this step's render data came with its vorticity-force pass
     StepFeedback* feedback_ = nullptr;        // host-visible; written by the step's last op
     StepFeedback last_feedback_{};
     uint32_t bound_ = 0;  // upper bound of the live count known on the host (launch size)

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Builds the C# bindings and the DamBreak sample with Mono's mcs, then runs it:
+# Builds the C# bindings and the samples with Mono's mcs, then runs one:
 #
-#   samples/csharp/run.sh [particles=32768] [steps=300] [iterations=4]
+#   samples/csharp/run.sh [particles=32768] [steps=300] [iterations=4]     the dam break
+#   samples/csharp/run.sh --floating-box [steps=300]                        two-way coupling
 #
 # PBF_LIB_DIR: the directory holding libpbf.so(.1) (default <repo>/build/lib).
 # PBF_BACKEND, PBF_LDC, PBF_SUBSTEPS: as for samples/dam_break.c.
@@ -22,6 +23,8 @@ mkdir -p "$out"
 mcs -langversion:7.2 -target:library -nowarn:1591 -r:System.Numerics -out:"$out/Pbf.dll" \
     "$root"/bindings/csharp/unity/Runtime/Core/*.cs
 cp "$root/bindings/csharp/Pbf.dll.config" "$out/Pbf.dll.config"
-mcs -langversion:7.2 -r:System.Numerics -r:"$out/Pbf.dll" -out:"$out/DamBreak.exe" "$here/DamBreak.cs"
+sample=DamBreak
+if [ "${1:-}" = "--floating-box" ]; then sample=FloatingBox; shift; fi
+mcs -langversion:7.2 -r:System.Numerics -r:"$out/Pbf.dll" -out:"$out/$sample.exe" "$here/$sample.cs"
 
-LD_LIBRARY_PATH="$libdir${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" exec mono "$out/DamBreak.exe" "$@"
+LD_LIBRARY_PATH="$libdir${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" exec mono "$out/$sample.exe" "$@"

@@ -7,7 +7,8 @@
 //       time, compressive density error (mean, max), kinetic and potential energy, the
 //       dam-break front, the step time (the backend's, and the host's wall time of the step
 //       call plus the stats read that waits for it), the constraint iterations the step ran
-//       (all its substeps) and per substep. --snap-times writes x,y,z,w (w = ρ/ρ0) of every
+//       (all its substeps) and per substep, the substeps the step ran, the particle-substeps a
+//       speed limit cut, and the backend. --snap-times writes x,y,z,w (w = ρ/ρ0) of every
 //       particle at those times (seconds) to PATH_t<time>.csv for the splat renders.
 //   pbf_paper timing [scene options] --iterations 1,2,...,6 --ldc 0,1 [--gain 0.1]
 //                    [--adaptive-target 0,0.01,...] [--steps 100 --warmup 20] --csv FILE
@@ -23,7 +24,8 @@
 // Solver options: --iterations N (4)  --ldc 0|1 (1)  --gain G (K·Δt²; default 0.1, the library's
 //                default when the report's runs were made, kept so they rerun alike; the
 //                library's is 0.3 now)  --substeps S (0: the CFL-like rule of
-//                samples/dam_break.c)  --frame-dt DT (1/60)
+//                samples/dam_break.c; auto: the library's automatic substeps, README
+//                Physics, capped by --max-substeps, library default 16)  --frame-dt DT (1/60)
 //                --adaptive-target ETA (0: off; > 0: iterate until the mean compressive
 //                density error is below ETA, with --iterations as the cap)
 //                Diagnostics (library defaults otherwise): --relaxation E --scorr-k K --xsph C
@@ -104,10 +106,18 @@ int cmd_run(const Args& args) {
     d.solver.xsph_c = float(args.num("--xsph", d.solver.xsph_c));
     d.solver.vorticity_epsilon = float(args.num("--vorticity", d.solver.vorticity_epsilon));
     d.solver.adaptive_error_target = float(args.num("--adaptive-target", 0.0));
-    uint32_t substeps = uint32_t(args.num("--substeps", 0));
-    if (substeps == 0) substeps = paper::cfl_substeps(sc, frame_dt, !per_substep);
-    if (!per_substep && substeps > 16) {
-        std::fprintf(stderr, "pbf_paper: substeps must be 1..16 (or use --per-substep 1)\n");
+    // auto: the library picks S every step (stats report it); the substeps column is then 0.
+    const bool auto_substeps = args.get("--substeps", "0") == "auto";
+    d.solver.max_substeps = uint32_t(args.num("--max-substeps", d.solver.max_substeps));
+    if (auto_substeps && per_substep) {
+        std::fprintf(stderr, "pbf_paper: --substeps auto needs whole frames (not --per-substep 1)\n");
+        return 2;
+    }
+    uint32_t substeps = auto_substeps ? 0u : uint32_t(args.num("--substeps", 0));
+    if (substeps == 0 && !auto_substeps) substeps = paper::cfl_substeps(sc, frame_dt, !per_substep);
+    if (!per_substep && substeps > d.solver.max_substeps) {
+        std::fprintf(stderr, "pbf_paper: substeps must be 1..%u (--max-substeps, or use --per-substep 1)\n",
+                     d.solver.max_substeps);
         return 2;
     }
     d.solver.substeps = per_substep ? 1u : substeps;
@@ -138,18 +148,18 @@ int cmd_run(const Args& args) {
     std::fprintf(csv,
                  "scene,na,nz,a,particles,substeps,iterations,ldc,gain,step,t,T,density_error_mean,"
                  "density_error_max,kinetic_energy,ke_norm,pe_norm,front,Z,max_speed,step_ms,adaptive_target,"
-                 "iterations_used,iterations_per_substep,wall_ms\n");
-    std::printf("run: %s na=%u nz=%u a=%.3f m, %u particles, spacing %.5f m, h %.5f m, %u substeps of %.5f s, "
+                 "iterations_used,iterations_per_substep,wall_ms,substeps_used,speed_clamps,backend\n");
+    std::printf("run: %s na=%u nz=%u a=%.3f m, %u particles, spacing %.5f m, h %.5f m, %s substeps (%.5f s), "
                 "%u iterations%s, LDC %s gain %.3f, adaptive target %g, %s\n",
-                sc.dam ? "dam" : "tank", sc.na, sc.nz, sc.a, n, info.rest_spacing, info.kernel_radius, substeps,
-                frame_dt / substeps, d.solver.iterations, d.solver.adaptive_error_target > 0.0f ? " (cap)" : "",
+                sc.dam ? "dam" : "tank", sc.na, sc.nz, sc.a, n, info.rest_spacing, info.kernel_radius,
+                auto_substeps ? "auto" : std::to_string(substeps).c_str(), auto_substeps ? 0.0 : frame_dt / substeps, d.solver.iterations, d.solver.adaptive_error_target > 0.0f ? " (cap)" : "",
                 d.solver.ldc_enabled ? "on" : "off", d.solver.ldc_gain, double(d.solver.adaptive_error_target),
                 info.device_name);
 
     std::vector<float> xyzw(size_t(d.max_particles) * 4), vel(size_t(d.max_particles) * 4);
     double pe0 = 0.0;
     bool diverged = false;
-    double total_ms = 0.0, max_ke_norm = 0.0, total_iterations = 0.0;
+    double total_ms = 0.0, max_ke_norm = 0.0, total_iterations = 0.0, total_substeps = 0.0;
     size_t next_snap = 0;
     const int total_calls = frames * calls_per_frame;
     for (int k = 0; k <= total_calls; ++k) {
@@ -168,8 +178,10 @@ int cmd_run(const Args& args) {
         total_ms += step_ms;
         // Iterations the call ran, over its substeps (all zero before the first step).
         const uint32_t iterations_used = k > 0 ? st.iterations : 0u;
-        const double substeps_per_call = per_substep ? 1.0 : double(substeps);
+        const uint32_t substeps_used = k > 0 ? st.substeps : 0u;
+        const double substeps_per_call = std::max(1.0, double(substeps_used));
         total_iterations += iterations_used;
+        total_substeps += substeps_used;
         uint32_t count = 0, written = 0;
         if (!check(pbf_world_get_particle_count(w, &count), "count")) return 1;
         if (!check(pbf_world_copy_positions(w, xyzw.data(), count, &written), "copy positions")) return 1;
@@ -189,12 +201,13 @@ int cmd_run(const Args& args) {
         const bool finite = std::isfinite(st.kinetic_energy) && std::isfinite(pe);
         std::fprintf(csv,
                      "%s,%u,%u,%.4f,%u,%u,%u,%u,%.4f,%d,%.6f,%.5f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.5f,%.5g,%.4f,%g,%u,"
-                     "%.4g,%.4f\n",
+                     "%.4g,%.4f,%u,%u,%s\n",
                      sc.dam ? "dam" : "tank", sc.na, sc.nz, sc.a, count, substeps, d.solver.iterations,
                      d.solver.ldc_enabled, d.solver.ldc_gain, k, t, t * time_scale, st.density_error_mean,
                      st.density_error_max, st.kinetic_energy, ke_norm, (pe - pe0) / energy_scale, front,
                      front / sc.a, vmax, step_ms, double(d.solver.adaptive_error_target), iterations_used,
-                     double(iterations_used) / substeps_per_call, wall_ms);
+                     double(iterations_used) / substeps_per_call, wall_ms, substeps_used, k > 0 ? st.speed_clamps : 0u,
+                     info.backend == PBF_BACKEND_CUDA ? "cuda" : "cpu");
         // Snapshots at whole frames, the first frame at or after each requested time.
         while (next_snap < snap_times.size() && k % calls_per_frame == 0 &&
                t + 0.25 * frame_dt >= snap_times[next_snap]) {
@@ -218,9 +231,9 @@ int cmd_run(const Args& args) {
         }
     }
     if (csv != stdout) std::fclose(csv);
-    std::printf("  %s; max KE/(M g a) %.3f; mean step %.2f ms; %.2f iterations per substep\n",
+    std::printf("  %s; max KE/(M g a) %.3f; mean step %.2f ms; %.2f substeps per call; %.2f iterations per substep\n",
                 diverged ? "diverged" : "finished", max_ke_norm, total_ms / std::max(1, total_calls),
-                total_iterations / (double(std::max(1, total_calls)) * (per_substep ? 1.0 : double(substeps))));
+                total_substeps / double(std::max(1, total_calls)), total_iterations / std::max(1.0, total_substeps));
     return check(pbf_world_destroy(w), "pbf_world_destroy") ? 0 : 1;
 }
 
@@ -339,7 +352,9 @@ const OptionSpec kOptions[] = {
     {"--per-substep", "0", "1: one substep per pbf_world_step call and one CSV row per substep (same physics)", true, 1},
     {"--iterations", "4", "constraint iterations (the cap with --adaptive-target)", true, 1},
     {"--ldc", "1", "Local Density Calibration: 0 off, 1 on", true, 1},
-    {"--substeps", "0", "substeps per frame (0: the CFL-like rule of samples/dam_break.c)", true, 1},
+    {"--substeps", "0", "substeps per frame (0: the CFL-like rule of samples/dam_break.c; auto: the library's "
+     "automatic substeps)", false, 1},
+    {"--max-substeps", "library default", "cap of the automatic substeps (and of a fixed count)", true, 1},
     {"--adaptive-target", "0", "0: fixed iterations; > 0: iterate until the mean compressive density error is below it",
      true, 1},
     {"--relaxation", "library default", "diagnostics: constraint relaxation", true, 1},
@@ -380,6 +395,7 @@ int main(int argc, char** argv) {
             if (o.number) opt->check(number)->type_name("X");
             if (std::string(o.name) == "--scene") opt->check(CLI::IsMember({"dam", "tank"}));
             if (std::string(o.name) == "--backend") opt->check(CLI::IsMember({"cpu", "cuda"}));
+            if (std::string(o.name) == "--substeps") opt->check(CLI::NonNegativeNumber | CLI::IsMember({"auto"}));
         }
     }
     try {

@@ -17,6 +17,7 @@ import re
 import sys
 
 import matplotlib
+import matplotlib.ticker
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -38,6 +39,15 @@ SUBSTEPS = [1, 2, 4, 7, 10, 16]
 DAM_COLLAPSE_T = 3.5  # the dam's compression is averaged over 0 < T <= this (before the impact)
 ENERGY_TOL = 0.02
 RECOMMENDED_GAIN = 0.3  # from the sweep (README §4)  # max(KE + ΔPE)/(M g a) above this: the run created energy (unstable)
+# The equal-cost comparison (tools/paper/report_runs.sh cost_runs; data/cost/): methods and
+# substeps per frame, and the frame benchmark's verdict rules (samples/common/frame_run.h).
+COST_METHODS = ["conv1", "conv2", "conv3", "conv4", "ldc1", "ldc2", "ldc3"]
+COST_SUBSTEPS = ["auto", "3", "5", "7", "10", "14"]
+COST_TARGETS = [0.02, 0.01, 0.005]  # mean compressive error targets of the cheapest-setting table
+FRAME_ENERGY_TOL = 0.05  # KE + ΔPE above this (M g a): unstable (the frame benchmark's rule)
+FRAME_ERR_MAX = 3.0      # max density error above this: unstable
+FRAME_CLAMP_TOL = 1e-3   # speed-limited particle-substeps above this fraction: clamped
+FRAME_REST_KE, FRAME_REST_V = 1e-3, 0.5  # the tank must end with KE/(M g a) and top speed under these
 ADAPTIVE_ETAS = ["0.01", "0.005", "0.001"]  # adaptive_error_target of the §9 runs
 ADAPTIVE_METHODS = [("conv", "PBF"), ("ldc", "LDC 0.3")]
 GPU_ADAPTIVE_CMD = ("`ADAPTIVE_ONLY=1 OUT=dir tools/paper/gpu_paper.sh BUILD_DIR` on the GPU machine (a CUDA build with "
@@ -131,6 +141,44 @@ def tank_metrics(r):
     return m
 
 
+def frame_metrics(r, scene):
+    """A cost run (one row per 1/60 s frame) judged by the frame benchmark's rules
+    (samples/common/frame_run.h): unstable if non-finite, max density error > 3 or KE + ΔPE >
+    0.05 M g a; clamped if the speed limits cut > 0.1 % of particle-substeps; the tank must end
+    at rest. ms per frame: the backend's step time (one pbf_world_step per frame), mean over the
+    frames before the verdict. Compression as in §1: the dam's mean error over the collapse
+    (T <= 3.5), the tank's over its second half; and both over the whole run."""
+    sel = r["t"] > 0
+    n = int(np.sum(sel))
+    e = r["ke_norm"][sel] + r["pe_norm"][sel]
+    fin = np.isfinite(e) & np.isfinite(r["density_error_max"][sel])
+    bad = ~fin | (r["density_error_max"][sel] > FRAME_ERR_MAX) | (e > FRAME_ENERGY_TOL)
+    verdict, upto = "ok", n
+    if np.any(bad):
+        k = int(np.argmax(bad))
+        why = "non-finite" if not fin[k] else ("ρ" if r["density_error_max"][sel][k] > FRAME_ERR_MAX else "E")
+        verdict, upto = f"unstable ({why})", k + 1
+    used = r["substeps_used"][sel][:upto] if "substeps_used" in r else np.full(upto, r["substeps"][0])
+    clamps = r["speed_clamps"][sel][:upto] if "speed_clamps" in r else np.zeros(upto)
+    clamp_fraction = float(np.sum(clamps) / max(1.0, float(np.sum(r["particles"][sel][:upto] * used))))
+    if verdict == "ok" and clamp_fraction > FRAME_CLAMP_TOL:
+        verdict = "clamped"
+    if verdict == "ok" and scene == "tank" and not (r["ke_norm"][-1] < FRAME_REST_KE and r["max_speed"][-1] < FRAME_REST_V):
+        verdict = "not at rest"
+    m = dict(verdict=verdict, ok=verdict == "ok", frames=n, ms_frame=float(np.mean(r["step_ms"][sel][:upto])),
+             substeps_mean=float(np.mean(used)), substeps_max=int(np.max(used)), clamp_fraction=clamp_fraction,
+             e_gain=float(np.nanmax(e)) if np.any(np.isfinite(e)) else float("nan"),
+             err_run=float(np.mean(r["density_error_mean"][sel][:upto])),
+             err_max=float(np.max(r["density_error_max"][sel][:upto])),
+             vmax=float(np.max(r["max_speed"][sel][:upto])), particles=int(r["particles"][0]), na=int(r["na"][0]))
+    if scene == "dam":
+        win = sel & (r["T"] <= DAM_COLLAPSE_T)
+    else:
+        win = sel & (r["t"] >= 0.5 * r["t"][-1])
+    m["err"] = float(np.mean(r["density_error_mean"][win])) if np.any(win) else float("nan")
+    return m
+
+
 def fmt(v, spec=".2f"):
     if v is None or (isinstance(v, float) and math.isnan(v)):
         return "–"
@@ -174,8 +222,8 @@ def equivalent_iterations(conv_errors, value):
 
 # ---- the report ----------------------------------------------------------------------------------
 class Report:
-    def __init__(self, data, snaps, out):
-        self.data, self.snaps, self.out = data, snaps, out
+    def __init__(self, data, snaps, out, frames_dir):
+        self.data, self.snaps, self.out, self.frames_dir = data, snaps, out, frames_dir
         self.fields = {}
         self.missing = []
 
@@ -575,7 +623,7 @@ class Report:
     # 7: Martin & Moyce
     def validation(self):
         sets = []
-        for sub, tag in (("", "CPU"), ("gpu", "GPU")):
+        for sub, tag in (("", self.main_tag), ("gpu", "GPU")):
             for f in sorted(glob.glob(os.path.join(self.data, sub, "mm_*_na*.csv"))):
                 # mm_ldc4_na*: gain 0.1 (the old default, set explicitly); mm_ldc4g0.3_na*: the default now
                 mt = re.match(r"mm_(ldc4|conv4)(?:g([0-9.]+))?_na(\d+)\.csv", os.path.basename(f))
@@ -690,7 +738,7 @@ class Report:
         any_r = next(iter(res.values()))
         frames = {sc: next((v["frames"] for (s_, _, _), v in res.items() if s_ == sc), 0) for sc in ("dam", "tank")}
         self.fields["ADAPTIVE_SETUP"] = (
-            f"CPU, {any_r['particles']:,} particles per scene, {any_r['substeps']} substeps per frame, dam "
+            f"{self.main_tag}, {any_r['particles']:,} particles per scene, {any_r['substeps']} substeps per frame, dam "
             f"{frames['dam']} frames ({frames['dam'] / 60:.1f} s) and tank {frames['tank']} ({frames['tank'] / 60:.1f} s) "
             f"as in §1, cap {any_r['cap']:.0f} iterations per substep, sampled every substep")
         # figure: iterations and time against η; iterations over time on the dam at the tightest η
@@ -717,7 +765,7 @@ class Report:
                            lw=1.1, label=f"{lab}, η = {100 * float(eta):g} %")
         ax[0].set_title("iterations per substep (mean over the run)")
         ax[0].set_ylabel("iterations")
-        ax[1].set_title("CPU ms per step (one substep; mean over the run)")
+        ax[1].set_title(f"{self.main_tag}: ms per step (one substep; mean over the run)")
         ax[1].set_ylabel("ms")
         for a in ax[:2]:
             a.set_xscale("log")
@@ -758,7 +806,7 @@ class Report:
                                      v["Z_T2"], v["stable"], v["e_gain"], save_it, save_ms])
         self.fields["TABLE_ADAPTIVE"] = md_table(
             ["scene", "method", "η", "iterations / substep: mean", "max", "substeps with 0 it", "substeps at the cap",
-             "achieved mean err (time avg)", "mean err (peak)", "max err (time avg)", "ms per step (CPU)",
+             "achieved mean err (time avg)", "mean err (peak)", "max err (time avg)", f"ms per step ({self.main_tag})",
              "dam: Z at T = 2", "max (KE+ΔPE)/(Mga)", "LDC saves: iterations", "LDC saves: time"], rows)
         write_csv(os.path.join(self.out, "adaptive.csv"),
                   ["scene", "method", "target", "iterations_mean", "iterations_max", "fraction_zero_iterations",
@@ -800,6 +848,127 @@ class Report:
                 "\n\nGPU: pending — " + GPU_ADAPTIVE_CMD + "; `tools/paper/run_report.sh --plots-only` then fills "
                 "the GPU row.")
         return res
+
+    # equal cost per frame
+    def cost(self):
+        """The cost runs (data/cost: every method at automatic and fixed substeps, dam and tank) and
+        the frame benchmark's CSVs (docs/perf/h100_frames_*_262k.csv, if present): compression
+        against GPU ms per frame, and the cheapest setting per method that reaches a target."""
+        sets = []  # (title, {(scene, method, S): metrics}, err key)
+        runs = {}
+        for scene in ("dam", "tank"):
+            for m in COST_METHODS:
+                for S in COST_SUBSTEPS:
+                    r = load(os.path.join(self.data, "cost", f"cost_{scene}_{m}_S{S}.csv"))
+                    if r is not None:
+                        runs[(scene, m, S)] = frame_metrics(r, scene)
+        if runs:
+            any_r = next(iter(runs.values()))
+            sets.append((f"report scenes, {any_r['particles']:,} particles ({any_r['na']}/a), LDC gain 0.3", runs, "err"))
+        else:
+            self.missing.append("cost/cost_*.csv (tools/paper/gpu_report.sh)")
+        for path in sorted(glob.glob(os.path.join(self.frames_dir, "h100_frames_*_262k.csv"))):
+            fr = load(path)
+            if fr is None:
+                continue
+            res = {}
+            for i in range(len(fr["scene"])):
+                m = f"{'ldc' if int(fr['ldc'][i]) else 'conv'}{int(fr['iterations'][i])}"
+                S = str(fr["substeps"][i]).replace(".0", "")
+                res[(str(fr["scene"][i]), m, S)] = dict(
+                    verdict=str(fr["verdict"][i]), ok=str(fr["verdict"][i]) == "ok", ms_frame=float(fr["ms_per_frame"][i]),
+                    substeps_mean=float(fr["substeps_mean"][i]), err=float(fr["err_mean"][i]),
+                    err_run=float(fr["err_mean"][i]), err_max=float(fr["err_max"][i]), particles=int(fr["particles"][i]))
+            scale = os.path.basename(path)[len("h100_frames_"):-len(".csv")].replace("_", " ")  # e.g. "fine 262k"
+            sets.append((f"frame benchmark {scale}, 3D, {os.path.basename(path)}, whole-run mean error", res, "err"))
+        if not sets:
+            self.fields["FIG_COST"] = ""
+            self.fields["TABLE_COST"] = "_No cost runs found (tools/paper/gpu_report.sh)._"
+            self.fields["TABLE_COST_CHEAPEST"] = ""
+            return None
+        methods = sorted({k[1] for _, res, _ in sets for k in res}, key=lambda m: (m.startswith("ldc"), m))
+        fig, ax = plt.subplots(len(sets), 2, figsize=(13, 4.2 * len(sets)), squeeze=False)
+        for i, (title, res, key) in enumerate(sets):
+            for j, scene in enumerate(("dam", "tank")):
+                a = ax[i, j]
+                for m in methods:
+                    pts = sorted((v["ms_frame"], v[key], v["ok"]) for (sc, mm, _), v in res.items()
+                                 if sc == scene and mm == m and v["ms_frame"] > 0 and v[key] > 0)
+                    if not pts:
+                        continue
+                    x, y, ok = (np.array(c) for c in zip(*pts))
+                    a.plot(x, 100 * y, style(m), color=colour(m), lw=0.8, alpha=0.6)
+                    a.plot(x[ok], 100 * y[ok], "o", color=colour(m), label=label(m), ms=5)
+                    a.plot(x[~ok], 100 * y[~ok], "x", color=colour(m), ms=6)
+                a.set_xscale("log")
+                a.set_yscale("log")
+                for axis in (a.xaxis, a.yaxis):  # plain numbers, not 3×10^0
+                    axis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+                    axis.set_minor_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+                a.set_xlabel("GPU ms per 1/60 s frame")
+                a.set_ylabel("mean compressive error [%]")
+                a.set_title(f"{scene}: {title}", fontsize=9)
+                a.grid(alpha=0.3, which="both")
+            ax[i, 0].legend(fontsize=7, ncol=2, title="o ok, x not ok", title_fontsize=7)
+        self.fields["FIG_COST"] = self.savefig(fig, "cost.png")
+        # the cheapest setting per method (dam and tank both ok and both under the target; the cost
+        # of the dearer scene, as the frame benchmark's cheapest-setting line)
+        rows, csv_rows = [], []
+        for title, res, key in sets:
+            for m in methods:
+                row = [title.split(",")[0] + (f", {next(iter(res.values()))['particles']:,} p."
+                                              if res and title.startswith("report") else ""), label(m)]
+                for target in [None] + COST_TARGETS:
+                    best = None
+                    for S in sorted({k[2] for k in res if k[1] == m}):
+                        d, t = res.get(("dam", m, S)), res.get(("tank", m, S))
+                        if not (d and t and d["ok"] and t["ok"]):
+                            continue
+                        if target is not None and not (d[key] <= target and t[key] <= target):
+                            continue
+                        ms = max(d["ms_frame"], t["ms_frame"])
+                        if best is None or ms < best[0]:
+                            best = (ms, S, d, t)
+                    if best is None:
+                        row.append("none")
+                    else:
+                        ms, S, d, t = best
+                        sm = f"S {S}" + (f" (S̄ {d['substeps_mean']:.1f} / {t['substeps_mean']:.1f})" if S == "auto" else "")
+                        row.append(f"{sm}: {ms:.2f} ms ({pct(d[key])} / {pct(t[key])})")
+                    csv_rows.append([title, m, target if target is not None else "ok", best and best[1],
+                                     best and best[0], best and best[2][key], best and best[3][key]])
+                rows.append(row)
+        self.fields["TABLE_COST_CHEAPEST"] = md_table(
+            ["runs", "method", "cheapest ok in both scenes"] + [f"… and mean error ≤ {100 * x:g} % in both"
+                                                                  for x in COST_TARGETS], rows)
+        write_csv(os.path.join(self.out, "cost_cheapest.csv"),
+                  ["runs", "method", "target", "substeps", "ms_per_frame_dearer_scene", "dam_err", "tank_err"], csv_rows)
+        # the whole matrix of the report's cost runs
+        rows, csv_rows = [], []
+        if runs:
+            for m in COST_METHODS:
+                for S in COST_SUBSTEPS:
+                    cells = [label(m), S]
+                    for scene in ("dam", "tank"):
+                        v = runs.get((scene, m, S))
+                        if v is None:
+                            cells.append("–")
+                            continue
+                        cells.append(f"{v['verdict']}, {v['ms_frame']:.2f} ms, {pct(v['err'])}"
+                                     + (f", S̄ {v['substeps_mean']:.1f}" if S == "auto" else ""))
+                        csv_rows.append([scene, m, S, v["verdict"], v["ms_frame"], v["substeps_mean"], v["substeps_max"],
+                                         v["err"], v["err_run"], v["err_max"], v["e_gain"], v["vmax"],
+                                         v["clamp_fraction"], v["frames"]])
+                    rows.append(cells)
+            write_csv(os.path.join(self.out, "cost.csv"),
+                      ["scene", "method", "substeps", "verdict", "ms_per_frame", "substeps_mean", "substeps_max",
+                       "err_mean_window", "err_mean_run", "err_max_peak", "energy_gain", "max_speed",
+                       "clamp_fraction", "frames"], csv_rows)
+        self.fields["TABLE_COST"] = md_table(
+            ["method", "substeps / frame", "dam: verdict, GPU ms/frame, mean err (collapse)",
+             "tank: verdict, GPU ms/frame, mean err (settled)"], rows) if rows else "_No cost runs found._"
+        self.cost_results = sets
+        return sets
 
     # ---- verdicts ---------------------------------------------------------------------------
     @staticmethod
@@ -852,7 +1021,7 @@ class Report:
         if s2:
             un = [label(m) for m in CONV if m in s2 and not s2[m]["stable"]]
             st = [label(m) for m in CONV if m in s2 and s2[m]["stable"]]
-            parts.append(f"CPU, 2 substeps/frame: unstable {', '.join(un) or 'none'}; stable {', '.join(st) or 'none'}")
+            parts.append(f"{self.main_tag}, 2 substeps/frame: unstable {', '.join(un) or 'none'}; stable {', '.join(st) or 'none'}")
         if parts:
             V.append(["Fig. 1/6: with few iterations the flow is gentler (attenuated)", "<br>".join(parts),
                       f"does not hold: ≤ {100 * worst:.0f} % among stable runs; too few iterations destabilise instead"
@@ -933,10 +1102,11 @@ class Report:
         if sub_curves and sub_curves.get("conv1") and sub_curves.get("ldc1"):
             def stable_set(m):
                 return [S for S, d in sub_curves.get(m, []) if d["stable"]]
-            V.append(["(ours) stability with few iterations (CPU dam break, 0.8 s)",
+            V.append([f"(ours) stability with few iterations ({self.main_tag} dam break, 0.8 s)",
                       "; ".join(f"{label(m)} stable at substeps {', '.join(map(str, stable_set(m))) or 'none'} "
                                 f"(of {', '.join(str(S) for S, _ in sub_curves[m])})"
                                 for m in ("conv1", "conv2", "ldc1", "ldc1g0.3") if sub_curves.get(m)),
+                      # RECHECK (phase 2): this verdict is typed, not computed from the row
                       "LDC stabilises 1 iteration at the rule's substeps; nothing is stable with 1-2 substeps"])
         V += self.adaptive_verdict()
         self.fields["TABLE_VERDICTS"] = md_table(["claim (paper)", "measured here", "verdict"], V)
@@ -984,7 +1154,7 @@ class Report:
                    f"({-100 * si:+.0f} % iterations)"
                    for s_, eta, c, l, si, sm in sv if s_ == scene]
             if seg:
-                parts.append(f"CPU {scene}: " + "; ".join(seg))
+                parts.append(f"{self.main_tag} {scene}: " + "; ".join(seg))
         _, tcpu, tgpu = self.adaptive_results
         cols = []
         for t, tag in ((tcpu, "CPU column"), (tgpu, "GPU column")):
@@ -1030,8 +1200,8 @@ class Report:
             L.append(f"**Cost ({t['device']}, {t['particles']:,} particles):** one iteration {t['per_iter']:.3g} ms, LDC "
                      f"{t['extra_ms']:.3g} ms = {t['fraction']:.2f} of an iteration (paper: ≈ 1/6).")
         if val:
-            test = [v for v in val if v["method"] == "ldc4" and v["na"] == 24 and v["tag"] == "CPU" and not v["gain"]]
-            test_now = [v for v in val if v["method"] == "ldc4" and v["na"] == 24 and v["tag"] == "CPU" and v["gain"]]
+            test = [v for v in val if v["method"] == "ldc4" and v["na"] == 24 and v["tag"] == self.main_tag and not v["gain"]]
+            test_now = [v for v in val if v["method"] == "ldc4" and v["na"] == 24 and v["tag"] == self.main_tag and v["gain"]]
             fine = max((v for v in val if v["method"] == "ldc4" and not v["gain"]), key=lambda v: v["n"])
             if test:
                 c = test[0]["cmp"]
@@ -1067,7 +1237,7 @@ class Report:
             col = (f" (on §5's column, stepped alternately, mean step time saved: {'; '.join(cols)})"
                    if cols else "")
             unstable = self.adaptive_unstable()
-            L.append(f"**Adaptive iterations (CPU, cap {cap:.0f}):** to hold the mean compressive error under η = {etas} %, "
+            L.append(f"**Adaptive iterations ({self.main_tag}, cap {cap:.0f}):** to hold the mean compressive error under η = {etas} %, "
                      f"PBF runs {its('dam', 'conv')} iterations per substep on the dam ({its('tank', 'conv')} on the "
                      f"tank), LDC (gain 0.3) {its('dam', 'ldc')} ({its('tank', 'ldc')}): LDC saves "
                      f"{100 * min(s[4] for s in sv):.0f}–{100 * max(s[4] for s in sv):.0f} % of the iterations"
@@ -1129,8 +1299,22 @@ class Report:
             ["layers in z", "slab thickness", "mean compressive error (settled)",
              "volume lost (COM sink, % of a/2)"], rows) if rows else "_No wall-compaction runs found._"
 
+    def main_set_backend(self):
+        """The main set's tag ("CPU", or "CUDA 32/a" when gpu_report.sh ran it) and a sentence."""
+        r = load(os.path.join(self.data, "dam_conv1.csv"))
+        backend = str(r["backend"][0]) if r is not None and "backend" in r else "cpu"
+        if backend == "cpu":
+            return "CPU", ("the main set (§1–§4, §6, §7, §9, §10) on the CPU backend; the GPU set (§5) and §11 "
+                           "on the CUDA backend")
+        dev = os.path.join(self.data, "device.txt")
+        dev = open(dev).read().strip() if os.path.exists(dev) else "device not recorded"
+        return "CUDA 32/a", (f"every simulation on the CUDA backend ({dev}; the main set of §1–§4, §6, §7, §9, §10 "
+                             f"at the CPU route's resolution, tagged “CUDA 32/a”); the CPU appears only in the "
+                             f"timing tables of §5 and §9")
+
     def write(self):
         os.makedirs(self.out, exist_ok=True)
+        self.main_tag, self.fields["MAIN_SET_BACKEND"] = self.main_set_backend()
         dm, tm = self.methods()
         dm, tm = dm or {}, tm or {}
         self.methods(prefix="S2_", dam_name="damS2", with_tank=False)
@@ -1143,13 +1327,17 @@ class Report:
         self.diagnostics()
         val = self.validation()
         self.adaptive()
-        runs = [("CPU", dm, tm)] + ([("GPU", gdm, gtm)] if gdm and gtm else [])
+        self.cost()
+        runs = [(self.main_tag, dm, tm)] + ([("GPU", gdm, gtm)] if gdm and gtm else [])
         timings = [(n, t) for n, t in (("CPU", tcpu), ("GPU", tgpu)) if t]
         s2 = {m: dam_metrics(r) for m in METHODS for r in [load(os.path.join(self.data, f"damS2_{m}.csv"))] if r is not None}
         self.verdicts(runs, timings, sub_curves, s2)
         self.summary(runs, timings, val)
         prov = os.path.join(self.data, "provenance.txt")
         self.fields["PROVENANCE"] = open(prov).read().strip().replace("\n", "  \n") if os.path.exists(prov) else "unknown"
+        gprov = os.path.join(self.data, "provenance_gpu_report.txt")  # gpu_report.sh's batch
+        if os.path.exists(gprov):
+            self.fields["PROVENANCE"] += "  \n" + open(gprov).read().strip().replace("\n", "  \n")
         self.fields["MISSING"] = ("Missing inputs (not plotted): " + ", ".join(sorted(set(self.missing)))
                                   if self.missing else "All inputs present.")
         for k in [k for k in self.fields if "FIG_" in k]:
@@ -1193,8 +1381,10 @@ def main():
     ap.add_argument("--data", default="docs/paper/data")
     ap.add_argument("--snapshots", default="build-paper/paper-snapshots")
     ap.add_argument("--out", default="docs/paper")
+    ap.add_argument("--frames", default=os.path.join(HERE, "..", "..", "docs", "perf"),
+                    help="folder of the frame benchmark's CSVs (h100_frames_*_262k.csv)")
     a = ap.parse_args()
-    Report(a.data, a.snapshots, a.out).write()
+    Report(a.data, a.snapshots, a.out, a.frames).write()
     return 0
 
 
