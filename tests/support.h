@@ -301,6 +301,31 @@ struct RenderData {
 
 inline pbf_world_info world_info(pbf_world_id w) { return read_struct<pbf_world_info>(w, pbf_world_get_info); }
 
+// Profiling on, one step of w; the milliseconds of the stage named `name` in it.
+inline float profiled_stage_ms(pbf_world_id w, const char* name, float dt = 1.0f / 60.0f) {
+    uint32_t stage = 0;
+    while (pbf_profile_stage_name(stage) && std::string(pbf_profile_stage_name(stage)) != name) ++stage;
+    REQUIRE(pbf_profile_stage_name(stage) != nullptr);
+    REQUIRE_PBF(pbf_world_set_profiling(w, 1));
+    REQUIRE_PBF(pbf_world_step(w, dt));
+    return read_struct<pbf_step_profile>(w, pbf_world_get_profile).stage_ms[stage];
+}
+
+// pbf_world_map_device_buffers(w, flags) into a zeroed struct.
+inline pbf_device_buffers map_buffers(pbf_world_id w, uint32_t flags = 0) {
+    return read_struct<pbf_device_buffers>(w, [flags](pbf_world_id id, pbf_device_buffers* out) {
+        return pbf_world_map_device_buffers(id, flags, out);
+    });
+}
+
+// Steps both worlds n times.
+inline void step_both(pbf_world_id a, pbf_world_id b, int n, float dt = 1.0f / 60.0f) {
+    for (int k = 0; k < n; ++k) {
+        REQUIRE_PBF(pbf_world_step(a, dt));
+        REQUIRE_PBF(pbf_world_step(b, dt));
+    }
+}
+
 inline RenderData read_render(pbf_world_id w) {
     RenderData r;
     REQUIRE_PBF(pbf_world_get_particle_count(w, &r.count));

@@ -8,6 +8,13 @@ using namespace scene;
 
 namespace {
 
+// small_desc (a 1 m box of CPU fluid) with a diffuse capacity.
+pbf_world_desc with_diffuse(uint32_t capacity) {
+    pbf_world_desc d = small_desc(4096);
+    d.diffuse.max_diffuse = capacity;
+    return d;
+}
+
 // A still tank of 432 particles (0.6 x 0.3 x 0.3 m of water, spacing 0.05 m) with diffuse
 // capacity, settled for 30 steps; no diffuse particle is generated in it.
 pbf_world_id still_tank(uint32_t capacity) {
@@ -199,10 +206,7 @@ TEST_CASE("diffuse: kinds behave: spray falls, bubbles rise, foam rides a still 
 
 TEST_CASE("diffuse: the CPU backend is deterministic", "[api][diffuse]") {
     pbf_world_id a = diffuse_dam(PBF_BACKEND_CPU, 20000), b = diffuse_dam(PBF_BACKEND_CPU, 20000);
-    for (int step = 0; step < 40; ++step) {
-        REQUIRE_PBF(pbf_world_step(a, kDt));
-        REQUIRE_PBF(pbf_world_step(b, kDt));
-    }
+    step_both(a, b, 40);
     const Diffuse da = read_diffuse(a), db = read_diffuse(b);
     REQUIRE(da.count > 0u);
     CHECK(da.count == db.count);
@@ -213,10 +217,7 @@ TEST_CASE("diffuse: the CPU backend is deterministic", "[api][diffuse]") {
 }
 
 TEST_CASE("diffuse: off costs nothing; on, its bytes, passes and pointers are accounted for", "[api][diffuse]") {
-    pbf_world_desc d = small_desc(4096);
-    TestWorld off(d);
-    d.diffuse.max_diffuse = 1000;
-    TestWorld on(d);
+    TestWorld off(with_diffuse(0)), on(with_diffuse(1000));
     for (TestWorld* t : {&off, &on}) {
         t->emit_default_block();
         for (int s = 0; s < 3; ++s) REQUIRE_OK(pbf_world_step(*t, kDt));
@@ -232,35 +233,20 @@ TEST_CASE("diffuse: off costs nothing; on, its bytes, passes and pointers are ac
     CHECK(i1.device_bytes == i0.device_bytes + i1.diffuse_bytes);
     CHECK(i1.diffuse_updates == 3u);
     // Profiled, the "diffuse" stage takes no time when off.
-    uint32_t stage = 0;
-    while (pbf_profile_stage_name(stage) && std::string(pbf_profile_stage_name(stage)) != "diffuse") ++stage;
-    REQUIRE(pbf_profile_stage_name(stage) != nullptr);
-    for (TestWorld* t : {&off, &on}) {
-        REQUIRE_OK(pbf_world_set_profiling(*t, 1));
-        REQUIRE_OK(pbf_world_step(*t, kDt));
-        pbf_step_profile prof;
-        std::memset(&prof, 0, sizeof prof);
-        prof.struct_size = sizeof prof;
-        REQUIRE_OK(pbf_world_get_profile(*t, &prof));
-        if (t == &off) CHECK(prof.stage_ms[stage] == 0.0f);
-        else CHECK(prof.stage_ms[stage] > 0.0f);
-    }
+    CHECK(profiled_stage_ms(off, "diffuse") == 0.0f);
+    CHECK(profiled_stage_ms(on, "diffuse") > 0.0f);
     CHECK(world_info(off).diffuse_updates == 0u);
     // Device pointers (host memory on the CPU backend): none when off, the copy-out's data when on.
     const float pos[] = {0.0f, 0.8f, 0.0f, PBF_DIFFUSE_SPRAY, 0.1f, 0.8f, 0.0f, PBF_DIFFUSE_SPRAY};
     const float vel[] = {1.0f, 0.0f, 0.0f, 1.0f, -1.0f, 0.0f, 0.0f, 1.0f};
     REQUIRE_OK(pbf_world_add_diffuse(on, pos, vel, 2, nullptr));
-    pbf_device_buffers m0, m1;
-    std::memset(&m0, 0, sizeof m0);
-    std::memset(&m1, 0, sizeof m1);
-    m0.struct_size = m1.struct_size = sizeof m0;
-    REQUIRE_OK(pbf_world_map_device_buffers(off, 0, &m0));
+    const pbf_device_buffers m0 = map_buffers(off);
     CHECK(m0.diffuse_positions == nullptr);
     CHECK(m0.diffuse_velocities == nullptr);
     CHECK(m0.diffuse_count_device == nullptr);
     CHECK(m0.diffuse_count == 0u);
     CHECK(m0.diffuse_capacity == 0u);
-    REQUIRE_OK(pbf_world_map_device_buffers(on, 0, &m1));
+    const pbf_device_buffers m1 = map_buffers(on);
     const Diffuse r = read_diffuse(on);
     REQUIRE(r.count == 2u);
     CHECK(m1.diffuse_count == 2u);
@@ -275,10 +261,7 @@ TEST_CASE("diffuse: off costs nothing; on, its bytes, passes and pointers are ac
 }
 
 TEST_CASE("diffuse: bad params, rows and buffers are refused, and nothing is lost", "[api][diffuse]") {
-    pbf_world_desc d = small_desc(4096);
-    TestWorld off(d);
-    d.diffuse.max_diffuse = 4;
-    TestWorld on(d);
+    TestWorld off(with_diffuse(0)), on(with_diffuse(4));
     on.emit_default_block();
     (void)stats(on);  // the stats' density pass writes the positions' w (ρ/ρ0) once
     const std::vector<float> before = on.positions();

@@ -43,10 +43,7 @@ TEST_CASE("CUDA and CPU agree on diffuse particles: injected kinds move alike", 
 
 TEST_CASE("CUDA diffuse particles at a breaking dam: comparable to the CPU, capacity and lifetime kept", "[gpu][diffuse]") {
     pbf_world_id cpu = diffuse_dam(PBF_BACKEND_CPU, 20000), gpu = diffuse_dam(PBF_BACKEND_CUDA, 20000);
-    for (int s = 0; s < 60; ++s) {
-        REQUIRE_PBF(pbf_world_step(cpu, kDt));
-        REQUIRE_PBF(pbf_world_step(gpu, kDt));
-    }
+    step_both(cpu, gpu, 60);
     // A splashing flow is chaotic: rounding makes the backends' particles differ after a few
     // dozen steps, so compare aggregates.
     const pbf_step_stats sc = stats(cpu), sg = stats(gpu);

@@ -162,20 +162,27 @@ struct FluidSample {
     uint32_t neighbors;
     Vec3 velocity;
 };
-PBF_HD FluidSample sample_fluid(const GridDims& grid, float h2, float inv_h, const uint32_t* cell_begin,
-                                const Vec4* positions, const Vec4* velocities, Vec3 x) {
-    FluidSample f{0u, Vec3{0.0f, 0.0f, 0.0f}};
-    float wsum = 0.0f;
-    for_each_neighbor(grid, cell_begin, x, [&](uint32_t j) {
-        const float w = diffuse_weight(length_sq(x - xyz(positions[j])), h2, inv_h);
-        if (w <= 0.0f) return;
-        ++f.neighbors;
-        f.velocity += xyz(velocities[j]) * w;
-        wsum += w;
-    });
-    if (wsum > 0.0f) f.velocity = f.velocity * (1.0f / wsum);
-    return f;
-}
+// The fluid at the end of a step, sampled through its grid (any point, not only particles).
+struct FluidSampler {
+    GridDims grid;
+    float h2, inv_h;
+    const uint32_t* cell_begin;
+    const Vec4* positions;
+    const Vec4* velocities;
+    PBF_HD FluidSample at(Vec3 x) const {
+        FluidSample f{0u, Vec3{0.0f, 0.0f, 0.0f}};
+        float wsum = 0.0f;
+        for_each_neighbor(grid, cell_begin, x, [&](uint32_t j) {
+            const float w = diffuse_weight(length_sq(x - xyz(positions[j])), h2, inv_h);
+            if (w <= 0.0f) return;
+            ++f.neighbors;
+            f.velocity += xyz(velocities[j]) * w;
+            wsum += w;
+        });
+        if (wsum > 0.0f) f.velocity = f.velocity * (1.0f / wsum);
+        return f;
+    }
+};
 
 // Per diffuse slot i < *diffuse_count: moves the particle by its kind (Ihmsen Sec. 5), from its
 // fluid neighbours at the step's end, over the step's Δt:
@@ -191,11 +198,9 @@ PBF_HD FluidSample sample_fluid(const GridDims& grid, float h2, float inv_h, con
 struct DiffuseAdvectOp {
     WorldConstants s;
     ColliderView colliders;
-    float inv_h, dt;
+    FluidSampler fluid;
+    float dt;
     DiffuseConstants d;
-    const uint32_t* cell_begin;
-    const Vec4* fluid_positions;
-    const Vec4* fluid_velocities;
     const uint32_t* diffuse_count;
     Vec4* positions;
     Vec4* velocities;
@@ -208,7 +213,7 @@ struct DiffuseAdvectOp {
         const Vec3 x = xyz(positions[i]);
         Vec3 v = xyz(velocities[i]);
         float life = velocities[i].w;
-        const FluidSample f = sample_fluid(s.grid, s.h2, inv_h, cell_begin, fluid_positions, fluid_velocities, x);
+        const FluidSample f = fluid.at(x);
         const float kind = diffuse_kind(f.neighbors, d);
         if (kind == kDiffuseSpray) {
             v = (v + s.gravity * dt) * (1.0f / (1.0f + d.spray_drag * dt));
@@ -237,11 +242,9 @@ struct DiffuseAdvectOp {
 struct DiffuseScatterOp {
     WorldConstants s;
     ColliderView colliders;
-    float inv_h, dt;
+    FluidSampler fluid;
+    float dt;
     DiffuseConstants d;
-    const uint32_t* cell_begin;
-    const Vec4* fluid_positions;
-    const Vec4* fluid_velocities;
     const uint32_t* ids;
     uint32_t step;
     const uint32_t* flags;   // keep | generated
@@ -260,7 +263,7 @@ struct DiffuseScatterOp {
             return;
         }
         const uint32_t j = i - d.capacity;
-        const Vec3 xj = xyz(fluid_positions[j]), vj = xyz(fluid_velocities[j]);
+        const Vec3 xj = xyz(fluid.positions[j]), vj = xyz(fluid.velocities[j]);
         const float speed = length(vj);
         const Vec3 axis = speed > 1e-6f ? vj * (1.0f / speed) : Vec3{0.0f, 1.0f, 0.0f};
         const Vec3 helper = fabsf(axis.y) < 0.9f ? Vec3{0.0f, 1.0f, 0.0f} : Vec3{1.0f, 0.0f, 0.0f};
@@ -272,7 +275,7 @@ struct DiffuseScatterOp {
             const float angle = 6.2831853f * diffuse_random(key, step, 2u);
             const float along = speed * dt * diffuse_random(key, step, 3u);
             const Vec3 x = collide(s, colliders, xj + e1 * (r * cosf(angle)) + e2 * (r * sinf(angle)) + axis * along, xj);
-            const FluidSample f = sample_fluid(s.grid, s.h2, inv_h, cell_begin, fluid_positions, fluid_velocities, x);
+            const FluidSample f = fluid.at(x);
             const float life = d.lifetime * (0.5f + 0.5f * diffuse_random(key, step, 4u));
             dst_positions[base + k] = make_vec4(x, diffuse_kind(f.neighbors, d));
             dst_velocities[base + k] = make_vec4(vj, life);

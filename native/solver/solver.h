@@ -289,17 +289,13 @@ public:
     }
 
     void set_render_constants(const RenderConstants& render) override {
-        const uint32_t flags = config_.render.flags;
-        config_.render = render;
-        config_.render.flags = flags;
+        replace_keeping(config_.render, render, &RenderConstants::flags);
     }
     uint64_t render_updates() const override { return render_updates_; }
     uint64_t render_bytes() const override { return render_bytes_; }
 
     void set_diffuse_constants(const DiffuseConstants& diffuse) override {
-        const uint32_t capacity = config_.diffuse.capacity;
-        config_.diffuse = diffuse;
-        config_.diffuse.capacity = capacity;
+        replace_keeping(config_.diffuse, diffuse, &DiffuseConstants::capacity);
     }
     uint64_t diffuse_updates() const override { return diffuse_updates_; }
     uint64_t diffuse_bytes() const override { return diffuse_bytes_; }
@@ -387,6 +383,14 @@ public:
     }
 
 private:
+    // New tunables with the creation's value of `fixed` kept (the buffers were sized by it).
+    template <class T, class F>
+    static void replace_keeping(T& current, const T& next, F T::*fixed) {
+        const F kept = current.*fixed;
+        current = next;
+        current.*fixed = kept;
+    }
+
     void substep(const WorldConstants& s, const SubstepInput& in) {
         const StepContext& ctx = in.ctx;
         exec_.profile_mark(kStageEmitDrain);
@@ -504,12 +508,12 @@ private:
             exec_.for_each(n, DiffuseSourceOp{s.grid, s.h2, inv_h, dt, d, cell_begin_, masks, pos_, vel_, normals, ids_,
                                               diffuse_steps_, &counters_->count, diffuse_flags_ + d.capacity});
         }
-        exec_.for_each(d.capacity, DiffuseAdvectOp{s, rest_colliders_, inv_h, dt, d, cell_begin_, pos_, vel_,
-                                                   &diffuse_counters_->count, diffuse_[0], diffuse_[1], diffuse_flags_});
+        const FluidSampler fluid{s.grid, s.h2, inv_h, cell_begin_, pos_, vel_};
+        exec_.for_each(d.capacity, DiffuseAdvectOp{s, rest_colliders_, fluid, dt, d, &diffuse_counters_->count,
+                                                   diffuse_[0], diffuse_[1], diffuse_flags_});
         exec_.exclusive_scan(diffuse_flags_, diffuse_offsets_, total);
-        exec_.for_each(total, DiffuseScatterOp{s, rest_colliders_, inv_h, dt, d, cell_begin_, pos_, vel_, ids_,
-                                               diffuse_steps_, diffuse_flags_, diffuse_offsets_, diffuse_[0],
-                                               diffuse_[1], diffuse_[2], diffuse_[3]});
+        exec_.for_each(total, DiffuseScatterOp{s, rest_colliders_, fluid, dt, d, ids_, diffuse_steps_, diffuse_flags_,
+                                               diffuse_offsets_, diffuse_[0], diffuse_[1], diffuse_[2], diffuse_[3]});
         exec_.for_each(1, DiffuseCommitOp{diffuse_counters_, diffuse_flags_, diffuse_offsets_, total, d.capacity});
         std::swap(diffuse_[0], diffuse_[2]);
         std::swap(diffuse_[1], diffuse_[3]);
