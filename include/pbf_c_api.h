@@ -209,6 +209,57 @@ static inline pbf_render_params pbf_render_params_default(void) {
     return p;
 }
 
+/* ---- Diffuse particles -------------------------------------------------------------------- */
+/* Spray, foam and air bubbles after Ihmsen, Akinci, Gissler & Teschner 2012, "Unified spray,
+ * foam and air bubbles for particle-based fluids": at the end of every step, fluid particles
+ * that trap air (meet at speed), break at wave crests and move fast generate diffuse particles,
+ * which then move by their kind: spray (few fluid neighbours) flies ballistically under gravity
+ * and drag, foam (a surface's neighbourhood) rides with the fluid's velocity, bubbles (inside
+ * the fluid) rise by buoyancy with drag toward the fluid's velocity. Foam and spray live for
+ * (0.5..1) x lifetime; bubbles age once they surface. Read them like the particles
+ * (pbf_world_copy_buffer, pbf_device_buffers, GL / Vulkan copies) through
+ * PBF_BUFFER_DIFFUSE_POSITIONS (float x, y, z, kind: PBF_DIFFUSE_*) and
+ * PBF_BUFFER_DIFFUSE_VELOCITIES (float vx, vy, vz, remaining lifetime in s); their count is
+ * pbf_step_stats.diffuse_count. With max_diffuse 0 (the default) a world allocates and runs
+ * nothing for them. The potentials' thresholds τ are (min, max) pairs of Ihmsen's clamping
+ * Φ(I) = (min(I, max) - min(I, min)) / (max - min). */
+#define PBF_DIFFUSE_SPRAY 0.0f
+#define PBF_DIFFUSE_FOAM 1.0f
+#define PBF_DIFFUSE_BUBBLE 2.0f
+
+typedef struct pbf_diffuse_params {
+    uint32_t struct_size;
+    uint32_t max_diffuse;       /* capacity, 0..2^26, fixed at world creation (default 0: off).
+                                   Costs 64 bytes of backend memory per diffuse particle, plus 8
+                                   per slot of max_diffuse + max_particles (the packing scan) */
+    float trapped_air_min;      /* τ_ta: trapped-air potential Σ_j |v_ij| (1 - v̂_ij·x̂_ij) W_ij */
+    float trapped_air_max;      /*   (m/s; W = 1 - r/h) that starts and saturates generation
+                                   (defaults 2 and 8) */
+    float wave_crest_min;       /* τ_wc: wave-crest potential Σ_j (1 - n̂_i·n̂_j) W_ij of surface */
+    float wave_crest_max;       /*   particles moving along their normal (defaults 0.5 and 2) */
+    float energy_min;           /* τ_k: kinetic energy per unit mass ½|v|² (J/kg) that starts */
+    float energy_max;           /*   and saturates generation (defaults 0.5 and 5) */
+    float trapped_air_rate;     /* k_ta: diffuse particles per second per fluid particle at full
+                                   trapped-air and energy potentials, 0..1e4 (default 40) */
+    float wave_crest_rate;      /* k_wc: the same for wave crests, 0..1e4 (default 40) */
+    float lifetime;             /* s, (0, 1e4]: foam and spray live (0.5..1) x this (default 2) */
+    uint32_t spray_max_neighbors;  /* fewer fluid neighbours within h: spray (default 6) */
+    uint32_t bubble_min_neighbors; /* more: a bubble; between: foam (default 20; a full
+                                      neighbourhood holds about 33, a flat surface 18) */
+    float buoyancy;             /* k_b: a bubble accelerates by -k_b·gravity, 0..100 (default 0.5) */
+    float bubble_drag;          /* k_d (1/s): a bubble's velocity relaxes toward the fluid's at
+                                   this rate, 0..1e4 (default 20) */
+    float spray_drag;           /* linear air drag on spray (1/s), 0..1e4 (default 0.5) */
+} pbf_diffuse_params;
+PBF_API pbf_result PBF_CALL pbf_diffuse_params_init(pbf_diffuse_params* params, uint32_t struct_size);
+static inline pbf_diffuse_params pbf_diffuse_params_default(void) {
+    pbf_diffuse_params p;
+    memset(&p, 0, sizeof p);
+    p.struct_size = (uint32_t)sizeof(pbf_diffuse_params);
+    (void)pbf_diffuse_params_init(&p, p.struct_size);
+    return p;
+}
+
 /* ---- World -------------------------------------------------------------------------------- */
 typedef enum pbf_backend {
     PBF_BACKEND_AUTO = 0,  /* CUDA when built in and a device exists, else CPU */
@@ -234,6 +285,7 @@ typedef struct pbf_world_desc {
                                    Each collider costs about 3.3 KB of backend memory (its poses
                                    for up to 64 substeps); every particle scans the colliders'
                                    bounding boxes, so the cost grows linearly with the count. */
+    pbf_diffuse_params diffuse; /* diffuse particles (default: none) */
 } pbf_world_desc;
 
 PBF_API pbf_result PBF_CALL pbf_world_desc_init(pbf_world_desc* desc, uint32_t struct_size,
@@ -264,6 +316,19 @@ PBF_API pbf_result PBF_CALL pbf_world_set_gravity(pbf_world_id world, const floa
  * the world's (PBF_ERROR_INVALID_STATE otherwise). */
 PBF_API pbf_result PBF_CALL pbf_world_get_render_params(pbf_world_id world, pbf_render_params* out_params);
 PBF_API pbf_result PBF_CALL pbf_world_set_render_params(pbf_world_id world, const pbf_render_params* params);
+/* The world's diffuse parameters (desc.diffuse), and new ones from the next step on.
+ * max_diffuse is fixed at creation: params.max_diffuse must equal the world's
+ * (PBF_ERROR_INVALID_STATE otherwise). */
+PBF_API pbf_result PBF_CALL pbf_world_get_diffuse_params(pbf_world_id world, pbf_diffuse_params* out_params);
+PBF_API pbf_result PBF_CALL pbf_world_set_diffuse_params(pbf_world_id world, const pbf_diffuse_params* params);
+/* Adds count diffuse particles (a splash from the game, say) after the live ones, while they fit
+ * in max_diffuse: positions are float4 x, y, z, kind (PBF_DIFFUSE_*), velocities float4 vx, vy,
+ * vz, remaining lifetime in s (> 0). All finite, else nothing is added. *out_added (may be NULL)
+ * says how many fitted; none fitting is PBF_ERROR_CAPACITY. Waits for the world's stream. A
+ * world without a diffuse capacity refuses with PBF_ERROR_INVALID_STATE. */
+PBF_API pbf_result PBF_CALL pbf_world_add_diffuse(pbf_world_id world, const float* positions,
+                                                  const float* velocities, uint32_t count,
+                                                  uint32_t* out_added);
 
 typedef struct pbf_world_info {
     uint32_t struct_size;
@@ -281,6 +346,10 @@ typedef struct pbf_world_info {
     uint64_t render_bytes;      /* part of device_bytes the render data takes (0 with flags 0) */
     uint64_t render_updates;    /* render passes run so far: one per step (and per
                                    pbf_world_emit_block) with render data on, 0 with it off */
+    uint32_t diffuse_capacity;  /* desc.diffuse.max_diffuse */
+    uint32_t reserved1;
+    uint64_t diffuse_bytes;     /* part of device_bytes the diffuse particles take (0 when off) */
+    uint64_t diffuse_updates;   /* diffuse passes run so far: one per step when on, 0 when off */
 } pbf_world_info;
 PBF_API pbf_result PBF_CALL pbf_world_get_info(pbf_world_id world, pbf_world_info* out_info);
 
@@ -300,6 +369,10 @@ typedef struct pbf_step_stats {
     uint32_t speed_clamps;          /* particle-substeps of the last step whose speed a limit cut
                                        (max_speed, or the h-per-substep cap); 0 in a healthy run */
     uint32_t reserved0;
+    uint32_t diffuse_count;         /* live diffuse particles (desc.diffuse) */
+    uint32_t diffuse_dropped;       /* generated in the last step but dropped: max_diffuse full */
+    uint64_t diffuse_generated_total; /* diffuse particles ever generated (added ones excluded) */
+    uint64_t diffuse_dropped_total; /* generated but dropped for capacity, ever */
 } pbf_step_stats;
 PBF_API pbf_result PBF_CALL pbf_world_get_stats(pbf_world_id world, pbf_step_stats* out_stats);
 
@@ -477,12 +550,16 @@ typedef enum pbf_buffer {
     PBF_BUFFER_IDS = 3,         /* 4 bytes per particle: uint32_t */
     PBF_BUFFER_SMOOTHED_POSITIONS = 4, /* 16 bytes per particle (PBF_RENDER_SMOOTHED_POSITIONS) */
     PBF_BUFFER_ANISOTROPY = 5,  /* 48 bytes per particle (PBF_RENDER_ANISOTROPY) */
+    PBF_BUFFER_DIFFUSE_POSITIONS = 6,  /* 16 bytes per diffuse particle: float x, y, z, kind */
+    PBF_BUFFER_DIFFUSE_VELOCITIES = 7, /* 16 bytes per diffuse particle: float vx, vy, vz,
+                                          remaining lifetime (s). Both count diffuse_count. */
     PBF_BUFFER_FORCE32 = 0x7FFFFFFF
 } pbf_buffer;
 /* Copies min(count, out_bytes / element size) particles of one buffer into out (element sizes
  * above; out_bytes must be a multiple of the element size). Works on both backends. A render
- * buffer the world does not compute (desc.render.flags) is refused with
- * PBF_ERROR_INVALID_STATE. */
+ * buffer the world does not compute (desc.render.flags), or a diffuse buffer in a world without
+ * a diffuse capacity, is refused with PBF_ERROR_INVALID_STATE. The diffuse buffers copy
+ * min(diffuse_count, ...) diffuse particles. */
 PBF_API pbf_result PBF_CALL pbf_world_copy_buffer(pbf_world_id world, pbf_buffer source, void* out,
                                                   uint64_t out_bytes, uint32_t* out_written);
 
@@ -600,6 +677,12 @@ typedef struct pbf_device_buffers {
                                    computed */
     uint32_t anisotropy_stride_bytes; /* 48: particle k's rows start at anisotropy + 48·k */
     uint32_t render_flags;      /* PBF_RENDER_* the world computes */
+    void* diffuse_positions;    /* float x, y, z, kind per diffuse particle (desc.diffuse); NULL
+                                   without a diffuse capacity */
+    void* diffuse_velocities;   /* float vx, vy, vz, remaining lifetime (s) */
+    const uint32_t* diffuse_count_device; /* the live diffuse count, in memory of kind `memory` */
+    uint32_t diffuse_count;     /* live diffuse particles; PBF_COUNT_ON_DEVICE as count */
+    uint32_t diffuse_capacity;  /* max_diffuse: elements behind each diffuse pointer */
 } pbf_device_buffers;
 
 /* Maps the live particle buffers without copying them. Read-only for the caller. Valid until

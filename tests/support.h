@@ -301,6 +301,31 @@ struct RenderData {
 
 inline pbf_world_info world_info(pbf_world_id w) { return read_struct<pbf_world_info>(w, pbf_world_get_info); }
 
+// Profiling on, one step of w; the milliseconds of the stage named `name` in it.
+inline float profiled_stage_ms(pbf_world_id w, const char* name, float dt = 1.0f / 60.0f) {
+    uint32_t stage = 0;
+    while (pbf_profile_stage_name(stage) && std::string(pbf_profile_stage_name(stage)) != name) ++stage;
+    REQUIRE(pbf_profile_stage_name(stage) != nullptr);
+    REQUIRE_PBF(pbf_world_set_profiling(w, 1));
+    REQUIRE_PBF(pbf_world_step(w, dt));
+    return read_struct<pbf_step_profile>(w, pbf_world_get_profile).stage_ms[stage];
+}
+
+// pbf_world_map_device_buffers(w, flags) into a zeroed struct.
+inline pbf_device_buffers map_buffers(pbf_world_id w, uint32_t flags = 0) {
+    return read_struct<pbf_device_buffers>(w, [flags](pbf_world_id id, pbf_device_buffers* out) {
+        return pbf_world_map_device_buffers(id, flags, out);
+    });
+}
+
+// Steps both worlds n times.
+inline void step_both(pbf_world_id a, pbf_world_id b, int n, float dt = 1.0f / 60.0f) {
+    for (int k = 0; k < n; ++k) {
+        REQUIRE_PBF(pbf_world_step(a, dt));
+        REQUIRE_PBF(pbf_world_step(b, dt));
+    }
+}
+
 inline RenderData read_render(pbf_world_id w) {
     RenderData r;
     REQUIRE_PBF(pbf_world_get_particle_count(w, &r.count));
@@ -332,6 +357,42 @@ inline std::array<double, 6> ellipsoid(const RenderData& r, uint32_t i) {
         e[5] += r2 * a[2] * a[2];
     }
     return e;
+}
+
+// ---- diffuse particles (pbf_diffuse_params) -------------------------------------------------
+// The diffuse particles: position (x, y, z, kind) and velocity (vx, vy, vz, remaining lifetime).
+struct Diffuse {
+    std::vector<float> pos, vel;
+    uint32_t count = 0;
+    uint32_t of_kind(float kind) const {
+        uint32_t n = 0;
+        for (uint32_t i = 0; i < count; ++i) n += pos[4 * i + 3] == kind ? 1u : 0u;
+        return n;
+    }
+};
+
+inline Diffuse read_diffuse(pbf_world_id w) {
+    Diffuse d;
+    d.count = stats(w).diffuse_count;
+    d.pos.assign(size_t(d.count) * 4, -7.0f);
+    d.vel.assign(size_t(d.count) * 4, -7.0f);
+    uint32_t n = 0;
+    REQUIRE_PBF(pbf_world_copy_buffer(w, PBF_BUFFER_DIFFUSE_POSITIONS, d.pos.data(), d.pos.size() * sizeof(float), &n));
+    REQUIRE(n == d.count);
+    REQUIRE_PBF(pbf_world_copy_buffer(w, PBF_BUFFER_DIFFUSE_VELOCITIES, d.vel.data(), d.vel.size() * sizeof(float), &n));
+    REQUIRE(n == d.count);
+    return d;
+}
+
+// The dam break of the diffuse tests: a 0.2 x 0.4 x 0.1 m column (512 particles) at one end of a
+// 0.8 x 0.5 x 0.1 m tank, diffuse capacity `capacity`.
+inline pbf_world_id diffuse_dam(pbf_backend backend, uint32_t capacity) {
+    pbf_world_desc d = tank(backend, 0.0125f, 0.8f, 0.5f, 0.1f, 4096);
+    d.solver.substeps = 2;
+    d.diffuse.max_diffuse = capacity;
+    pbf_world_id w = create(d);
+    REQUIRE(fill(w, 0, 0, 0, 0.2f, 0.4f, 0.1f) == 512u);
+    return w;
 }
 
 }  // namespace scene

@@ -387,6 +387,41 @@ pbf_gl_buffer_id register_gl(pbf_world_id w, GLuint buffer, pbf_buffer source, p
     REQUIRE_PBF(pbf_world_register_gl_buffer(w, &d, &id));
     return id;
 }
+
+// Whether gl works (REQUIRE), or false where EGL is missing and PBF_TEST_ALLOW_NO_EGL accepts that.
+bool gl_usable(const Gl& gl) {
+    if (!gl.ok && env_set("PBF_TEST_ALLOW_NO_EGL")) {
+        WARN("EGL unavailable, accepted by PBF_TEST_ALLOW_NO_EGL: " << gl.error);
+        return false;
+    }
+    INFO("EGL: " << gl.error);
+    REQUIRE(gl.ok);
+    return true;
+}
+
+// Runs body(gl) where this libpbf has CUDA-GL interop and EGL works; says why not otherwise.
+template <class Body>
+void with_gl(Body body) {
+    if (!has_interop(PBF_INTEROP_SUPPORT_OPENGL, "this libpbf has no CUDA-GL interop (built without the OpenGL headers)"))
+        return;
+    Gl gl;
+    if (gl_usable(gl)) body(gl);
+}
+
+// A CUDA world without the data of `source` (no render data, no diffuse particles) refuses a GL
+// buffer of it before touching the buffer.
+[[maybe_unused]] void check_gl_refused(GLuint buffer, pbf_buffer source, uint32_t capacity) {
+    pbf_world_desc od = tank(PBF_BACKEND_CUDA, 0.0125f, 0.8f, 0.5f, 0.2f, 8192);
+    pbf_world_id off;
+    REQUIRE_PBF(pbf_world_create(&od, &off));
+    pbf_gl_buffer_desc g = pbf_gl_buffer_desc_default();
+    g.buffer = buffer;
+    g.source = source;
+    g.capacity = capacity;
+    pbf_gl_buffer_id gid;
+    CHECK_CODE(pbf_world_register_gl_buffer(off, &g, &gid), PBF_ERROR_INVALID_STATE);
+    REQUIRE_PBF(pbf_world_destroy(off));
+}
 }  // namespace
 #endif
 
@@ -397,12 +432,7 @@ TEST_CASE("interop GL: buffers equal copy-out after a step; the render path adds
     if (!has_interop(PBF_INTEROP_SUPPORT_OPENGL, "this libpbf has no CUDA-GL interop (built without the OpenGL headers)"))
         return;
     Gl gl;
-    if (!gl.ok && env_set("PBF_TEST_ALLOW_NO_EGL")) {
-        WARN("EGL unavailable, accepted by PBF_TEST_ALLOW_NO_EGL: " << gl.error);
-        return;
-    }
-    INFO("EGL: " << gl.error);
-    REQUIRE(gl.ok);
+    if (!gl_usable(gl)) return;
     pbf_world_id w = small_world(PBF_BACKEND_CUDA);
     pbf_world_info winfo;
     std::memset(&winfo, 0, sizeof winfo);
@@ -602,41 +632,73 @@ TEST_CASE("interop: render data through device pointers and GL buffers equals co
     CHECK(std::memcmp(aniso.data(), r.aniso.data(), size_t(r.count) * 48) == 0);
 
 #if PBF_TEST_HAVE_EGL_GL
-    if (!(support() & PBF_INTEROP_SUPPORT_OPENGL)) {
-        WARN("this libpbf has no CUDA-GL interop (built without the OpenGL headers)");
-    } else {
-        Gl gl;
-        if (!gl.ok && env_set("PBF_TEST_ALLOW_NO_EGL")) {
-            WARN("EGL unavailable, accepted by PBF_TEST_ALLOW_NO_EGL: " << gl.error);
-        } else {
-            INFO("EGL: " << gl.error);
-            REQUIRE(gl.ok);
-            // On-step copies of both render buffers, the anisotropy at a 16-byte offset.
-            const GLuint gs = gl.buffer(size_t(cap) * 16), ga = gl.buffer(size_t(cap) * 48 + 16), args = gl.buffer(16);
-            register_gl(w, gs, PBF_BUFFER_SMOOTHED_POSITIONS, PBF_COPY_ON_STEP, cap);
-            register_gl(w, ga, PBF_BUFFER_ANISOTROPY, PBF_COPY_ON_STEP, cap, args, 0, 16);
-            const uint64_t t0 = transfers();
-            for (int s = 0; s < 2; ++s) REQUIRE_PBF(pbf_world_step(w, kDt));
-            CHECK(transfers() == t0);
-            const RenderData q = read_render(w);
-            const auto gsm = gl.read<float>(gs, size_t(q.count) * 4);
-            const auto gan = gl.read<float>(ga, size_t(q.count) * 12, 16);
-            CHECK(std::memcmp(gsm.data(), q.smoothed.data(), size_t(q.count) * 16) == 0);
-            CHECK(std::memcmp(gan.data(), q.aniso.data(), size_t(q.count) * 48) == 0);
-            CHECK(gl.read<uint32_t>(args, 4) == std::vector<uint32_t>{q.count, 1u, 0u, 0u});
-            // A world without render data refuses such a buffer before touching it.
-            pbf_world_desc od = tank(PBF_BACKEND_CUDA, 0.0125f, 0.8f, 0.5f, 0.2f, 8192);
-            pbf_world_id off;
-            REQUIRE_PBF(pbf_world_create(&od, &off));
-            pbf_gl_buffer_desc g = pbf_gl_buffer_desc_default();
-            g.buffer = ga;
-            g.source = PBF_BUFFER_ANISOTROPY;
-            g.capacity = cap;
-            pbf_gl_buffer_id gid;
-            CHECK_CODE(pbf_world_register_gl_buffer(off, &g, &gid), PBF_ERROR_INVALID_STATE);
-            REQUIRE_PBF(pbf_world_destroy(off));
-        }
-    }
+    with_gl([&](Gl& gl) {
+        // On-step copies of both render buffers, the anisotropy at a 16-byte offset.
+        const GLuint gs = gl.buffer(size_t(cap) * 16), ga = gl.buffer(size_t(cap) * 48 + 16), args = gl.buffer(16);
+        register_gl(w, gs, PBF_BUFFER_SMOOTHED_POSITIONS, PBF_COPY_ON_STEP, cap);
+        register_gl(w, ga, PBF_BUFFER_ANISOTROPY, PBF_COPY_ON_STEP, cap, args, 0, 16);
+        const uint64_t t0 = transfers();
+        for (int s = 0; s < 2; ++s) REQUIRE_PBF(pbf_world_step(w, kDt));
+        CHECK(transfers() == t0);
+        const RenderData q = read_render(w);
+        const auto gsm = gl.read<float>(gs, size_t(q.count) * 4);
+        const auto gan = gl.read<float>(ga, size_t(q.count) * 12, 16);
+        CHECK(std::memcmp(gsm.data(), q.smoothed.data(), size_t(q.count) * 16) == 0);
+        CHECK(std::memcmp(gan.data(), q.aniso.data(), size_t(q.count) * 48) == 0);
+        CHECK(gl.read<uint32_t>(args, 4) == std::vector<uint32_t>{q.count, 1u, 0u, 0u});
+        check_gl_refused(ga, PBF_BUFFER_ANISOTROPY, cap);
+    });
+#else
+    WARN("GL part not built: EGL or the OpenGL headers were not found when configuring");
+#endif
+    REQUIRE_PBF(pbf_world_destroy(w));
+#endif
+}
+
+TEST_CASE("interop: diffuse particles through device pointers and GL buffers equal copy-out", "[gpu][interop][diffuse]") {
+#if !PBF_TEST_HAVE_CUDART
+    WARN("not built: the test needs the CUDA runtime (a CUDA build)");
+#else
+    pbf_world_id w = diffuse_dam(PBF_BACKEND_CUDA, 20000);
+    for (int s = 0; s < 40; ++s) REQUIRE_PBF(pbf_world_step(w, kDt));
+
+    // Device pointers, read on the world's stream after a no-wait mapping; the count on the device.
+    const pbf_device_buffers b = map_buffers(w, PBF_MAP_NO_WAIT);
+    CHECK(b.diffuse_count == PBF_COUNT_ON_DEVICE);
+    CHECK(b.diffuse_capacity == 20000u);
+    REQUIRE(b.diffuse_positions != nullptr);
+    REQUIRE(b.diffuse_velocities != nullptr);
+    const uint32_t cap = b.diffuse_capacity;
+    std::vector<float> pos(size_t(cap) * 4), vel(size_t(cap) * 4);
+    uint32_t count = 0;
+    cudaStream_t stream = static_cast<cudaStream_t>(b.cuda_stream);
+    REQUIRE(cudaMemcpyAsync(pos.data(), b.diffuse_positions, pos.size() * 4, cudaMemcpyDeviceToHost, stream) == cudaSuccess);
+    REQUIRE(cudaMemcpyAsync(vel.data(), b.diffuse_velocities, vel.size() * 4, cudaMemcpyDeviceToHost, stream) == cudaSuccess);
+    REQUIRE(cudaMemcpyAsync(&count, b.diffuse_count_device, 4, cudaMemcpyDeviceToHost, stream) == cudaSuccess);
+    REQUIRE(cudaStreamSynchronize(stream) == cudaSuccess);
+    REQUIRE_PBF(pbf_world_unmap(w));
+    const Diffuse r = read_diffuse(w);
+    INFO(r.count << " diffuse particles after 40 steps");
+    REQUIRE(r.count > 0u);
+    CHECK(count == r.count);
+    CHECK(std::memcmp(pos.data(), r.pos.data(), size_t(r.count) * 16) == 0);
+    CHECK(std::memcmp(vel.data(), r.vel.data(), size_t(r.count) * 16) == 0);
+
+#if PBF_TEST_HAVE_EGL_GL
+    with_gl([&](Gl& gl) {
+        // On-step copies of both diffuse buffers; the draw arguments count diffuse particles.
+        const GLuint gp = gl.buffer(size_t(cap) * 16), gv = gl.buffer(size_t(cap) * 16), args = gl.buffer(16);
+        register_gl(w, gp, PBF_BUFFER_DIFFUSE_POSITIONS, PBF_COPY_ON_STEP, cap, args);
+        register_gl(w, gv, PBF_BUFFER_DIFFUSE_VELOCITIES, PBF_COPY_ON_STEP, cap);
+        const uint64_t t0 = transfers();
+        for (int s = 0; s < 2; ++s) REQUIRE_PBF(pbf_world_step(w, kDt));
+        CHECK(transfers() == t0);
+        const Diffuse q = read_diffuse(w);
+        CHECK(std::memcmp(gl.read<float>(gp, size_t(q.count) * 4).data(), q.pos.data(), size_t(q.count) * 16) == 0);
+        CHECK(std::memcmp(gl.read<float>(gv, size_t(q.count) * 4).data(), q.vel.data(), size_t(q.count) * 16) == 0);
+        CHECK(gl.read<uint32_t>(args, 4) == std::vector<uint32_t>{q.count, 1u, 0u, 0u});
+        check_gl_refused(gp, PBF_BUFFER_DIFFUSE_POSITIONS, cap);
+    });
 #else
     WARN("GL part not built: EGL or the OpenGL headers were not found when configuring");
 #endif

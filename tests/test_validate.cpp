@@ -89,6 +89,13 @@ TEST_CASE("validate: world desc and solver parameters name the failed check", "[
         {"render isolated_scale NaN", [](pbf_world_desc& d) { d.render.isolated_scale = NAN; }, Check::RENDER_ISOLATED_SCALE},
         {"render min_neighbors 1001", [](pbf_world_desc& d) { d.render.min_neighbors = 1001; }, Check::RENDER_MIN_NEIGHBORS},
         {"render reserved0 1", [](pbf_world_desc& d) { d.render.reserved0 = 1; }, Check::RENDER_RESERVED0},
+        {"max_diffuse -1", [](pbf_world_desc& d) { d.diffuse.max_diffuse = uint32_t(-1); }, Check::DIFFUSE_CAPACITY},
+        {"diffuse energy_min NaN", [](pbf_world_desc& d) { d.diffuse.energy_min = NAN; }, Check::DIFFUSE_THRESHOLDS},
+        {"diffuse wave_crest min = max", [](pbf_world_desc& d) { d.diffuse.wave_crest_min = d.diffuse.wave_crest_max; }, Check::DIFFUSE_THRESHOLDS},
+        {"diffuse trapped_air_rate -1", [](pbf_world_desc& d) { d.diffuse.trapped_air_rate = -1.0f; }, Check::DIFFUSE_RATES},
+        {"diffuse lifetime 0", [](pbf_world_desc& d) { d.diffuse.lifetime = 0.0f; }, Check::DIFFUSE_LIFETIME},
+        {"diffuse spray above bubble", [](pbf_world_desc& d) { d.diffuse.spray_max_neighbors = 21; }, Check::DIFFUSE_NEIGHBORS},
+        {"diffuse buoyancy Inf", [](pbf_world_desc& d) { d.diffuse.buoyancy = INFINITY; }, Check::DIFFUSE_MOTION},
     };
     for (const Case& c : cases) {
         INFO(c.what);
@@ -202,10 +209,24 @@ TEST_CASE("validate: pbf_world_copy_buffer names the failed check", "[api][valid
     uint32_t written = 7;
     CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, static_cast<pbf_buffer>(0), out, sizeof out, &written), Check::COPY_SOURCE);
     CHECK(written == 0u);
-    CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, static_cast<pbf_buffer>(6), out, sizeof out, &written), Check::COPY_SOURCE);
+    CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, static_cast<pbf_buffer>(8), out, sizeof out, &written), Check::COPY_SOURCE);
     CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, PBF_BUFFER_POSITIONS, out, 20, &written), Check::COPY_OUT_SIZE);
     CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, PBF_BUFFER_ANISOTROPY, out, 32, &written), Check::COPY_OUT_SIZE);
     CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, PBF_BUFFER_IDS, out, 6, &written), Check::COPY_OUT_SIZE);
     // The message names the element size.
     CHECK(std::string(pbf_last_error_message()).find("element size 4") != std::string::npos);
+}
+
+TEST_CASE("validate: pbf_world_add_diffuse names the failed check", "[api][validate][diffuse]") {
+    pbf_world_desc d = small_desc();
+    d.diffuse.max_diffuse = 8;
+    TestWorld w(d);
+    float pos[4] = {0.0f, 0.5f, 0.0f, PBF_DIFFUSE_FOAM}, vel[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+    uint32_t added = 7;
+    pos[3] = 1.5f;
+    CHECK_REFUSED_BY(pbf_world_add_diffuse(w.id, pos, vel, 1, &added), Check::DIFFUSE_ROWS);
+    CHECK(added == 0u);
+    pos[3] = PBF_DIFFUSE_FOAM;
+    vel[3] = -1.0f;
+    CHECK_REFUSED_BY(pbf_world_add_diffuse(w.id, pos, vel, 1, &added), Check::DIFFUSE_ROWS);
 }

@@ -59,6 +59,9 @@ pbf_result check_struct(const char* fn, const char* type, const void* p, uint32_
 // PBF_ERROR_INVALID_STATE with the flag to set otherwise. source is a valid pbf_buffer.
 inline pbf_result require_buffer(const char* fn, World& w, pbf_buffer source) {
     if (w.has_buffer(source)) return PBF_OK;
+    if (source == PBF_BUFFER_DIFFUSE_POSITIONS || source == PBF_BUFFER_DIFFUSE_VELOCITIES)
+        return fail(PBF_ERROR_INVALID_STATE, std::string(fn) + ": diffuse particles are off: this world has no "
+                                                               "diffuse capacity (create it with desc.diffuse.max_diffuse > 0)");
     const char* flag = source == PBF_BUFFER_ANISOTROPY ? "PBF_RENDER_ANISOTROPY" : "PBF_RENDER_SMOOTHED_POSITIONS";
     return fail(PBF_ERROR_INVALID_STATE, std::string(fn) + ": render data is off: this world does not compute " +
                                              (source == PBF_BUFFER_ANISOTROPY ? "anisotropy" : "smoothed positions") +

@@ -236,6 +236,11 @@ PBF_API pbf_result PBF_CALL pbf_world_map_device_buffers(pbf_world_id id, uint32
         r.anisotropy = m.live.anisotropy;
         r.anisotropy_stride_bytes = 48;
         r.render_flags = w->render_flags();
+        r.diffuse_positions = m.live.diffuse_positions;
+        r.diffuse_velocities = m.live.diffuse_velocities;
+        r.diffuse_count_device = m.live.diffuse_count;
+        r.diffuse_count = m.diffuse_count;
+        r.diffuse_capacity = m.live.diffuse_capacity;
         *out = r;
         return PBF_OK;
     });

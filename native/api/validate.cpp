@@ -31,7 +31,7 @@ bool finite_nonzero_quat(const float q[4]) {
 bool in(float v, float lo, float hi) { return std::isfinite(v) && v >= lo && v <= hi; }
 bool valid_source(const pbf_buffer& source) {
     const int32_t s = raw(source);
-    return s >= PBF_BUFFER_POSITIONS && s <= PBF_BUFFER_ANISOTROPY;
+    return s >= PBF_BUFFER_POSITIONS && s <= PBF_BUFFER_DIFFUSE_VELOCITIES;
 }
 bool valid_mode(pbf_copy_mode mode) {
     const int32_t m = raw(mode);
@@ -103,6 +103,31 @@ Verdict validate_render_params(const pbf_render_params& p) {
     V(in(p.isolated_scale, 0.0f, 100.0f) && p.isolated_scale > 0.0f, RENDER_ISOLATED_SCALE);
     V(p.min_neighbors <= 1000, RENDER_MIN_NEIGHBORS);
     V(p.reserved0 == 0, RENDER_RESERVED0);
+    return {};
+}
+
+Verdict validate_diffuse_params(const pbf_diffuse_params& p) {
+    V(p.max_diffuse <= (1u << 26), DIFFUSE_CAPACITY);
+    const float pairs[3][2] = {{p.trapped_air_min, p.trapped_air_max},
+                               {p.wave_crest_min, p.wave_crest_max},
+                               {p.energy_min, p.energy_max}};
+    for (const auto& t : pairs) V(in(t[0], 0.0f, 1e6f) && in(t[1], 0.0f, 1e6f) && t[0] < t[1], DIFFUSE_THRESHOLDS);
+    V(in(p.trapped_air_rate, 0.0f, 1e4f) && in(p.wave_crest_rate, 0.0f, 1e4f), DIFFUSE_RATES);
+    V(in(p.lifetime, 0.0f, 1e4f) && p.lifetime > 0.0f, DIFFUSE_LIFETIME);
+    V(p.spray_max_neighbors <= p.bubble_min_neighbors && p.bubble_min_neighbors <= 1000, DIFFUSE_NEIGHBORS);
+    V(in(p.buoyancy, 0.0f, 100.0f) && in(p.bubble_drag, 0.0f, 1e4f) && in(p.spray_drag, 0.0f, 1e4f), DIFFUSE_MOTION);
+    return {};
+}
+
+Verdict validate_diffuse_rows(const float* positions, const float* velocities, uint32_t count) {
+    for (uint32_t i = 0; i < count; ++i) {
+        const float* x = positions + 4 * size_t(i);
+        const float* v = velocities + 4 * size_t(i);
+        const float kind = x[3];
+        V(finite3(x) && finite3(v) && (kind == 0.0f || kind == 1.0f || kind == 2.0f) && std::isfinite(v[3]) &&
+              v[3] > 0.0f,
+          DIFFUSE_ROWS);
+    }
     return {};
 }
 

@@ -70,6 +70,18 @@ inline uint32_t element_alignment(pbf_buffer source) { return raw(source) == PBF
     X(RENDER_ISOLATED_SCALE, PBF_ERROR_INVALID_ARGUMENT, "render.isolated_scale must be in (0, 100]")                \
     X(RENDER_MIN_NEIGHBORS, PBF_ERROR_INVALID_ARGUMENT, "render.min_neighbors must be 0..1000")                      \
     X(RENDER_RESERVED0, PBF_ERROR_INVALID_ARGUMENT, "render.reserved0 must be 0")                                    \
+    /* diffuse particles (pbf_diffuse_params, inside pbf_world_desc; pbf_world_add_diffuse) */                       \
+    X(DIFFUSE_CAPACITY, PBF_ERROR_INVALID_ARGUMENT, "diffuse.max_diffuse must be 0..2^26")                           \
+    X(DIFFUSE_THRESHOLDS, PBF_ERROR_INVALID_ARGUMENT,                                                                \
+      "diffuse thresholds (trapped_air, wave_crest, energy _min/_max) must be finite, 0..1e6, with min < max")     \
+    X(DIFFUSE_RATES, PBF_ERROR_INVALID_ARGUMENT, "diffuse.trapped_air_rate and wave_crest_rate must be 0..1e4")     \
+    X(DIFFUSE_LIFETIME, PBF_ERROR_INVALID_ARGUMENT, "diffuse.lifetime must be in (0, 1e4] s")                        \
+    X(DIFFUSE_NEIGHBORS, PBF_ERROR_INVALID_ARGUMENT,                                                                 \
+      "diffuse.spray_max_neighbors must not exceed bubble_min_neighbors, which must be <= 1000")                    \
+    X(DIFFUSE_MOTION, PBF_ERROR_INVALID_ARGUMENT,                                                                    \
+      "diffuse.buoyancy must be 0..100, bubble_drag and spray_drag 0..1e4 (1/s)")                                    \
+    X(DIFFUSE_ROWS, PBF_ERROR_INVALID_ARGUMENT,                                                                      \
+      "diffuse rows must be finite, kinds PBF_DIFFUSE_SPRAY, _FOAM or _BUBBLE (0, 1, 2), lifetimes > 0")             \
     /* pbf_world_copy_buffer */                                                                                      \
     X(COPY_OUT_SIZE, PBF_ERROR_INVALID_ARGUMENT, "out_bytes must be a multiple of the source's element size {a}")  \
     /* pbf_world_set_gravity */                                                                                      \
@@ -109,7 +121,8 @@ inline uint32_t element_alignment(pbf_buffer source) { return raw(source) == PBF
     /* interop: pbf_gl_buffer_desc, pbf_external_buffer_desc, pbf_semaphore_desc, pbf_external_sync */               \
     X(GL_BUFFER_NAME, PBF_ERROR_INVALID_ARGUMENT, "buffer must be a GL buffer object name (non-zero)")               \
     X(COPY_SOURCE, PBF_ERROR_INVALID_ARGUMENT,                                                                       \
-      "source must be PBF_BUFFER_POSITIONS, _VELOCITIES, _IDS, _SMOOTHED_POSITIONS or _ANISOTROPY")                  \
+      "source must be PBF_BUFFER_POSITIONS, _VELOCITIES, _IDS, _SMOOTHED_POSITIONS, _ANISOTROPY, "                  \
+      "_DIFFUSE_POSITIONS or _DIFFUSE_VELOCITIES")                                                                   \
     X(COPY_MODE, PBF_ERROR_INVALID_ARGUMENT, "mode must be PBF_COPY_ON_STEP, _ON_RENDER_EVENT or _MANUAL")           \
     X(COPY_CAPACITY, PBF_ERROR_INVALID_ARGUMENT, "capacity must be > 0")                                             \
     X(COPY_OFFSET_ALIGN, PBF_ERROR_INVALID_ARGUMENT, "offset_bytes must be a multiple of {a}")                       \
@@ -150,6 +163,9 @@ std::string check_message(const Verdict& v);  // the message, {a} and {b} filled
 Verdict validate_solver_params(const pbf_solver_params& p);  // struct_size checked by the caller
 Verdict validate_world_desc(const pbf_world_desc& d);        // all but the nested solver params
 Verdict validate_render_params(const pbf_render_params& p);  // struct_size checked by the caller
+Verdict validate_diffuse_params(const pbf_diffuse_params& p);  // struct_size checked by the caller
+// pbf_world_add_diffuse's rows: count float4 positions (w = kind) and velocities (w = lifetime).
+Verdict validate_diffuse_rows(const float* positions, const float* velocities, uint32_t count);
 // pbf_world_copy_buffer: a known source, out_bytes a whole number of its elements.
 Verdict validate_copy_out(const pbf_buffer& source, uint64_t out_bytes);
 Verdict validate_gravity(const float g[3]);

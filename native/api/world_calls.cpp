@@ -42,6 +42,8 @@ PBF_API pbf_result PBF_CALL pbf_world_create(const pbf_world_desc* d, pbf_world_
         PBF_VALIDATE(pbf::api::validate_solver_params(d->solver));
         PBF_CHECK_STRUCT(pbf_render_params, &d->render);
         PBF_VALIDATE(pbf::api::validate_render_params(d->render));
+        PBF_CHECK_STRUCT(pbf_diffuse_params, &d->diffuse);
+        PBF_VALIDATE(pbf::api::validate_diffuse_params(d->diffuse));
         if (d->backend == PBF_BACKEND_CUDA && !World::cuda_available(d->cuda_device))
             return fail(PBF_ERROR_BACKEND_UNAVAILABLE,
                         std::string(fn) + ": PBF_BACKEND_CUDA requested but CUDA device " +

@@ -102,6 +102,15 @@ void CpuExec::sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uin
     *key_sel = *value_sel = 1;
 }
 
+void CpuExec::exclusive_scan(const uint32_t* in, uint32_t* out, uint32_t n) {
+    uint32_t sum = 0;
+    for (uint32_t i = 0; i < n; ++i) {
+        const uint32_t v = in[i];
+        out[i] = sum;
+        sum += v;
+    }
+}
+
 void CpuExec::reduce_stats(const WorldConstants& s, const float* density, const Vec4* velocities, uint32_t n,
                            StatsReadback* out) {
     double error_sum = 0.0, ke = 0.0;

@@ -55,6 +55,10 @@ public:
     // Stable counting sort of (key, value) pairs, keys in 0..max_key; result in buffers [1].
     void sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
                     int* value_sel);
+    // out[i] = Σ_{k<i} in[k] (sequential: the same result every run). reserve_scan sizes the
+    // temporary storage of the longest scan up front (none needed here).
+    Status reserve_scan(uint32_t) { return Status{}; }
+    void exclusive_scan(const uint32_t* in, uint32_t* out, uint32_t n);
     void reduce_stats(const WorldConstants& s, const float* density, const Vec4* velocities, uint32_t n,
                       StatsReadback* out);
     // *out += Σ over live particles (i < *count) of max(ρ/ρ0 - 1, 0).

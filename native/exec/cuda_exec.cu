@@ -1,6 +1,7 @@
 // The CUDA executor (cuda_exec.cuh): memory, the radix sort, the reductions and the timers.
 #include <cub/block/block_reduce.cuh>
 #include <cub/device/device_radix_sort.cuh>
+#include <cub/device/device_scan.cuh>
 
 #include <algorithm>
 #include <cstring>
@@ -31,6 +32,7 @@ CudaExec::~CudaExec() {
     for (cudaEvent_t e : mark_event_)
         if (e) cudaEventDestroy(e);
     if (sort_temp_) cudaFree(sort_temp_);
+    if (scan_temp_) cudaFree(scan_temp_);
     for (int k = 0; k < kStagingSlots; ++k) {
         if (staging_event_[k]) cudaEventDestroy(staging_event_[k]);
         if (staging_[k]) cudaFreeHost(staging_[k]);
@@ -147,6 +149,19 @@ void CudaExec::download(void* dst, const void* src, size_t bytes) {
         note_host_device_transfer(bytes);
     }
     record(cudaStreamSynchronize(stream_));
+}
+
+Status CudaExec::reserve_scan(uint32_t max_n) {
+    record(cub::DeviceScan::ExclusiveSum(nullptr, scan_temp_bytes_, static_cast<const uint32_t*>(nullptr),
+                                         static_cast<uint32_t*>(nullptr), int(max_n), stream_));
+    scan_temp_ = alloc_bytes(scan_temp_bytes_ + 16);
+    if (!scan_temp_) return Status::error(PBF_ERROR_OUT_OF_MEMORY, "cannot allocate the scan's temporary storage");
+    return check("scan storage");
+}
+
+void CudaExec::exclusive_scan(const uint32_t* in, uint32_t* out, uint32_t n) {
+    size_t bytes = scan_temp_bytes_;
+    record(cub::DeviceScan::ExclusiveSum(scan_temp_, bytes, in, out, int(n), stream_));
 }
 
 static int bits_for(uint32_t max_key) {

@@ -73,6 +73,10 @@ public:
 
     void sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
                     int* value_sel);
+    // out[i] = Σ_{k<i} in[k] on the stream (CUB); reserve_scan allocates the temporary storage
+    // of the longest scan once, at world creation.
+    Status reserve_scan(uint32_t max_n);
+    void exclusive_scan(const uint32_t* in, uint32_t* out, uint32_t n);
     void reduce_stats(const WorldConstants& s, const float* density, const Vec4* velocities, uint32_t n,
                       StatsReadback* out);
     // *out += Σ over live particles (i < *count) of max(ρ/ρ0 - 1, 0); on the stream, no wait.
@@ -122,6 +126,8 @@ private:
     bool timed_ = false;
     void* sort_temp_ = nullptr;
     size_t sort_temp_bytes_ = 0;
+    void* scan_temp_ = nullptr;
+    size_t scan_temp_bytes_ = 0;
     double* reduce_out_ = nullptr;  // [error_sum, kinetic_energy, error_max bits]
     uint64_t bytes_ = 0;
     std::string name_;

@@ -14,6 +14,9 @@ struct StatsReadback {
     uint64_t emitted_total = 0, drained_total = 0;
     double error_sum = 0.0, kinetic_energy = 0.0;
     float error_max = 0.0f;
+    // diffuse particles (worlds with a diffuse capacity)
+    uint32_t diffuse_count = 0, diffuse_dropped_step = 0;
+    uint64_t diffuse_generated_total = 0, diffuse_dropped_total = 0;
 };
 
 // Whether a CUDA device is usable (false in CPU-only builds: cuda_unavailable.cpp).

@@ -38,14 +38,15 @@ cudaError_t launch_copy(const LiveBuffers& live, pbf_buffer source, void* dst, u
     const uint32_t blocks = std::max<uint32_t>(1, std::min<uint32_t>((capacity + kCopyBlock - 1) / kCopyBlock, kMaxCopyBlocks));
     const void* src = live_buffer(live, source);
     if (!src) return cudaErrorInvalidValue;  // refused by the API layer before it gets here
+    const uint32_t* count = live_count(live, source);  // the diffuse buffers have their own
     if (source == PBF_BUFFER_IDS) {
         copy_live_kernel<uint32_t><<<blocks, kCopyBlock, 0, stream>>>(static_cast<const uint32_t*>(src),
-                                                                      static_cast<uint32_t*>(dst), 1u, live.count,
+                                                                      static_cast<uint32_t*>(dst), 1u, count,
                                                                       capacity, draw_args, draw_vertices);
     } else {
         // Vec4 buffers, one float4 per particle or three (anisotropy).
         copy_live_kernel<float4><<<blocks, kCopyBlock, 0, stream>>>(
-            static_cast<const float4*>(src), static_cast<float4*>(dst), buffer_element_bytes(source) / 16u, live.count,
+            static_cast<const float4*>(src), static_cast<float4*>(dst), buffer_element_bytes(source) / 16u, count,
             capacity, draw_args, draw_vertices);
     }
     return cudaGetLastError();

@@ -11,6 +11,7 @@
 #include "../exec/exec_common.h"
 #include "../common/status.h"
 #include "../core/params.h"
+#include "../core/diffuse_ops.h"
 #include "../core/render_ops.h"
 #include "pbf_c_api.h"
 
@@ -93,6 +94,7 @@ enum Stage : int {
     kStageVorticityXsph,
     kStageDensityEnd,
     kStageRender,  // render data (only in worlds that ask for it)
+    kStageDiffuse,  // diffuse particles (only in worlds with a diffuse capacity)
     kStageCount
 };
 const char* stage_name(int stage);
@@ -110,6 +112,12 @@ struct LiveBuffers {
     const uint32_t* count = nullptr;  // the live count, in the same memory
     uint32_t capacity = 0;
     int32_t cuda_device = -1;         // -1 on the CPU
+    // Diffuse particles (null without a diffuse capacity): Vec4 x, y, z, kind and vx, vy, vz,
+    // remaining lifetime; their own count and capacity.
+    void* diffuse_positions = nullptr;
+    void* diffuse_velocities = nullptr;
+    const uint32_t* diffuse_count = nullptr;
+    uint32_t diffuse_capacity = 0;
 };
 
 // The buffer of source (a pbf_buffer) in b; null when the world does not compute it.
@@ -120,8 +128,17 @@ inline const void* live_buffer(const LiveBuffers& b, pbf_buffer source) {
         case PBF_BUFFER_IDS: return b.ids;
         case PBF_BUFFER_SMOOTHED_POSITIONS: return b.smoothed_positions;
         case PBF_BUFFER_ANISOTROPY: return b.anisotropy;
+        case PBF_BUFFER_DIFFUSE_POSITIONS: return b.diffuse_positions;
+        case PBF_BUFFER_DIFFUSE_VELOCITIES: return b.diffuse_velocities;
         default: return nullptr;
     }
+}
+inline bool is_diffuse_buffer(pbf_buffer source) {
+    return source == PBF_BUFFER_DIFFUSE_POSITIONS || source == PBF_BUFFER_DIFFUSE_VELOCITIES;
+}
+// The live count of source's particles (the diffuse count for the diffuse buffers).
+inline const uint32_t* live_count(const LiveBuffers& b, pbf_buffer source) {
+    return is_diffuse_buffer(source) ? b.diffuse_count : b.count;
 }
 // Bytes per particle of source: 4 (ids), 48 (anisotropy) or 16.
 inline uint32_t buffer_element_bytes(pbf_buffer source) {
@@ -134,6 +151,7 @@ struct BackendConfig {
     GridDims grid;
     int32_t cuda_device;
     RenderConstants render;  // flags 0: no render buffers are allocated and no pass runs
+    DiffuseConstants diffuse;  // capacity 0: no diffuse buffers and no pass
 };
 
 class Backend {
@@ -171,6 +189,15 @@ public:
     virtual uint64_t render_updates() const = 0;
     // Bytes of the render buffers (0 when the world computes none).
     virtual uint64_t render_bytes() const = 0;
+    // Diffuse particles: new constants from the next step on (capacity unchanged), passes run so
+    // far, bytes of their buffers (0 without a diffuse capacity).
+    virtual void set_diffuse_constants(const DiffuseConstants& diffuse) = 0;
+    virtual uint64_t diffuse_updates() const = 0;
+    virtual uint64_t diffuse_bytes() const = 0;
+    // Appends n diffuse particles (rows: n positions, then n velocities) while they fit (waits
+    // for the backend); *added says how many.
+    virtual Status add_diffuse(const Vec4* rows, uint32_t n, uint32_t* added) = 0;
+    virtual Status diffuse_count(uint32_t* count) = 0;  // waits for the backend
     // Densities at the current positions, then sums over particles (waits for the device).
     virtual Status read_stats(const WorldConstants& constants, StatsReadback* out) = 0;
     // Milliseconds the last step took on the backend (waits for it).

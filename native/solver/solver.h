@@ -8,6 +8,7 @@
 
 #include "backend.h"
 #include "../core/passes.h"
+#include "../core/diffuse_ops.h"
 #include "../core/render_ops.h"
 
 namespace pbf {
@@ -108,6 +109,17 @@ public:
                         ((r.flags & kRenderAnisotropy) ? n * 3 : 0) * sizeof(Vec4);
         feedback_ = exec_.template alloc_host_visible<StepFeedback>(1);
         ok = ok && feedback_ != nullptr;
+        // Diffuse particles only where the world asks for them: nothing at all otherwise.
+        const uint64_t before_diffuse = exec_.allocated_bytes();
+        const uint32_t dcap = config.diffuse.capacity;
+        if (dcap) {
+            for (Vec4*& b : diffuse_) alloc(b, dcap);
+            alloc(diffuse_flags_, size_t(dcap) + n);
+            alloc(diffuse_offsets_, size_t(dcap) + n);
+            alloc(diffuse_counters_, 1);
+            ok = ok && exec_.reserve_scan(dcap + config.capacity).ok();
+        }
+        diffuse_bytes_ = exec_.allocated_bytes() - before_diffuse;
         if (!ok) {
             return Status::error(PBF_ERROR_OUT_OF_MEMORY,
                                  "cannot allocate " + std::to_string(config.capacity) + " particles on " +
@@ -129,6 +141,11 @@ public:
         exec_.zero(collider_forces_, colliders * sizeof(ColliderForce));
         if (smoothed_) exec_.zero(smoothed_, n * sizeof(Vec4));
         if (anisotropy_) exec_.zero(anisotropy_, n * 3 * sizeof(Vec4));
+        if (dcap) {
+            for (Vec4* b : diffuse_) exec_.zero(b, size_t(dcap) * sizeof(Vec4));
+            exec_.zero(diffuse_flags_, (size_t(dcap) + n) * sizeof(uint32_t));
+            exec_.zero(diffuse_counters_, sizeof(DiffuseCounters));
+        }
         *feedback_ = StepFeedback{};
         return exec_.check("world initialisation");
     }
@@ -177,6 +194,7 @@ public:
         exec_.reduce_feedback(frame, pos_, vel_, &counters_->count, bound_, &counters_->feedback);
         exec_.for_each(1, PublishFeedbackOp{counters_, frame, feedback_});
         exec_.feedback_published();
+        update_diffuse(s, in.step_dt);
         update_render_data(s);  // last, so its stage time is the pass alone
         exec_.profile_mark(kStageCount);
         exec_.timer_end();
@@ -257,7 +275,7 @@ public:
         const void* src = live_buffer(live_buffers(), source);
         if (!src) return Status::error(PBF_ERROR_INVALID_STATE, "copy-out: the world does not compute this buffer");
         uint32_t count = 0;
-        Status st = read_count(&count);
+        Status st = is_diffuse_buffer(source) ? diffuse_count(&count) : read_count(&count);
         if (!st.ok()) return st;
         const uint32_t n = std::min(count, max_count);
         exec_.download(out, src, size_t(n) * buffer_element_bytes(source));
@@ -266,12 +284,37 @@ public:
     }
 
     void set_render_constants(const RenderConstants& render) override {
-        const uint32_t flags = config_.render.flags;
-        config_.render = render;
-        config_.render.flags = flags;
+        replace_keeping(config_.render, render, &RenderConstants::flags);
     }
     uint64_t render_updates() const override { return render_updates_; }
     uint64_t render_bytes() const override { return render_bytes_; }
+
+    void set_diffuse_constants(const DiffuseConstants& diffuse) override {
+        replace_keeping(config_.diffuse, diffuse, &DiffuseConstants::capacity);
+    }
+    uint64_t diffuse_updates() const override { return diffuse_updates_; }
+    uint64_t diffuse_bytes() const override { return diffuse_bytes_; }
+    Status diffuse_count(uint32_t* count) override {
+        exec_.activate();
+        *count = 0;
+        if (!diffuse_counters_) return Status{};
+        exec_.download(count, &diffuse_counters_->count, sizeof(uint32_t));
+        return exec_.check("reading the diffuse count");
+    }
+    Status add_diffuse(const Vec4* rows, uint32_t n, uint32_t* added) override {
+        *added = 0;
+        uint32_t count = 0;
+        Status st = diffuse_count(&count);
+        if (!st.ok() || !diffuse_counters_) return st;
+        const uint32_t fit = std::min(n, config_.diffuse.capacity - count);
+        if (fit == 0) return Status{};
+        exec_.upload(diffuse_[0] + count, rows, size_t(fit) * sizeof(Vec4));
+        exec_.upload(diffuse_[1] + count, rows + n, size_t(fit) * sizeof(Vec4));
+        const uint32_t total = count + fit;
+        exec_.upload(&diffuse_counters_->count, &total, sizeof total);
+        *added = fit;
+        return exec_.check("pbf_world_add_diffuse");
+    }
 
     Status read_stats(const WorldConstants& s, StatsReadback* out) override {
         exec_.activate();
@@ -288,6 +331,14 @@ public:
         out->speed_clamps = c.speed_clamps;
         out->emitted_total = c.emitted_total;
         out->drained_total = c.drained_total;
+        if (diffuse_counters_) {
+            DiffuseCounters dc{};
+            exec_.download(&dc, diffuse_counters_, sizeof dc);
+            out->diffuse_count = dc.count;
+            out->diffuse_dropped_step = dc.dropped_step;
+            out->diffuse_generated_total = dc.generated_total;
+            out->diffuse_dropped_total = dc.dropped_total;
+        }
         exec_.reduce_stats(s, density_, vel_, c.count, out);
         return exec_.check("pbf_world_get_stats");
     }
@@ -309,6 +360,10 @@ public:
         b.count = &counters_->count;
         b.capacity = config_.capacity;
         b.cuda_device = Exec::kKind == PBF_BACKEND_CUDA ? config_.cuda_device : -1;
+        b.diffuse_positions = diffuse_[0];
+        b.diffuse_velocities = diffuse_[1];
+        b.diffuse_count = diffuse_counters_ ? &diffuse_counters_->count : nullptr;
+        b.diffuse_capacity = config_.diffuse.capacity;
         return b;
     }
     Status set_cuda_stream(void* stream) override {
@@ -323,6 +378,14 @@ public:
     }
 
 private:
+    // New tunables with the creation's value of `fixed` kept (the buffers were sized by it).
+    template <class T, class F>
+    static void replace_keeping(T& current, const T& next, F T::*fixed) {
+        const F kept = current.*fixed;
+        current = next;
+        current.*fixed = kept;
+    }
+
     void substep(const WorldConstants& s, const SubstepInput& in) {
         const StepContext& ctx = in.ctx;
         exec_.profile_mark(kStageEmitDrain);
@@ -414,6 +477,36 @@ private:
         ++render_updates_;
     }
 
+    // Diffuse particles (diffuse_ops.h), at the end of a step from its last grid and neighbour
+    // masks: normals (into spare_, free at the end of a step), how many each fluid particle
+    // generates, the diffuse particles moved; one scan of [survivors | generated] packs both into
+    // the back buffers, which become the front. No pass without a diffuse capacity.
+    void update_diffuse(const WorldConstants& s, float dt) {
+        const DiffuseConstants& d = config_.diffuse;
+        if (!d.capacity) return;
+        exec_.profile_mark(kStageDiffuse);
+        const uint32_t n = bound_, total = d.capacity + bound_;
+        const float inv_h = 1.0f / s.h;
+        const NeighborMasks masks = valid_masks();
+        if (n > 0) {
+            Vec4* normals = spare_;
+            exec_.for_each(n, DiffuseNormalOp{s.grid, s.h2, inv_h, cell_begin_, masks, pos_, &counters_->count, normals});
+            exec_.for_each(n, DiffuseSourceOp{s.grid, s.h2, inv_h, dt, d, cell_begin_, masks, pos_, vel_, normals, ids_,
+                                              diffuse_steps_, &counters_->count, diffuse_flags_ + d.capacity});
+        }
+        const FluidSampler fluid{s.grid, s.h2, inv_h, cell_begin_, pos_, vel_};
+        exec_.for_each(d.capacity, DiffuseAdvectOp{s, rest_colliders_, fluid, dt, d, &diffuse_counters_->count,
+                                                   diffuse_[0], diffuse_[1], diffuse_flags_});
+        exec_.exclusive_scan(diffuse_flags_, diffuse_offsets_, total);
+        exec_.for_each(total, DiffuseScatterOp{s, rest_colliders_, fluid, dt, d, ids_, diffuse_steps_, diffuse_flags_,
+                                               diffuse_offsets_, diffuse_[0], diffuse_[1], diffuse_[2], diffuse_[3]});
+        exec_.for_each(1, DiffuseCommitOp{diffuse_counters_, diffuse_flags_, diffuse_offsets_, total, d.capacity});
+        std::swap(diffuse_[0], diffuse_[2]);
+        std::swap(diffuse_[1], diffuse_[3]);
+        ++diffuse_steps_;
+        ++diffuse_updates_;
+    }
+
     // Sorts particles by the cell of x (by_predicted false) or of x*, moves their data into
     // that order and rebuilds cell_begin; drops dead particles from the count.
     void build_grid(const WorldConstants& s, bool by_predicted) {
@@ -479,6 +572,10 @@ private:
         exec_.release(collider_forces_);
         exec_.release(smoothed_);
         exec_.release(anisotropy_);
+        for (Vec4* b : diffuse_) exec_.release(b);
+        exec_.release(diffuse_flags_);
+        exec_.release(diffuse_offsets_);
+        exec_.release(diffuse_counters_);
         exec_.release_host_visible(feedback_);
     }
 
@@ -511,6 +608,13 @@ private:
     Vec4* anisotropy_ = nullptr;              // 3 per particle
     uint64_t render_bytes_ = 0;
     uint64_t render_updates_ = 0;
+    Vec4* diffuse_[4] = {};  // diffuse particles: positions, velocities (front), then the back pair
+    uint32_t* diffuse_flags_ = nullptr;    // capacity + max_particles: keep | generated
+    uint32_t* diffuse_offsets_ = nullptr;  // their exclusive scan
+    DiffuseCounters* diffuse_counters_ = nullptr;
+    uint64_t diffuse_bytes_ = 0;
+    uint64_t diffuse_updates_ = 0;
+    uint32_t diffuse_steps_ = 0;  // the generator's random stream: one per step
     StepFeedback* feedback_ = nullptr;        // host-visible; written by the step's last op
     StepFeedback last_feedback_{};
     uint32_t bound_ = 0;  // upper bound of the live count known on the host (launch size)

@@ -149,7 +149,7 @@ std::unique_ptr<World> World::create(const pbf_world_desc& desc, Status* status)
     g.num_cells = static_cast<uint32_t>(total);
 
     BackendConfig config{desc.max_particles, desc.max_colliders, g, desc.cuda_device,
-                         render_constants(desc.render, desc.particle_radius, w->h_)};
+                         render_constants(desc.render, desc.particle_radius, w->h_), diffuse_constants(desc.diffuse)};
     pbf_backend kind = desc.backend;
     if (kind == PBF_BACKEND_AUTO) kind = cuda_device_available(desc.cuda_device) ? PBF_BACKEND_CUDA : PBF_BACKEND_CPU;
     w->backend_ = kind == PBF_BACKEND_CUDA ? create_cuda_backend(config, status) : create_cpu_backend(config, status);
@@ -357,6 +357,10 @@ void World::get_info(pbf_world_info* info) const {
     info->reserved0 = 0;
     info->render_bytes = backend_->render_bytes();
     info->render_updates = backend_->render_updates();
+    info->diffuse_capacity = desc_.diffuse.max_diffuse;
+    info->reserved1 = 0;
+    info->diffuse_bytes = backend_->diffuse_bytes();
+    info->diffuse_updates = backend_->diffuse_updates();
 }
 
 Status World::get_stats(pbf_step_stats* out) {
@@ -379,6 +383,10 @@ Status World::get_stats(pbf_step_stats* out) {
     out->substeps = step_index_ ? last_substeps_ : 0u;
     out->speed_clamps = step_index_ ? r.speed_clamps : 0u;
     out->reserved0 = 0;
+    out->diffuse_count = r.diffuse_count;
+    out->diffuse_dropped = step_index_ ? r.diffuse_dropped_step : 0u;
+    out->diffuse_generated_total = r.diffuse_generated_total;
+    out->diffuse_dropped_total = r.diffuse_dropped_total;
     return Status{};
 }
 

@@ -37,6 +37,8 @@ float boundary_lattice_scale(float spacing, float h);
 double rest_render_variance(float spacing, float h);
 // The render pass's constants from the desc's render params.
 RenderConstants render_constants(const pbf_render_params& p, float radius, float h);
+// The diffuse pass's constants from the desc's diffuse params (world_diffuse.cpp).
+DiffuseConstants diffuse_constants(const pbf_diffuse_params& p);
 
 // State another layer keeps with a world (the interop layer, native/interop): told after each
 // successful step, destroyed with the world before its backend.
@@ -99,6 +101,10 @@ public:
     const pbf_render_params& render_params() const { return desc_.render; }
     // params validated, with the world's flags.
     void set_render_params(const pbf_render_params& params);
+    // Diffuse particles: params validated, with the world's max_diffuse; rows validated.
+    const pbf_diffuse_params& diffuse_params() const { return desc_.diffuse; }
+    void set_diffuse_params(const pbf_diffuse_params& params);
+    Status add_diffuse(const float* positions, const float* velocities, uint32_t count, uint32_t* added);
     void unmap() { mapped_ = false; }
     bool mapped() const { return mapped_; }
 
@@ -125,6 +131,7 @@ public:
     struct Mapping {
         LiveBuffers live;
         uint32_t count = 0;
+        uint32_t diffuse_count = 0;  // as count, for the diffuse particles (0 without them)
         bool device = false;        // CUDA device memory (else host memory)
         void* cuda_stream = nullptr;
     };

@@ -57,8 +57,14 @@ Status World::map_particles(bool wait_for_count, Mapping* out) {
         const Status st = backend_->particle_count(&count);  // on CUDA: waits for the stream
         if (!st.ok()) return st;
     }
+    uint32_t diffuse = desc_.diffuse.max_diffuse ? count : 0u;
+    if (desc_.diffuse.max_diffuse && count != PBF_COUNT_ON_DEVICE) {
+        const Status st = backend_->diffuse_count(&diffuse);
+        if (!st.ok()) return st;
+    }
     out->live = backend_->live_buffers();
     out->count = count;
+    out->diffuse_count = diffuse;
     out->device = device;
     out->cuda_stream = backend_->cuda_stream();
     mapped_ = true;

@@ -1,7 +1,7 @@
 // pbf_bench: time full solver steps on either backend, for docs/perf.md.
 //
 //   pbf_bench [--backend cpu|cuda|both] [--scene dam,tank] [--particles 65536,262144,1000000]
-//             [--iterations 1,2,4] [--ldc 0,1] [--render 0,1] [--steps 100] [--warmup 20] [--stages]
+//             [--iterations 1,2,4] [--ldc 0,1] [--render 0,1] [--diffuse 0,1000000] [--steps 100] [--warmup 20] [--stages]
 //             [--csv FILE]      (--help lists the options with their defaults)
 //
 // One "step" is one solver step (pbf_world_step with substeps = 1): LDC when on, prediction,
@@ -31,6 +31,7 @@ struct Config {
     uint32_t particles, iterations, ldc;
     pbf_backend backend;
     uint32_t render;  // 1: smoothed positions and anisotropy each step (pbf_render_params)
+    uint32_t diffuse;  // diffuse capacity (pbf_diffuse_params.max_diffuse); 0: off
 };
 
 struct Result {
@@ -38,6 +39,7 @@ struct Result {
     std::string device, error;
     double ms_median = 0, ms_min = 0, ms_max = 0, bytes_per_particle = 0, error_mean = 0, error_max = 0;
     uint32_t count = 0;
+    uint32_t diffuse_count = 0;  // live diffuse particles after the last step
     float dt = 0;
     double stage_ms[PBF_PROFILE_MAX_STAGES] = {};  // per step, averaged
 };
@@ -78,6 +80,7 @@ Result run(const Config& c, int warmup, int steps, bool stages) {
     d.solver.substeps = 1;  // one step = one substep, whatever the automatic rule would pick
     d.solver.ldc_enabled = c.ldc;
     d.render.flags = c.render ? PBF_RENDER_SMOOTHED_POSITIONS | PBF_RENDER_ANISOTROPY : 0u;
+    d.diffuse.max_diffuse = c.diffuse;
     pbf_world_id w;
     if (pbf_world_create(&d, &w) != PBF_OK) {
         r.error = pbf_last_error_message();
@@ -123,6 +126,7 @@ Result run(const Config& c, int warmup, int steps, bool stages) {
         }
     }
     r.error_mean /= steps;
+    r.diffuse_count = s.diffuse_count;
     std::sort(times.begin(), times.end());
     r.ms_median = times[times.size() / 2];
     r.ms_min = times.front();
@@ -137,7 +141,7 @@ Result run(const Config& c, int warmup, int steps, bool stages) {
 
 int main(int argc, char** argv) {
     std::string backends = "both", scenes = "dam,tank", particles = "65536,262144,1000000", iterations = "4",
-                ldcs = "0,1", renders = "0", csv_path;
+                ldcs = "0,1", renders = "0", diffuses = "0", csv_path;
     int steps = 100, warmup = 20;
     bool stages = false;
     CLI::App app{"pbf_bench: time full solver steps (pbf_world_step, one substep) on either backend, for "
@@ -152,6 +156,8 @@ int main(int argc, char** argv) {
     app.add_option("--ldc", ldcs, "Local Density Calibration off/on: 0, 1 (comma-separated)");
     app.add_option("--render", renders,
                    "render data off/on: 0, 1 (smoothed positions + anisotropy after every step; comma-separated)");
+    app.add_option("--diffuse", diffuses,
+                   "diffuse capacities: 0 (off) or max_diffuse (spray, foam and bubbles each step; comma-separated)");
     app.add_option("--steps", steps, "timed steps per configuration (>= 1)")->check(CLI::Range(1, 1 << 30));
     app.add_option("--warmup", warmup, "untimed steps before them (>= 0)")->check(CLI::Range(0, 1 << 30));
     app.add_flag("--stages", stages, "per-stage times (profiled run; stage marks add a little overhead)");
@@ -171,12 +177,13 @@ int main(int argc, char** argv) {
     FILE* csv = csv_path.empty() ? nullptr : std::fopen(csv_path.c_str(), "w");
     if (csv) {
         std::fprintf(csv, "scene,particles,iterations,ldc,render,backend,device,ms_median,ms_min,ms_max,particle_steps_per_s,"
-                          "bytes_per_particle,density_error_mean,density_error_max,dt");
+                          "bytes_per_particle,density_error_mean,density_error_max,dt,diffuse,diffuse_count");
         for (uint32_t k = 0; k < stage_count(); ++k) std::fprintf(csv, ",stage_%s_ms", pbf_profile_stage_name(k));
         std::fprintf(csv, "\n");
     }
-    std::printf("| scene | particles | iter | LDC | render | backend | device | ms median | min | max | particle-steps/s | "
-                "B/particle | density err mean | max |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    std::printf("| scene | particles | iter | LDC | render | diffuse cap/live | backend | device | ms median | min | max | "
+                "particle-steps/s | B/particle | density err mean | max |\n"
+                "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     int failures = 0;
     std::vector<std::pair<Config, Result>> staged;
     for (pbf_backend backend : backend_list)
@@ -184,27 +191,30 @@ int main(int argc, char** argv) {
             for (const std::string& n : split_list(particles))
                 for (const std::string& it : split_list(iterations))
                     for (const std::string& l : split_list(ldcs))
-                        for (const std::string& rd : split_list(renders)) {
+                        for (const std::string& rd : split_list(renders))
+                        for (const std::string& df : split_list(diffuses)) {
                         const Config c{scene, uint32_t(std::strtoul(n.c_str(), nullptr, 10)),
                                        uint32_t(std::atoi(it.c_str())), uint32_t(std::atoi(l.c_str())), backend,
-                                       uint32_t(std::atoi(rd.c_str()))};
+                                       uint32_t(std::atoi(rd.c_str())), uint32_t(std::strtoul(df.c_str(), nullptr, 10))};
                         const Result r = run(c, warmup, steps, stages);
                         const char* bname = backend == PBF_BACKEND_CUDA ? "cuda" : "cpu";
                         if (!r.ok) {
-                            std::printf("| %s | %u | %u | %u | %u | %s | - | failed: %s |\n", scene.c_str(),
-                                        c.particles, c.iterations, c.ldc, c.render, bname, r.error.c_str());
+                            std::printf("| %s | %u | %u | %u | %u | %u | %s | - | failed: %s |\n", scene.c_str(),
+                                        c.particles, c.iterations, c.ldc, c.render, c.diffuse, bname, r.error.c_str());
                             ++failures;
                             continue;
                         }
                         const double rate = r.count / (r.ms_median / 1000.0);
-                        std::printf("| %s | %u | %u | %u | %u | %s | %s | %.3f | %.3f | %.3f | %.3g | %.1f | %.5f | %.4f |\n",
-                                    scene.c_str(), r.count, c.iterations, c.ldc, c.render, bname, r.device.c_str(), r.ms_median,
+                        std::printf("| %s | %u | %u | %u | %u | %u/%u | %s | %s | %.3f | %.3f | %.3f | %.3g | %.1f | %.5f | %.4f |\n",
+                                    scene.c_str(), r.count, c.iterations, c.ldc, c.render, c.diffuse, r.diffuse_count, bname,
+                                    r.device.c_str(), r.ms_median,
                                     r.ms_min, r.ms_max, rate, r.bytes_per_particle, r.error_mean, r.error_max);
                         std::fflush(stdout);
                         if (csv) {
                             std::fprintf(csv, "%s,%u,%u,%u,%u,%s,%s,%.4f,%.4f,%.4f,%.6g,%.2f,%.6f,%.6f,%.6f",
                                          scene.c_str(), r.count, c.iterations, c.ldc, c.render, bname, r.device.c_str(), r.ms_median, r.ms_min,
                                          r.ms_max, rate, r.bytes_per_particle, r.error_mean, r.error_max, r.dt);
+                            std::fprintf(csv, ",%u,%u", c.diffuse, r.diffuse_count);
                             for (uint32_t k = 0; k < stage_count(); ++k) std::fprintf(csv, ",%.4f", r.stage_ms[k]);
                             std::fprintf(csv, "\n");
                         }
@@ -217,8 +227,8 @@ int main(int argc, char** argv) {
         for (uint32_t k = 0; k < stage_count(); ++k) std::printf("---|");
         std::printf("\n");
         for (const auto& [c, r] : staged) {
-            std::printf("| %s %u it%u ldc%u render%u %s |", c.scene.c_str(), r.count, c.iterations, c.ldc, c.render,
-                        c.backend == PBF_BACKEND_CUDA ? "cuda" : "cpu");
+            std::printf("| %s %u it%u ldc%u render%u diffuse%u %s |", c.scene.c_str(), r.count, c.iterations, c.ldc,
+                        c.render, c.diffuse, c.backend == PBF_BACKEND_CUDA ? "cuda" : "cpu");
             for (uint32_t k = 0; k < stage_count(); ++k) std::printf(" %.3f |", r.stage_ms[k]);
             std::printf("\n");
         }

@@ -36,6 +36,9 @@ int main(void) {
     CONST(PBF_MAP_NO_WAIT);
     CONST(PBF_RENDER_SMOOTHED_POSITIONS);
     CONST(PBF_RENDER_ANISOTROPY);
+    CONST(PBF_DIFFUSE_SPRAY);
+    CONST(PBF_DIFFUSE_FOAM);
+    CONST(PBF_DIFFUSE_BUBBLE);
     CONST(PBF_COUNT_ON_DEVICE);
     CONST(PBF_RENDER_EVENT_ALL_WORLDS);
 
@@ -86,6 +89,8 @@ int main(void) {
     ENUM(pbf_buffer, PBF_BUFFER_IDS);
     ENUM(pbf_buffer, PBF_BUFFER_SMOOTHED_POSITIONS);
     ENUM(pbf_buffer, PBF_BUFFER_ANISOTROPY);
+    ENUM(pbf_buffer, PBF_BUFFER_DIFFUSE_POSITIONS);
+    ENUM(pbf_buffer, PBF_BUFFER_DIFFUSE_VELOCITIES);
     ENUM(pbf_buffer, PBF_BUFFER_FORCE32);
 
     ENUM(pbf_copy_mode, PBF_COPY_ON_STEP);
@@ -175,6 +180,24 @@ int main(void) {
     FIELD(pbf_world_desc, solver);
     FIELD(pbf_world_desc, render);
     FIELD(pbf_world_desc, max_colliders);
+    FIELD(pbf_world_desc, diffuse);
+    STRUCT(pbf_diffuse_params);
+    FIELD(pbf_diffuse_params, struct_size);
+    FIELD(pbf_diffuse_params, max_diffuse);
+    FIELD(pbf_diffuse_params, trapped_air_min);
+    FIELD(pbf_diffuse_params, trapped_air_max);
+    FIELD(pbf_diffuse_params, wave_crest_min);
+    FIELD(pbf_diffuse_params, wave_crest_max);
+    FIELD(pbf_diffuse_params, energy_min);
+    FIELD(pbf_diffuse_params, energy_max);
+    FIELD(pbf_diffuse_params, trapped_air_rate);
+    FIELD(pbf_diffuse_params, wave_crest_rate);
+    FIELD(pbf_diffuse_params, lifetime);
+    FIELD(pbf_diffuse_params, spray_max_neighbors);
+    FIELD(pbf_diffuse_params, bubble_min_neighbors);
+    FIELD(pbf_diffuse_params, buoyancy);
+    FIELD(pbf_diffuse_params, bubble_drag);
+    FIELD(pbf_diffuse_params, spray_drag);
 
     STRUCT(pbf_world_info);
     FIELD(pbf_world_info, struct_size);
@@ -191,6 +214,10 @@ int main(void) {
     FIELD(pbf_world_info, reserved0);
     FIELD(pbf_world_info, render_bytes);
     FIELD(pbf_world_info, render_updates);
+    FIELD(pbf_world_info, diffuse_capacity);
+    FIELD(pbf_world_info, reserved1);
+    FIELD(pbf_world_info, diffuse_bytes);
+    FIELD(pbf_world_info, diffuse_updates);
 
     STRUCT(pbf_step_stats);
     FIELD(pbf_step_stats, struct_size);
@@ -206,6 +233,10 @@ int main(void) {
     FIELD(pbf_step_stats, substeps);
     FIELD(pbf_step_stats, speed_clamps);
     FIELD(pbf_step_stats, reserved0);
+    FIELD(pbf_step_stats, diffuse_count);
+    FIELD(pbf_step_stats, diffuse_dropped);
+    FIELD(pbf_step_stats, diffuse_generated_total);
+    FIELD(pbf_step_stats, diffuse_dropped_total);
 
     STRUCT(pbf_step_profile);
     FIELD(pbf_step_profile, struct_size);
@@ -288,6 +319,11 @@ int main(void) {
     FIELD(pbf_device_buffers, anisotropy);
     FIELD(pbf_device_buffers, anisotropy_stride_bytes);
     FIELD(pbf_device_buffers, render_flags);
+    FIELD(pbf_device_buffers, diffuse_positions);
+    FIELD(pbf_device_buffers, diffuse_velocities);
+    FIELD(pbf_device_buffers, diffuse_count_device);
+    FIELD(pbf_device_buffers, diffuse_count);
+    FIELD(pbf_device_buffers, diffuse_capacity);
 
     STRUCT(pbf_gl_buffer_desc);
     FIELD(pbf_gl_buffer_desc, struct_size);

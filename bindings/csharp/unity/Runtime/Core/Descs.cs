@@ -131,6 +131,67 @@ namespace Pbf
         public int MinNeighbors { get { return (int)_raw.min_neighbors; } set { _raw.min_neighbors = (uint)value; } }
     }
 
+    /// <summary>
+    /// Diffuse particles (pbf_diffuse_params): spray, foam and air bubbles after Ihmsen et al. 2012,
+    /// generated where the fluid traps air, breaks at wave crests and moves fast. Off by default
+    /// (<see cref="MaxDiffuse"/> 0: no buffers, no pass); the capacity is fixed at creation, the
+    /// rest can change between steps (<see cref="World.SetDiffuseParams"/>). Read them with
+    /// <see cref="World.CopyDiffusePositions(float[])"/>, <see cref="DeviceBuffers"/> or GL /
+    /// external buffers of source DiffusePositions / DiffuseVelocities.
+    /// </summary>
+    public struct DiffuseParams
+    {
+        pbf_diffuse_params _raw;
+
+        /// <summary>Wraps a raw pbf_diffuse_params.</summary>
+        public DiffuseParams(pbf_diffuse_params raw) { _raw = raw; }
+
+        /// <summary>The library's defaults (pbf_diffuse_params_init): diffuse particles off.</summary>
+        public static DiffuseParams Default
+        {
+            get
+            {
+                var p = new pbf_diffuse_params { struct_size = Native.SizeOf<pbf_diffuse_params>() };
+                PbfException.Check(Native.pbf_diffuse_params_init(ref p, p.struct_size));
+                return new DiffuseParams(p);
+            }
+        }
+
+        public pbf_diffuse_params ToNative() { return _raw; }
+
+        /// <summary>Capacity, 0..2^26, fixed at creation (default 0: off); 64 bytes each.</summary>
+        public int MaxDiffuse { get { return (int)_raw.max_diffuse; } set { _raw.max_diffuse = (uint)value; } }
+        /// <summary>τ_ta: trapped-air potential (m/s) where generation starts (default 2).</summary>
+        public float TrappedAirMin { get { return _raw.trapped_air_min; } set { _raw.trapped_air_min = value; } }
+        /// <summary>τ_ta: where it saturates (default 8).</summary>
+        public float TrappedAirMax { get { return _raw.trapped_air_max; } set { _raw.trapped_air_max = value; } }
+        /// <summary>τ_wc: wave-crest potential where generation starts (default 1).</summary>
+        public float WaveCrestMin { get { return _raw.wave_crest_min; } set { _raw.wave_crest_min = value; } }
+        /// <summary>τ_wc: where it saturates (default 4).</summary>
+        public float WaveCrestMax { get { return _raw.wave_crest_max; } set { _raw.wave_crest_max = value; } }
+        /// <summary>τ_k: kinetic energy per unit mass ½|v|² (J/kg) where generation starts (default 0.5).</summary>
+        public float EnergyMin { get { return _raw.energy_min; } set { _raw.energy_min = value; } }
+        /// <summary>τ_k: where it saturates (default 4).</summary>
+        public float EnergyMax { get { return _raw.energy_max; } set { _raw.energy_max = value; } }
+        /// <summary>k_ta: diffuse particles per second per fluid particle at full trapped-air and
+        /// energy potentials, 0..1e4 (default 200).</summary>
+        public float TrappedAirRate { get { return _raw.trapped_air_rate; } set { _raw.trapped_air_rate = value; } }
+        /// <summary>k_wc: the same for wave crests, 0..1e4 (default 200).</summary>
+        public float WaveCrestRate { get { return _raw.wave_crest_rate; } set { _raw.wave_crest_rate = value; } }
+        /// <summary>s, (0, 1e4]: foam and spray live (0.5..1) times this (default 2).</summary>
+        public float Lifetime { get { return _raw.lifetime; } set { _raw.lifetime = value; } }
+        /// <summary>Fewer fluid neighbours within h: spray (default 6).</summary>
+        public int SprayMaxNeighbors { get { return (int)_raw.spray_max_neighbors; } set { _raw.spray_max_neighbors = (uint)value; } }
+        /// <summary>More: a bubble; between: foam (default 20).</summary>
+        public int BubbleMinNeighbors { get { return (int)_raw.bubble_min_neighbors; } set { _raw.bubble_min_neighbors = (uint)value; } }
+        /// <summary>k_b: a bubble accelerates by -k_b·gravity, 0..100 (default 0.5).</summary>
+        public float Buoyancy { get { return _raw.buoyancy; } set { _raw.buoyancy = value; } }
+        /// <summary>k_d (1/s): a bubble's velocity relaxes toward the fluid's at this rate (default 20).</summary>
+        public float BubbleDrag { get { return _raw.bubble_drag; } set { _raw.bubble_drag = value; } }
+        /// <summary>Linear air drag on spray (1/s) (default 0.5).</summary>
+        public float SprayDrag { get { return _raw.spray_drag; } set { _raw.spray_drag = value; } }
+    }
+
     /// <summary>How to create a <see cref="World"/> (pbf_world_desc). A new WorldDesc holds the
     /// library's defaults: AUTO backend, 65536 particles of radius 0.025 m, water density,
     /// gravity -9.81 on y, domain (-1,0,-1)..(1,2,1).</summary>
@@ -139,6 +200,7 @@ namespace Pbf
         pbf_world_desc _raw;
         SolverParams _solver;
         RenderParams _render;
+        DiffuseParams _diffuse;
 
         public WorldDesc()
         {
@@ -146,6 +208,7 @@ namespace Pbf
             PbfException.Check(Native.pbf_world_desc_init(ref _raw, _raw.struct_size, Native.PBF_VERSION));
             _solver = new SolverParams(_raw.solver);
             _render = new RenderParams(_raw.render);
+            _diffuse = new DiffuseParams(_raw.diffuse);
         }
 
         /// <summary>The raw desc to pass to pbf_world_create (with <see cref="Solver"/> in it).</summary>
@@ -154,6 +217,7 @@ namespace Pbf
             pbf_world_desc d = _raw;
             d.solver = _solver.ToNative();
             d.render = _render.ToNative();
+            d.diffuse = _diffuse.ToNative();
             return d;
         }
 
@@ -179,6 +243,8 @@ namespace Pbf
         public ref SolverParams Solver { get { return ref _solver; } }
         /// <summary>Render data, editable in place: desc.Render.Flags = RenderFlags.Anisotropy.</summary>
         public ref RenderParams Render { get { return ref _render; } }
+        /// <summary>Diffuse particles, editable in place: desc.Diffuse.MaxDiffuse = 100000.</summary>
+        public ref DiffuseParams Diffuse { get { return ref _diffuse; } }
     }
 
     /// <summary>A one-shot fill of an axis-aligned box on a cubic lattice at rest spacing (pbf_block_desc).</summary>
@@ -407,6 +473,14 @@ namespace Pbf
         /// <summary>Particle-substeps of the last step whose speed a limit cut (max_speed, or the
         /// h-per-substep cap); 0 in a healthy run.</summary>
         public long SpeedClamps { get { return _raw.speed_clamps; } }
+        /// <summary>Live diffuse particles.</summary>
+        public int DiffuseCount { get { return (int)_raw.diffuse_count; } }
+        /// <summary>Diffuse particles generated in the last step but dropped: the capacity was full.</summary>
+        public int DiffuseDropped { get { return (int)_raw.diffuse_dropped; } }
+        /// <summary>Diffuse particles ever generated (added ones excluded).</summary>
+        public long DiffuseGeneratedTotal { get { return (long)_raw.diffuse_generated_total; } }
+        /// <summary>Generated but dropped for capacity, ever.</summary>
+        public long DiffuseDroppedTotal { get { return (long)_raw.diffuse_dropped_total; } }
     }
 
     /// <summary>What a world is and where it runs (pbf_world_info).</summary>
@@ -443,5 +517,11 @@ namespace Pbf
         public long RenderBytes { get { return (long)_raw.render_bytes; } }
         /// <summary>Render passes run so far (one per step and per block emission when on; 0 when off).</summary>
         public long RenderUpdates { get { return (long)_raw.render_updates; } }
+        /// <summary>The diffuse capacity (desc.Diffuse.MaxDiffuse).</summary>
+        public int DiffuseCapacity { get { return (int)_raw.diffuse_capacity; } }
+        /// <summary>Part of <see cref="DeviceBytes"/> the diffuse particles take (0 when off).</summary>
+        public long DiffuseBytes { get { return (long)_raw.diffuse_bytes; } }
+        /// <summary>Diffuse passes run so far (one per step when on; 0 when off).</summary>
+        public long DiffuseUpdates { get { return (long)_raw.diffuse_updates; } }
     }
 }

@@ -116,6 +116,22 @@ namespace Pbf
         /// <summary>48 bytes per particle: 3 rows of (unit axis x, y, z, radius in m), longest
         /// first (<see cref="RenderFlags.Anisotropy"/>).</summary>
         Anisotropy = 5,
+        /// <summary>16 bytes per diffuse particle: float x, y, z, kind (<see cref="DiffuseKind"/>);
+        /// <see cref="StepStats.DiffuseCount"/> of them.</summary>
+        DiffusePositions = 6,
+        /// <summary>16 bytes per diffuse particle: float vx, vy, vz, remaining lifetime in s.</summary>
+        DiffuseVelocities = 7,
+    }
+
+    /// <summary>PBF_DIFFUSE_*: what a diffuse particle is, stored as a float in its position's w.</summary>
+    public enum DiffuseKind
+    {
+        /// <summary>Few fluid neighbours: flies ballistically under gravity and air drag.</summary>
+        Spray = 0,
+        /// <summary>At a surface: rides with the fluid's velocity, dissolves over its lifetime.</summary>
+        Foam = 1,
+        /// <summary>Inside the fluid: rises by buoyancy, dragged toward the fluid's velocity.</summary>
+        Bubble = 2,
     }
 
     /// <summary>PBF_RENDER_*: the render data a world computes after every step (fixed at creation).</summary>

@@ -207,6 +207,17 @@ namespace Pbf
         public int AnisotropyStrideBytes { get { return (int)Raw.anisotropy_stride_bytes; } }
         /// <summary>The render data the world computes.</summary>
         public RenderFlags RenderFlags { get { return (RenderFlags)Raw.render_flags; } }
+        /// <summary>float x, y, z, kind per diffuse particle, stride 16; IntPtr.Zero without a
+        /// diffuse capacity (<see cref="DiffuseParams.MaxDiffuse"/>).</summary>
+        public IntPtr DiffusePositions { get { return Raw.diffuse_positions; } }
+        /// <summary>float vx, vy, vz, remaining lifetime (s) per diffuse particle, stride 16.</summary>
+        public IntPtr DiffuseVelocities { get { return Raw.diffuse_velocities; } }
+        /// <summary>The live diffuse count in memory of kind <see cref="Memory"/>.</summary>
+        public IntPtr DiffuseCountDevice { get { return Raw.diffuse_count_device; } }
+        /// <summary>Live diffuse particles; Native.PBF_COUNT_ON_DEVICE when mapped without waiting on CUDA.</summary>
+        public uint DiffuseCount { get { return Raw.diffuse_count; } }
+        /// <summary>Diffuse particles allocated behind each diffuse pointer.</summary>
+        public int DiffuseCapacity { get { return (int)Raw.diffuse_capacity; } }
 
         /// <summary>Ends the world's mapping; does nothing when a step or another call already ended it.</summary>
         public void Dispose()

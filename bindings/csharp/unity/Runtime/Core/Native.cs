@@ -85,6 +85,8 @@ namespace Pbf.Interop
         PBF_BUFFER_IDS = 3,
         PBF_BUFFER_SMOOTHED_POSITIONS = 4,
         PBF_BUFFER_ANISOTROPY = 5,
+        PBF_BUFFER_DIFFUSE_POSITIONS = 6,
+        PBF_BUFFER_DIFFUSE_VELOCITIES = 7,
         PBF_BUFFER_FORCE32 = 0x7FFFFFFF,
     }
 
@@ -288,6 +290,27 @@ namespace Pbf.Interop
     }
 
     [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_diffuse_params
+    {
+        public uint struct_size;
+        public uint max_diffuse;
+        public float trapped_air_min;
+        public float trapped_air_max;
+        public float wave_crest_min;
+        public float wave_crest_max;
+        public float energy_min;
+        public float energy_max;
+        public float trapped_air_rate;
+        public float wave_crest_rate;
+        public float lifetime;
+        public uint spray_max_neighbors;
+        public uint bubble_min_neighbors;
+        public float buoyancy;
+        public float bubble_drag;
+        public float spray_drag;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
     public struct pbf_world_desc
     {
         public uint struct_size;
@@ -303,6 +326,7 @@ namespace Pbf.Interop
         public pbf_solver_params solver;
         public pbf_render_params render;
         public uint max_colliders;
+        public pbf_diffuse_params diffuse;
     }
 
     [StructLayout(LayoutKind.Sequential)]
@@ -322,6 +346,10 @@ namespace Pbf.Interop
         public uint reserved0;
         public ulong render_bytes;
         public ulong render_updates;
+        public uint diffuse_capacity;
+        public uint reserved1;
+        public ulong diffuse_bytes;
+        public ulong diffuse_updates;
     }
 
     [StructLayout(LayoutKind.Sequential)]
@@ -340,6 +368,10 @@ namespace Pbf.Interop
         public uint substeps;
         public uint speed_clamps;
         public uint reserved0;
+        public uint diffuse_count;
+        public uint diffuse_dropped;
+        public ulong diffuse_generated_total;
+        public ulong diffuse_dropped_total;
     }
 
     /// <summary>float[16] of the header (pbf_step_profile.stage_ms), read by index.</summary>
@@ -443,6 +475,11 @@ namespace Pbf.Interop
         public IntPtr anisotropy;
         public uint anisotropy_stride_bytes;
         public uint render_flags;
+        public IntPtr diffuse_positions;
+        public IntPtr diffuse_velocities;
+        public IntPtr diffuse_count_device;
+        public uint diffuse_count;
+        public uint diffuse_capacity;
     }
 
     [StructLayout(LayoutKind.Sequential)]
@@ -569,6 +606,10 @@ namespace Pbf.Interop
         public const uint PBF_RENDER_SMOOTHED_POSITIONS = 0x1u;
         /// <summary>pbf_render_params.flags: anisotropy, 3 float4 (unit axis, radius) per particle.</summary>
         public const uint PBF_RENDER_ANISOTROPY = 0x2u;
+        /// <summary>Diffuse kinds, the w of PBF_BUFFER_DIFFUSE_POSITIONS.</summary>
+        public const float PBF_DIFFUSE_SPRAY = 0.0f;
+        public const float PBF_DIFFUSE_FOAM = 1.0f;
+        public const float PBF_DIFFUSE_BUBBLE = 2.0f;
         /// <summary>pbf_device_buffers.count when mapped with PBF_MAP_NO_WAIT on CUDA.</summary>
         public const uint PBF_COUNT_ON_DEVICE = 0xFFFFFFFFu;
         /// <summary>The render event id that runs the render work of every world.</summary>
@@ -599,6 +640,10 @@ namespace Pbf.Interop
         public static extern pbf_result pbf_render_params_init(ref pbf_render_params @params, uint struct_size);
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_render_params_init(IntPtr @params, uint struct_size);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_diffuse_params_init(ref pbf_diffuse_params @params, uint struct_size);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_diffuse_params_init(IntPtr @params, uint struct_size);
 
         // World
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
@@ -640,6 +685,20 @@ namespace Pbf.Interop
         public static extern pbf_result pbf_world_set_render_params(pbf_world_id world, ref pbf_render_params @params);
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_world_set_render_params(pbf_world_id world, IntPtr @params);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_get_diffuse_params(pbf_world_id world, ref pbf_diffuse_params out_params);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_get_diffuse_params(pbf_world_id world, IntPtr out_params);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_set_diffuse_params(pbf_world_id world, ref pbf_diffuse_params @params);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_set_diffuse_params(pbf_world_id world, IntPtr @params);
+        /// <summary>positions and velocities: count float4 rows each (the ref overload passes the
+        /// first elements' addresses).</summary>
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_add_diffuse(pbf_world_id world, ref float positions, ref float velocities, uint count, out uint out_added);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_add_diffuse(pbf_world_id world, IntPtr positions, IntPtr velocities, uint count, IntPtr out_added);
 
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_world_get_info(pbf_world_id world, ref pbf_world_info out_info);
@@ -894,6 +953,14 @@ namespace Pbf.Interop
         {
             var p = new pbf_solver_params { struct_size = SizeOf<pbf_solver_params>() };
             pbf_solver_params_init(ref p, p.struct_size);
+            return p;
+        }
+
+        /// <summary>pbf_diffuse_params_default(): the library's defaults (diffuse particles off).</summary>
+        public static pbf_diffuse_params pbf_diffuse_params_default()
+        {
+            var p = new pbf_diffuse_params { struct_size = SizeOf<pbf_diffuse_params>() };
+            pbf_diffuse_params_init(ref p, p.struct_size);
             return p;
         }
 

@@ -104,6 +104,40 @@ namespace Pbf
             PbfException.Check(Native.pbf_world_set_render_params(Handle, ref p));
         }
 
+        /// <summary>A copy of the world's diffuse parameters (its desc's).</summary>
+        public DiffuseParams GetDiffuseParams()
+        {
+            var p = new pbf_diffuse_params { struct_size = Native.SizeOf<pbf_diffuse_params>() };
+            PbfException.Check(Native.pbf_world_get_diffuse_params(Handle, ref p));
+            return new DiffuseParams(p);
+        }
+
+        /// <summary>Replaces the diffuse parameters from the next step on. The capacity is fixed at
+        /// creation: a different <see cref="DiffuseParams.MaxDiffuse"/> throws <see cref="Result.InvalidState"/>.</summary>
+        public void SetDiffuseParams(DiffuseParams parameters)
+        {
+            pbf_diffuse_params p = parameters.ToNative();
+            PbfException.Check(Native.pbf_world_set_diffuse_params(Handle, ref p));
+        }
+
+        /// <summary>Adds diffuse particles (4 floats each: positions x, y, z, kind; velocities vx,
+        /// vy, vz, remaining lifetime in s) while they fit; returns how many were added. Throws
+        /// <see cref="Result.Capacity"/> when none fit, <see cref="Result.InvalidState"/> without a
+        /// diffuse capacity.</summary>
+        public int AddDiffuse(float[] positions, float[] velocities)
+        {
+            if (positions == null) throw new ArgumentNullException("positions");
+            if (velocities == null) throw new ArgumentNullException("velocities");
+            if (positions.Length % 4 != 0 || positions.Length != velocities.Length)
+                throw new ArgumentException("positions and velocities need 4 floats per diffuse particle, as many of each");
+            uint added = 0;
+            pbf_result r = positions.Length == 0
+                ? Native.pbf_world_add_diffuse(Handle, IntPtr.Zero, IntPtr.Zero, 0, IntPtr.Zero)
+                : Native.pbf_world_add_diffuse(Handle, ref positions[0], ref velocities[0], (uint)(positions.Length / 4), out added);
+            PbfException.Check(r);
+            return (int)added;
+        }
+
         public void SetGravity(Vector3 gravity)
         {
             Float3 g = Convert3.ToNative(gravity);
@@ -252,6 +286,15 @@ namespace Pbf
         public int CopyAnisotropy(Span<float> destination) { return CopyBuffer(BufferSource.Anisotropy, destination); }
         /// <summary>Into any 16-byte vector type: 3 elements per particle.</summary>
         public int CopyAnisotropy<T>(T[] destination) where T : struct { return CopyBuffer(BufferSource.Anisotropy, Floats<T>(destination)); }
+
+        /// <summary>Diffuse particles (<see cref="StepStats.DiffuseCount"/>): x, y, z, kind
+        /// (<see cref="DiffuseKind"/> as a float) per particle; returns how many. Throws
+        /// <see cref="Result.InvalidState"/> without a diffuse capacity.</summary>
+        public int CopyDiffusePositions(float[] destination) { return CopyBuffer(BufferSource.DiffusePositions, Floats(destination)); }
+        public int CopyDiffusePositions(Span<float> destination) { return CopyBuffer(BufferSource.DiffusePositions, destination); }
+        /// <summary>vx, vy, vz, remaining lifetime (s) per diffuse particle, in the order of the positions.</summary>
+        public int CopyDiffuseVelocities(float[] destination) { return CopyBuffer(BufferSource.DiffuseVelocities, Floats(destination)); }
+        public int CopyDiffuseVelocities(Span<float> destination) { return CopyBuffer(BufferSource.DiffuseVelocities, destination); }
 
         /// <summary>Stable particle ids (assigned 0, 1, 2, ... at emission), same order as the positions.</summary>
         public int CopyIds(uint[] destination)
