@@ -202,7 +202,7 @@ TEST_CASE("validate: pbf_world_copy_buffer names the failed check", "[api][valid
     uint32_t written = 7;
     CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, static_cast<pbf_buffer>(0), out, sizeof out, &written), Check::COPY_SOURCE);
     CHECK(written == 0u);
-    CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, static_cast<pbf_buffer>(6), out, sizeof out, &written), Check::COPY_SOURCE);
+    CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, static_cast<pbf_buffer>(7), out, sizeof out, &written), Check::COPY_SOURCE);
     CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, PBF_BUFFER_POSITIONS, out, 20, &written), Check::COPY_OUT_SIZE);
     CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, PBF_BUFFER_ANISOTROPY, out, 32, &written), Check::COPY_OUT_SIZE);
     CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, PBF_BUFFER_IDS, out, 6, &written), Check::COPY_OUT_SIZE);

@@ -236,6 +236,7 @@ PBF_API pbf_result PBF_CALL pbf_world_map_device_buffers(pbf_world_id id, uint32
         r.anisotropy = m.live.anisotropy;
         r.anisotropy_stride_bytes = 48;
         r.render_flags = w->render_flags();
+        r.materials = m.live.materials;
         *out = r;
         return PBF_OK;
     });

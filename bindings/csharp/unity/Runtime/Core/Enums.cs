@@ -116,6 +116,9 @@ namespace Pbf
         /// <summary>48 bytes per particle: 3 rows of (unit axis x, y, z, radius in m), longest
         /// first (<see cref="RenderFlags.Anisotropy"/>).</summary>
         Anisotropy = 5,
+        /// <summary>1 byte per particle: the index of its material (<see cref="Material.Index"/>);
+        /// copy-out and device pointers only.</summary>
+        Materials = 6,
     }
 
     /// <summary>PBF_RENDER_*: the render data a world computes after every step (fixed at creation).</summary>
