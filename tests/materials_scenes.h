@@ -48,6 +48,15 @@ inline void run(pbf_world_id w, float seconds) {
     for (int s = 0; s < steps; ++s) REQUIRE_PBF(pbf_world_step(w, 1.0f / 60.0f));
 }
 
+// Runs w for `seconds` at 60 Hz, reads its particles (all finite) and destroys it.
+inline scene::Particles finish(pbf_world_id w, float seconds) {
+    run(w, seconds);
+    const scene::Particles p = scene::read(w);
+    REQUIRE(scene::all_finite(p));
+    pbf_world_destroy(w);
+    return p;
+}
+
 // ---- a cube in zero gravity -------------------------------------------------------------------
 // Sphericity of a particle cloud: the radius of the sphere of its volume (N spacing³) over its
 // largest extent from the centroid (a centre's distance plus one radius). 1 for a ball, 0.74 for
@@ -83,11 +92,7 @@ inline Shape cube_in_zero_gravity(pbf_backend backend, float surface_tension, fl
     const pbf_material_id drop = add_material(w, m);
     const float lo[3] = {0.36f, 0.36f, 0.36f}, hi[3] = {0.84f, 0.84f, 0.84f};
     REQUIRE(fill(w, drop, lo, hi) == 1728);
-    run(w, seconds);
-    const scene::Particles p = scene::read(w);
-    REQUIRE(scene::all_finite(p));
-    pbf_world_destroy(w);
-    return shape_of(p);
+    return shape_of(finish(w, seconds));
 }
 
 // ---- two fluids in one tank ---------------------------------------------------------------------
@@ -177,12 +182,8 @@ inline Drop drop_under_sphere(pbf_backend backend, float adhesion, float cohesio
     const pbf_material_id drop = add_material(w, m);
     const float lo[3] = {0.32f, 0.18f, 0.32f}, hi[3] = {0.48f, 0.30f, 0.48f};
     REQUIRE(fill(w, drop, lo, hi) == 48);
-    run(w, seconds);
-    const scene::Particles p = scene::read(w);
-    REQUIRE(scene::all_finite(p));
-    pbf_world_destroy(w);
     Drop r;
-    r.centroid_y = scene::mean_axis(p, 1);
+    r.centroid_y = scene::mean_axis(finish(w, seconds), 1);
     return r;
 }
 
@@ -230,15 +231,65 @@ inline Spread collapse(pbf_backend backend, float viscosity, float seconds) {
     const pbf_material_id fluid = add_material(w, m);
     const float lo[3] = {0, 0, 0}, hi[3] = {0.2f, 0.32f, 0.24f};
     fill(w, fluid, lo, hi);
-    run(w, seconds);
-    const scene::Particles p = scene::read(w);
-    pbf_world_destroy(w);
+    const scene::Particles p = finish(w, seconds);
     Spread s;
     for (uint32_t i = 0; i < p.count; ++i) {
         s.front = std::max(s.front, double(p.pos[4 * i]));
         s.height = std::max(s.height, double(p.pos[4 * i + 1]));
     }
     return s;
+}
+
+// ---- the checks, run by both suites --------------------------------------------------------------
+inline void check_sphere(pbf_backend backend) {
+    const Shape with = cube_in_zero_gravity(backend, 100.0f, 100.0f, 3.0f);
+    INFO("with surface tension: sphericity " << with.sphericity << ", farthest " << with.max_distance << " m, R "
+                                             << with.equal_radius << " m");
+    CHECK(with.sphericity >= 0.95);
+    CHECK(with.max_distance <= 1.2 * with.equal_radius);
+    const Shape without = cube_in_zero_gravity(backend, 0.0f, 0.0f, 3.0f);
+    INFO("without: sphericity " << without.sphericity << ", farthest " << without.max_distance << " m");
+    CHECK(without.sphericity < 0.95);
+}
+
+inline void check_stratification(pbf_backend backend) {
+    const Stratification two = two_fluids(backend, 500.0f, 4.0f);
+    const Stratification one = two_fluids(backend, 1000.0f, 4.0f);  // the same scene, one fluid
+    INFO("light fluid above the interface " << two.light_above);
+    INFO("two fluids: mean error heavy " << two.error_mean[0] << " light " << two.error_mean[1] << ", max "
+                                         << two.error_max[0] << " / " << two.error_max[1]);
+    INFO("one fluid at the same depths: mean " << one.depth_mean[0] << " / " << one.depth_mean[1] << ", max "
+                                               << one.depth_max[0] << " / " << one.depth_max[1]);
+    CHECK(two.light_above >= 0.95);
+    // Each fluid's density error within the single fluid's at the depths it ends up at.
+    CHECK(two.error_mean[0] <= one.depth_mean[0]);
+    CHECK(two.error_mean[1] <= one.depth_mean[1]);
+    CHECK(two.error_max[0] <= one.depth_max[0]);
+    CHECK(two.error_max[1] <= one.depth_max[1]);
+}
+
+inline void check_adhesion(pbf_backend backend) {
+    const Drop with = drop_under_sphere(backend, 3000.0f, 200.0f, 2.0f);
+    const Drop without = drop_under_sphere(backend, 0.0f, 200.0f, 2.0f);
+    INFO("centroid height after 2 s (started at 0.24 m, floor at 0): with adhesion " << with.centroid_y
+                                                                                     << " m, without "
+                                                                                     << without.centroid_y << " m");
+    CHECK(with.centroid_y >= 0.20);
+    CHECK(without.centroid_y < 0.10);
+}
+
+inline void check_viscosity_substeps(pbf_backend backend) {
+    const double loss2 = shear_loss(backend, 0.2f, 2), loss8 = shear_loss(backend, 0.2f, 8);
+    const double inviscid = shear_loss(backend, 0.0f, 8);
+    INFO("energy lost in 0.25 s: " << loss2 << " at 2 substeps, " << loss8 << " at 8, " << inviscid << " without viscosity");
+    CHECK(std::fabs(loss2 - loss8) <= 0.1 * std::max(loss2, loss8));
+    CHECK(loss8 > inviscid + 0.1);  // the viscosity, not the solver, dissipates
+}
+
+inline void check_honey(pbf_backend backend) {
+    const Spread water = collapse(backend, 0.01f, 0.5f), honey = collapse(backend, 0.9f, 0.5f);
+    INFO("front after 0.5 s: water " << water.front << " m, honey " << honey.front << " m (column 0.2 m)");
+    CHECK(honey.front - 0.2 <= 0.5 * (water.front - 0.2));
 }
 
 }  // namespace materials

@@ -15,55 +15,22 @@ using namespace materials;
 
 // ---- scenes ------------------------------------------------------------------------------------
 TEST_CASE("materials: a cube with surface tension relaxes to a sphere and stays together", "[materials]") {
-    const Shape with = cube_in_zero_gravity(PBF_BACKEND_CPU, 100.0f, 100.0f, 3.0f);
-    INFO("with surface tension: sphericity " << with.sphericity << ", farthest " << with.max_distance << " m, R "
-                                             << with.equal_radius << " m");
-    CHECK(with.sphericity >= 0.95);
-    CHECK(with.max_distance <= 1.2 * with.equal_radius);
-    const Shape without = cube_in_zero_gravity(PBF_BACKEND_CPU, 0.0f, 0.0f, 3.0f);
-    INFO("without: sphericity " << without.sphericity << ", farthest " << without.max_distance << " m");
-    CHECK(without.sphericity < 0.95);
+    check_sphere(PBF_BACKEND_CPU);
 }
 
 TEST_CASE("materials: two fluids of 1000 and 500 kg/m3 stratify without extra compression", "[materials]") {
-    const Stratification two = two_fluids(PBF_BACKEND_CPU, 500.0f, 4.0f);
-    const Stratification one = two_fluids(PBF_BACKEND_CPU, 1000.0f, 4.0f);  // the same scene, one fluid
-    INFO("light fluid above the interface " << two.light_above);
-    INFO("two fluids: mean error heavy " << two.error_mean[0] << " light " << two.error_mean[1] << ", max "
-                                         << two.error_max[0] << " / " << two.error_max[1]);
-    INFO("one fluid at the same depths: mean " << one.depth_mean[0] << " / " << one.depth_mean[1] << ", max "
-                                               << one.depth_max[0] << " / " << one.depth_max[1]);
-    CHECK(two.light_above >= 0.95);
-    // Each fluid's density error within the single fluid's at the depths it ends up at.
-    CHECK(two.error_mean[0] <= one.depth_mean[0]);
-    CHECK(two.error_mean[1] <= one.depth_mean[1]);
-    CHECK(two.error_max[0] <= one.depth_max[0]);
-    CHECK(two.error_max[1] <= one.depth_max[1]);
+    check_stratification(PBF_BACKEND_CPU);
 }
 
 TEST_CASE("materials: a drop hangs under a sphere by adhesion and falls without it", "[materials]") {
-    const Drop with = drop_under_sphere(PBF_BACKEND_CPU, 3000.0f, 200.0f, 2.0f);
-    const Drop without = drop_under_sphere(PBF_BACKEND_CPU, 0.0f, 200.0f, 2.0f);
-    INFO("centroid height after 2 s (started at 0.24 m, floor at 0): with adhesion " << with.centroid_y
-                                                                                     << " m, without "
-                                                                                     << without.centroid_y << " m");
-    CHECK(with.centroid_y >= 0.20);
-    CHECK(without.centroid_y < 0.10);
+    check_adhesion(PBF_BACKEND_CPU);
 }
 
 TEST_CASE("materials: viscosity dissipates the same energy at 2 and 8 substeps", "[materials]") {
-    const double loss2 = shear_loss(PBF_BACKEND_CPU, 0.2f, 2), loss8 = shear_loss(PBF_BACKEND_CPU, 0.2f, 8);
-    const double inviscid = shear_loss(PBF_BACKEND_CPU, 0.0f, 8);
-    INFO("energy lost in 0.25 s: " << loss2 << " at 2 substeps, " << loss8 << " at 8, " << inviscid << " without viscosity");
-    CHECK(std::fabs(loss2 - loss8) <= 0.1 * std::max(loss2, loss8));
-    CHECK(loss8 > inviscid + 0.1);  // the viscosity, not the solver, dissipates
+    check_viscosity_substeps(PBF_BACKEND_CPU);
 }
 
-TEST_CASE("materials: honey piles up where water spreads", "[materials][!shouldfail]") {
-    const Spread water = collapse(PBF_BACKEND_CPU, 0.01f, 0.5f), honey = collapse(PBF_BACKEND_CPU, 0.9f, 0.5f);
-    INFO("front after 0.5 s: water " << water.front << " m, honey " << honey.front << " m (column 0.2 m)");
-    CHECK(honey.front - 0.2 <= 0.5 * (water.front - 0.2));
-}
+TEST_CASE("materials: honey piles up where water spreads", "[materials][!shouldfail]") { check_honey(PBF_BACKEND_CPU); }
 
 // ---- API -----------------------------------------------------------------------------------------
 namespace {
