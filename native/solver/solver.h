@@ -240,6 +240,7 @@ public:
                            b.velocity, pos_, vel_, ids_, materials_, b.material};
             exec_.for_each(fit, op);
             commit_emission(fit);
+            materials_moved_ |= b.material != 0;
             bound_ = count + fit;
             // Keep the grid valid between API calls (stats and LDC rely on it).
             build_grid(s, false);
@@ -338,6 +339,7 @@ private:
                             nz.speed, ctx.dt, pos_, vel_, ids_, materials_, nz.material};
             exec_.for_each(nz.count, op);
             commit_emission(nz.count);
+            materials_moved_ |= nz.material != 0;
             bound_ = std::min<uint64_t>(config_.capacity, uint64_t(bound_) + nz.count);
         }
         for (const DrainBox& d : in.drains) {
@@ -445,11 +447,12 @@ private:
         Vec4*& second = by_predicted ? pred_ : vel_;
         Vec4*& free_slot = by_predicted ? vel_ : pred_;
         uint32_t*& id_out = order_[1 - order_sel];
-        // The materials go through the free key buffer (λ's denominators later) and back.
-        uint8_t* material_scratch = reinterpret_cast<uint8_t*>(keys_[1 - key_sel]);
+        // The materials go through the free key buffer (λ's denominators later) and back; while
+        // every particle is of the default material (all bytes 0) there is nothing to move.
+        uint8_t* material_scratch = materials_moved_ ? reinterpret_cast<uint8_t*>(keys_[1 - key_sel]) : nullptr;
         exec_.for_each(n, GatherOp{order_[order_sel], pos_, second, ids_, spare_, free_slot, id_out, materials_,
                                    material_scratch});
-        exec_.for_each(n, CopyMaterialsOp{material_scratch, materials_});
+        if (materials_moved_) exec_.for_each(n, CopyMaterialsOp{material_scratch, materials_});
         std::swap(pos_, spare_);
         std::swap(second, free_slot);
         std::swap(ids_, id_out);
@@ -535,6 +538,7 @@ private:
     bool grid_valid_ = true;
     bool density_valid_ = false;
     bool masks_valid_ = false;
+    bool materials_moved_ = false;  // a particle of another material than the default was emitted
 };
 
 }  // namespace pbf
