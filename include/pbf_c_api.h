@@ -104,6 +104,7 @@ PBF_API void PBF_CALL pbf_set_log_callback(pbf_log_fn callback, void* user_data)
 typedef struct pbf_world_id { uint32_t index; uint32_t generation; } pbf_world_id;
 typedef struct pbf_emitter_id { uint32_t index; uint32_t generation; } pbf_emitter_id;
 typedef struct pbf_collider_id { uint32_t index; uint32_t generation; } pbf_collider_id;
+typedef struct pbf_material_id { uint32_t index; uint32_t generation; } pbf_material_id;
 
 /* ---- Solver parameters -------------------------------------------------------------------- */
 typedef struct pbf_solver_params {
@@ -403,6 +404,8 @@ typedef struct pbf_block_desc {
     float box_min[3];
     float box_max[3];
     float velocity[3];          /* initial velocity (default 0) */
+    pbf_material_id material;   /* the particles' material; zeroed (default): the world's default
+                                   material */
 } pbf_block_desc;
 PBF_API pbf_result PBF_CALL pbf_block_desc_init(pbf_block_desc* desc, uint32_t struct_size);
 static inline pbf_block_desc pbf_block_desc_default(void) {
@@ -432,6 +435,8 @@ typedef struct pbf_emitter_desc {
     float particles_per_second; /* nozzle: (> 0) */
     float box_min[3];           /* drain volume */
     float box_max[3];
+    pbf_material_id material;   /* nozzle: the particles' material; zeroed (default): the world's
+                                   default material. A drain removes every material. */
 } pbf_emitter_desc;
 PBF_API pbf_result PBF_CALL pbf_emitter_desc_init(pbf_emitter_desc* desc, uint32_t struct_size);
 static inline pbf_emitter_desc pbf_emitter_desc_default(void) {
@@ -524,6 +529,59 @@ PBF_API pbf_result PBF_CALL pbf_collider_get_force(pbf_world_id world, pbf_colli
 /* The same forces in backend memory for engines that read them on the GPU:
  * pbf_world_map_collider_forces, below pbf_mapped_buffer. */
 
+/* ---- Fluid materials ---------------------------------------------------------------------- *
+ * A world holds up to PBF_MAX_MATERIALS materials; each particle carries the index of its
+ * material's handle in one byte (PBF_BUFFER_MATERIALS). Index 0 is the default material, which
+ * every world starts with: the world's rest_density and its solver parameters' xsph_c and
+ * ldc_gain (setting its viscosity or ldc_gain sets those; its rest density is the world's), no
+ * surface tension, cohesion or adhesion. A world that never creates a material runs exactly as
+ * before. README, "Materials", gives the model, units and approximations. */
+#define PBF_MAX_MATERIALS 8
+typedef struct pbf_material_desc {
+    uint32_t struct_size;
+    float rest_density;         /* kg/m³, 0.1..10 times the world's rest_density (default 1000).
+                                   Every particle has the world's volume (2·radius)³, so its mass is
+                                   rest_density · volume: lighter fluids float on heavier ones. */
+    float viscosity;            /* XSPH c per 1/60 s, 0..1 (default 0.01), as solver.xsph_c: the
+                                   same physical smoothing at any substep count */
+    float ldc_gain;             /* LDC strength for this material, as solver.ldc_gain, 0..1
+                                   (default 0.3; only with solver.ldc_enabled) */
+    float surface_tension;      /* σ, 1/s², 0..10000 (default 0: off): Akinci 2013's curvature
+                                   term between particles of this material */
+    float cohesion;             /* κ, 1/s², 0..10000 (default 0: off): Akinci 2013's cohesion
+                                   between particles of this material */
+    float adhesion;             /* β, 1/s², 0..10000 (default 0: off): pull towards walls and
+                                   colliders within h */
+    float color[4];             /* RGBA for renderers, each 0..1 (default 0.2, 0.45, 0.9, 1);
+                                   not used by the solver */
+    uint32_t user_id;           /* any value, for the engine (default 0) */
+    uint32_t reserved0;         /* 0 */
+} pbf_material_desc;
+PBF_API pbf_result PBF_CALL pbf_material_desc_init(pbf_material_desc* desc, uint32_t struct_size);
+static inline pbf_material_desc pbf_material_desc_default(void) {
+    pbf_material_desc d;
+    memset(&d, 0, sizeof d);
+    d.struct_size = (uint32_t)sizeof(pbf_material_desc);
+    (void)pbf_material_desc_init(&d, d.struct_size);
+    return d;
+}
+/* PBF_ERROR_CAPACITY when the world holds PBF_MAX_MATERIALS already. */
+PBF_API pbf_result PBF_CALL pbf_world_create_material(pbf_world_id world, const pbf_material_desc* desc,
+                                                      pbf_material_id* out_material);
+/* Refused with PBF_ERROR_INVALID_STATE for the default material, while an emitter uses the
+ * material, or while particles carry it (the call counts them: it waits for the last step). */
+PBF_API pbf_result PBF_CALL pbf_world_destroy_material(pbf_world_id world, pbf_material_id material);
+PBF_API pbf_result PBF_CALL pbf_world_get_material(pbf_world_id world, pbf_material_id material,
+                                                   pbf_material_desc* out_desc);
+/* New parameters from the next step on (particles keep their material). The default material's
+ * rest_density must stay the world's (PBF_ERROR_INVALID_ARGUMENT otherwise). */
+PBF_API pbf_result PBF_CALL pbf_world_set_material(pbf_world_id world, pbf_material_id material,
+                                                   const pbf_material_desc* desc);
+/* The handle of the material at each index (zeroed where none): out_materials[k] is the
+ * material of the particles whose PBF_BUFFER_MATERIALS byte is k. [0] is the default material. */
+PBF_API pbf_result PBF_CALL pbf_world_get_materials(pbf_world_id world,
+                                                    pbf_material_id out_materials[PBF_MAX_MATERIALS]);
+
 /* ---- Particles ---------------------------------------------------------------------------- */
 /* Storage order: the solver reorders particles every step (by grid cell). All copy-out calls
  * between two steps use the same order, so index k of positions, velocities and ids is one
@@ -553,6 +611,9 @@ typedef enum pbf_buffer {
     PBF_BUFFER_DIFFUSE_POSITIONS = 6,  /* 16 bytes per diffuse particle: float x, y, z, kind */
     PBF_BUFFER_DIFFUSE_VELOCITIES = 7, /* 16 bytes per diffuse particle: float vx, vy, vz,
                                           remaining lifetime (s). Both count diffuse_count. */
+    PBF_BUFFER_MATERIALS = 8,   /* 1 byte per particle: uint8_t, the index of its material's handle
+                                   (pbf_material_id.index; 0 = the default material). Copy-out and
+                                   pbf_device_buffers only: not into graphics buffers. */
     PBF_BUFFER_FORCE32 = 0x7FFFFFFF
 } pbf_buffer;
 /* Copies min(count, out_bytes / element size) particles of one buffer into out (element sizes
@@ -683,6 +744,7 @@ typedef struct pbf_device_buffers {
     const uint32_t* diffuse_count_device; /* the live diffuse count, in memory of kind `memory` */
     uint32_t diffuse_count;     /* live diffuse particles; PBF_COUNT_ON_DEVICE as count */
     uint32_t diffuse_capacity;  /* max_diffuse: elements behind each diffuse pointer */
+    void* materials;            /* uint8_t per particle (stride 1): PBF_BUFFER_MATERIALS */
 } pbf_device_buffers;
 
 /* Maps the live particle buffers without copying them. Read-only for the caller. Valid until

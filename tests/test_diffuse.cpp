@@ -358,7 +358,7 @@ TEST_CASE("diffuse: bad params, rows and buffers are refused, and nothing is los
         CHECK(written == 0u);
         CHECK_FAILS(pbf_world_copy_buffer(on, PBF_BUFFER_DIFFUSE_VELOCITIES, out.data(), 15, &written),
                     PBF_ERROR_INVALID_ARGUMENT, "element size 16");
-        CHECK_FAILS(pbf_world_copy_buffer(on, static_cast<pbf_buffer>(8), out.data(), 16, &written),
+        CHECK_FAILS(pbf_world_copy_buffer(on, static_cast<pbf_buffer>(9), out.data(), 16, &written),
                     PBF_ERROR_INVALID_ARGUMENT, "_DIFFUSE_VELOCITIES");
         CHECK(out[0] == -7.0f);
     }

@@ -209,7 +209,7 @@ TEST_CASE("validate: pbf_world_copy_buffer names the failed check", "[api][valid
     uint32_t written = 7;
     CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, static_cast<pbf_buffer>(0), out, sizeof out, &written), Check::COPY_SOURCE);
     CHECK(written == 0u);
-    CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, static_cast<pbf_buffer>(8), out, sizeof out, &written), Check::COPY_SOURCE);
+    CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, static_cast<pbf_buffer>(9), out, sizeof out, &written), Check::COPY_SOURCE);
     CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, PBF_BUFFER_POSITIONS, out, 20, &written), Check::COPY_OUT_SIZE);
     CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, PBF_BUFFER_ANISOTROPY, out, 32, &written), Check::COPY_OUT_SIZE);
     CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, PBF_BUFFER_IDS, out, 6, &written), Check::COPY_OUT_SIZE);
@@ -229,4 +229,44 @@ TEST_CASE("validate: pbf_world_add_diffuse names the failed check", "[api][valid
     pos[3] = PBF_DIFFUSE_FOAM;
     vel[3] = -1.0f;
     CHECK_REFUSED_BY(pbf_world_add_diffuse(w.id, pos, vel, 1, &added), Check::DIFFUSE_ROWS);
+}
+
+TEST_CASE("validate: material descs and handles name the failed check", "[api][validate][materials]") {
+    TestWorld w;
+    pbf_material_desc m = pbf_material_desc_default();
+    pbf_material_id id{};
+    auto with = [&](auto change) {
+        pbf_material_desc d = m;
+        change(d);
+        return pbf_world_create_material(w.id, &d, &id);
+    };
+    CHECK_REFUSED_BY(with([](pbf_material_desc& d) { d.rest_density = 20000.0f; }), Check::MATERIAL_REST_DENSITY);
+    CHECK_REFUSED_BY(with([](pbf_material_desc& d) { d.viscosity = 1.5f; }), Check::MATERIAL_VISCOSITY);
+    CHECK_REFUSED_BY(with([](pbf_material_desc& d) { d.ldc_gain = -1.0f; }), Check::MATERIAL_LDC_GAIN);
+    CHECK_REFUSED_BY(with([](pbf_material_desc& d) { d.surface_tension = kNaN; }), Check::MATERIAL_SURFACE_TENSION);
+    CHECK_REFUSED_BY(with([](pbf_material_desc& d) { d.cohesion = kInf; }), Check::MATERIAL_COHESION);
+    CHECK_REFUSED_BY(with([](pbf_material_desc& d) { d.adhesion = 2e4f; }), Check::MATERIAL_ADHESION);
+    CHECK_REFUSED_BY(with([](pbf_material_desc& d) { d.color[0] = -0.1f; }), Check::MATERIAL_COLOR);
+    CHECK_REFUSED_BY(with([](pbf_material_desc& d) { d.reserved0 = 3; }), Check::MATERIAL_RESERVED0);
+    pbf_material_id ids[PBF_MAX_MATERIALS];
+    REQUIRE(pbf_world_get_materials(w.id, ids) == PBF_OK);
+    CHECK_REFUSED_BY(pbf_world_destroy_material(w.id, ids[0]), Check::MATERIAL_DEFAULT_DESTROY);
+    pbf_material_desc other = m;
+    other.rest_density = 900.0f;
+    CHECK_REFUSED_BY(pbf_world_set_material(w.id, ids[0], &other), Check::MATERIAL_DEFAULT_DENSITY);
+    CHECK_REFUSED_BY(pbf_world_get_material(w.id, pbf_material_id{0, 0}, &other), Check::MATERIAL_HANDLE);
+    REQUIRE(pbf_world_create_material(w.id, &m, &id) == PBF_OK);
+    pbf_block_desc b = block(-0.1f, 0.0f, -0.1f, 0.1f, 0.2f, 0.1f);
+    b.material = id;
+    REQUIRE(pbf_world_emit_block(w.id, &b, nullptr) == PBF_OK);
+    CHECK_REFUSED_BY(pbf_world_destroy_material(w.id, id), Check::MATERIAL_IN_USE);
+    b.material = pbf_material_id{id.index, id.generation + 1};
+    CHECK_REFUSED_BY(pbf_world_emit_block(w.id, &b, nullptr), Check::MATERIAL_HANDLE);
+    // Bytes per particle are not copied into graphics buffers.
+    pbf_gl_buffer_desc gl = pbf_gl_buffer_desc_default();
+    gl.buffer = 1;
+    gl.capacity = 16;
+    gl.source = PBF_BUFFER_MATERIALS;
+    pbf_gl_buffer_id gl_id{};
+    CHECK_REFUSED_BY(pbf_world_register_gl_buffer(w.id, &gl, &gl_id), Check::COPY_SOURCE_GRAPHICS);
 }

@@ -120,6 +120,18 @@ PBF_API pbf_result PBF_CALL pbf_collider_desc_init(pbf_collider_desc* d, uint32_
     return PBF_OK;
 }
 
+PBF_API pbf_result PBF_CALL pbf_material_desc_init(pbf_material_desc* d, uint32_t struct_size) {
+    if (pbf_result r = start("pbf_material_desc_init", "pbf_material_desc", d, struct_size); r != PBF_OK) return r;
+    d->rest_density = 1000.0f;
+    d->viscosity = 0.01f;  // solver.xsph_c's default
+    d->ldc_gain = 0.3f;    // solver.ldc_gain's default
+    d->color[0] = 0.2f;
+    d->color[1] = 0.45f;
+    d->color[2] = 0.9f;
+    d->color[3] = 1.0f;
+    return PBF_OK;
+}
+
 // ---- interop descs ----------------------------------------------------------------------------
 PBF_API pbf_result PBF_CALL pbf_gl_buffer_desc_init(pbf_gl_buffer_desc* d, uint32_t struct_size) {
     if (pbf_result r = start("pbf_gl_buffer_desc_init", "pbf_gl_buffer_desc", d, struct_size); r != PBF_OK) return r;

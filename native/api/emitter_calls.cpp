@@ -6,6 +6,13 @@
 using pbf::api::fail;
 using pbf::api::guarded;
 
+namespace {
+// A desc's material: live, or zeroed (the default material).
+pbf::api::Verdict material_verdict(pbf::World& w, pbf_material_id m) {
+    return w.material_slot(m) >= 0 ? pbf::api::Verdict{} : pbf::api::Verdict{pbf::api::Check::MATERIAL_HANDLE};
+}
+}  // namespace
+
 extern "C" {
 
 PBF_API pbf_result PBF_CALL pbf_world_emit_block(pbf_world_id id, const pbf_block_desc* d, uint32_t* out_emitted) {
@@ -15,6 +22,7 @@ PBF_API pbf_result PBF_CALL pbf_world_emit_block(pbf_world_id id, const pbf_bloc
         PBF_CHECK_STRUCT(pbf_block_desc, d);
         PBF_VALIDATE(pbf::api::validate_block_desc(*d));
         PBF_LOCK_WORLD(w, id);
+        PBF_VALIDATE(material_verdict(*w, d->material));
         uint32_t emitted = 0;
         const pbf_result r = fail(w->emit_block(*d, &emitted));
         if (out_emitted) *out_emitted = emitted;
@@ -30,6 +38,7 @@ PBF_API pbf_result PBF_CALL pbf_world_create_emitter(pbf_world_id id, const pbf_
         PBF_CHECK_STRUCT(pbf_emitter_desc, d);
         PBF_VALIDATE(pbf::api::validate_emitter_desc(*d));
         PBF_LOCK_WORLD(w, id);
+        PBF_VALIDATE(material_verdict(*w, d->material));
         return fail(w->create_emitter(*d, out));
     });
 }

@@ -241,6 +241,7 @@ PBF_API pbf_result PBF_CALL pbf_world_map_device_buffers(pbf_world_id id, uint32
         r.diffuse_count_device = m.live.diffuse_count;
         r.diffuse_count = m.diffuse_count;
         r.diffuse_capacity = m.live.diffuse_capacity;
+        r.materials = m.live.materials;
         *out = r;
         return PBF_OK;
     });

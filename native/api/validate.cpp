@@ -31,7 +31,7 @@ bool finite_nonzero_quat(const float q[4]) {
 bool in(float v, float lo, float hi) { return std::isfinite(v) && v >= lo && v <= hi; }
 bool valid_source(const pbf_buffer& source) {
     const int32_t s = raw(source);
-    return s >= PBF_BUFFER_POSITIONS && s <= PBF_BUFFER_DIFFUSE_VELOCITIES;
+    return s >= PBF_BUFFER_POSITIONS && s <= PBF_BUFFER_MATERIALS;
 }
 bool valid_mode(pbf_copy_mode mode) {
     const int32_t m = raw(mode);
@@ -211,6 +211,7 @@ Verdict validate_collider_pose(const float position[3], const float rotation[4])
 Verdict validate_gl_buffer_desc(const pbf_gl_buffer_desc& d) {
     V(d.buffer != 0, GL_BUFFER_NAME);
     V(valid_source(d.source), COPY_SOURCE);
+    V(raw(d.source) != PBF_BUFFER_MATERIALS, COPY_SOURCE_GRAPHICS);
     V(valid_mode(d.mode), COPY_MODE);
     V(d.capacity > 0, COPY_CAPACITY);
     if (d.offset_bytes % element_alignment(d.source) != 0)
@@ -226,6 +227,7 @@ Verdict validate_external_buffer_desc(const pbf_external_buffer_desc& d) {
     else V(d.win32_handle != nullptr, HANDLE_WIN32);
     V(d.dedicated <= 1, EXTERNAL_DEDICATED);
     V(valid_source(d.source), COPY_SOURCE);
+    V(raw(d.source) != PBF_BUFFER_MATERIALS, COPY_SOURCE_GRAPHICS);
     V(valid_mode(d.mode), COPY_MODE);
     V(d.size_bytes > 0, EXTERNAL_SIZE);
     V(d.capacity > 0, COPY_CAPACITY);
@@ -257,6 +259,20 @@ Verdict validate_semaphore_desc(const pbf_semaphore_desc& d) {
 
 Verdict validate_external_sync(const pbf_external_sync& s) {
     V(s.reserved0 == 0, SYNC_RESERVED0);
+    return {};
+}
+
+Verdict validate_material_desc(const pbf_material_desc& d, float world_rest_density, bool is_default) {
+    if (is_default) V(d.rest_density == world_rest_density, MATERIAL_DEFAULT_DENSITY);
+    V(in(d.rest_density, 0.1f * world_rest_density, 10.0f * world_rest_density), MATERIAL_REST_DENSITY);
+    V(in(d.viscosity, 0.0f, 1.0f), MATERIAL_VISCOSITY);
+    V(in(d.ldc_gain, 0.0f, 1.0f), MATERIAL_LDC_GAIN);
+    V(in(d.surface_tension, 0.0f, 10000.0f), MATERIAL_SURFACE_TENSION);
+    V(in(d.cohesion, 0.0f, 10000.0f), MATERIAL_COHESION);
+    V(in(d.adhesion, 0.0f, 10000.0f), MATERIAL_ADHESION);
+    V(in(d.color[0], 0.0f, 1.0f) && in(d.color[1], 0.0f, 1.0f) && in(d.color[2], 0.0f, 1.0f) && in(d.color[3], 0.0f, 1.0f),
+      MATERIAL_COLOR);
+    V(d.reserved0 == 0, MATERIAL_RESERVED0);
     return {};
 }
 

@@ -25,9 +25,14 @@ int32_t raw(const E& e) {
 // Bytes per element of a copy source (uint32 ids, 3 vec4 of anisotropy, else one vec4), and the
 // alignment its destination offset needs (4 for ids, else 16).
 inline uint32_t element_bytes(pbf_buffer source) {
-    return raw(source) == PBF_BUFFER_IDS ? 4u : raw(source) == PBF_BUFFER_ANISOTROPY ? 48u : 16u;
+    return raw(source) == PBF_BUFFER_MATERIALS ? 1u
+           : raw(source) == PBF_BUFFER_IDS     ? 4u
+           : raw(source) == PBF_BUFFER_ANISOTROPY ? 48u
+                                               : 16u;
 }
-inline uint32_t element_alignment(pbf_buffer source) { return raw(source) == PBF_BUFFER_IDS ? 4u : 16u; }
+inline uint32_t element_alignment(pbf_buffer source) {
+    return raw(source) == PBF_BUFFER_MATERIALS ? 1u : raw(source) == PBF_BUFFER_IDS ? 4u : 16u;
+}
 
 // X(id, result code, message). {a} and {b} in a message stand for the verdict's two numbers.
 #define PBF_VALIDATE_CHECKS(X)                                                                                       \
@@ -122,7 +127,7 @@ inline uint32_t element_alignment(pbf_buffer source) { return raw(source) == PBF
     X(GL_BUFFER_NAME, PBF_ERROR_INVALID_ARGUMENT, "buffer must be a GL buffer object name (non-zero)")               \
     X(COPY_SOURCE, PBF_ERROR_INVALID_ARGUMENT,                                                                       \
       "source must be PBF_BUFFER_POSITIONS, _VELOCITIES, _IDS, _SMOOTHED_POSITIONS, _ANISOTROPY, "                  \
-      "_DIFFUSE_POSITIONS or _DIFFUSE_VELOCITIES")                                                                   \
+      "_DIFFUSE_POSITIONS, _DIFFUSE_VELOCITIES or _MATERIALS")                                                       \
     X(COPY_MODE, PBF_ERROR_INVALID_ARGUMENT, "mode must be PBF_COPY_ON_STEP, _ON_RENDER_EVENT or _MANUAL")           \
     X(COPY_CAPACITY, PBF_ERROR_INVALID_ARGUMENT, "capacity must be > 0")                                             \
     X(COPY_OFFSET_ALIGN, PBF_ERROR_INVALID_ARGUMENT, "offset_bytes must be a multiple of {a}")                       \
@@ -138,6 +143,25 @@ inline uint32_t element_alignment(pbf_buffer source) { return raw(source) == PBF
     X(DRAW_ARGS_RANGE, PBF_ERROR_INVALID_ARGUMENT, "draw_args_offset_bytes + 16 exceeds size_bytes")                 \
     X(DRAW_ARGS_OVERLAP, PBF_ERROR_INVALID_ARGUMENT, "the draw arguments overlap the particles")                     \
     X(SEMAPHORE_TYPE, PBF_ERROR_INVALID_ARGUMENT, "type must be a pbf_semaphore_type")                               \
+    X(COPY_SOURCE_GRAPHICS, PBF_ERROR_INVALID_ARGUMENT,                                                              \
+      "PBF_BUFFER_MATERIALS (1 byte per particle) is not copied into graphics buffers: read it with "              \
+      "pbf_world_copy_buffer or pbf_world_map_device_buffers")                                                       \
+    /* pbf_material_desc and material handles (issue 16) */                                                          \
+    X(MATERIAL_REST_DENSITY, PBF_ERROR_INVALID_ARGUMENT,                                                             \
+      "rest_density must be finite and 0.1..10 times the world's rest_density")                                      \
+    X(MATERIAL_DEFAULT_DENSITY, PBF_ERROR_INVALID_ARGUMENT,                                                          \
+      "the default material's rest_density is the world's rest_density and cannot change")                          \
+    X(MATERIAL_VISCOSITY, PBF_ERROR_INVALID_ARGUMENT, "viscosity must be 0..1")                                      \
+    X(MATERIAL_LDC_GAIN, PBF_ERROR_INVALID_ARGUMENT, "ldc_gain must be 0..1")                                        \
+    X(MATERIAL_SURFACE_TENSION, PBF_ERROR_INVALID_ARGUMENT, "surface_tension must be 0..10000 (1/s^2)")              \
+    X(MATERIAL_COHESION, PBF_ERROR_INVALID_ARGUMENT, "cohesion must be 0..10000 (1/s^2)")                            \
+    X(MATERIAL_ADHESION, PBF_ERROR_INVALID_ARGUMENT, "adhesion must be 0..10000 (1/s^2)")                            \
+    X(MATERIAL_COLOR, PBF_ERROR_INVALID_ARGUMENT, "color must be 0..1 in every channel")                             \
+    X(MATERIAL_RESERVED0, PBF_ERROR_INVALID_ARGUMENT, "material reserved0 must be 0")                                \
+    X(MATERIAL_HANDLE, PBF_ERROR_INVALID_HANDLE, "material is not live (destroyed, forged or of another world)")    \
+    X(MATERIAL_DEFAULT_DESTROY, PBF_ERROR_INVALID_STATE, "the default material cannot be destroyed")                 \
+    X(MATERIAL_IN_USE, PBF_ERROR_INVALID_STATE,                                                                      \
+      "the material is in use: {a} emitter(s) and {b} particle(s) carry it (destroy or retarget them first)")      \
     X(SYNC_RESERVED0, PBF_ERROR_INVALID_ARGUMENT, "sync.reserved0 must be 0")
 
 enum class Check : uint16_t {
@@ -181,6 +205,8 @@ Verdict validate_collider_pose(const float position[3], const float rotation[4])
 Verdict validate_gl_buffer_desc(const pbf_gl_buffer_desc& d);
 Verdict validate_external_buffer_desc(const pbf_external_buffer_desc& d);
 Verdict validate_semaphore_desc(const pbf_semaphore_desc& d);
+// pbf_material_desc against the world's rest density (is_default: the default material's desc).
+Verdict validate_material_desc(const pbf_material_desc& d, float world_rest_density, bool is_default);
 Verdict validate_external_sync(const pbf_external_sync& s);  // fields only; handles: the caller
 
 // Refuses the call: sets the thread's last check and error ("fn: message") and returns the

@@ -83,6 +83,22 @@ struct ColliderView {
     float impulse_scale = 0.0f;
 };
 
+// ---- fluid materials (issue 16) -------------------------------------------------------------
+// A world holds up to kMaxMaterials materials; each particle carries its slot as one byte
+// (slot 0 is the default material: the world's rest density and solver parameters). Eight keep
+// the table small enough to travel by value with every op, and the byte keeps a particle at
+// capacity within 128 B.
+constexpr uint32_t kMaxMaterials = 8;
+constexpr uint32_t kMaterialMultiphase = 1u;  // some material's rest density differs from slot 0's
+constexpr uint32_t kMaterialSurface = 2u;     // some material has surface tension, cohesion or adhesion
+struct MaterialConstants {
+    uint32_t flags;                       // kMaterial*; 0: the single-fluid passes, unchanged
+    float inv_mass[kMaxMaterials];        // w_k = ρ0_slot0 / ρ0_k: the inverse mass relative to slot 0
+    float surface_tension[kMaxMaterials]; // 1/s² (material_ops.h)
+    float cohesion[kMaxMaterials];        // 1/s²
+    float adhesion[kMaxMaterials];        // 1/s²
+};
+
 struct WorldConstants {
     // geometry and mass
     float radius;        // particle radius (collision distance to walls and colliders)
@@ -107,6 +123,7 @@ struct WorldConstants {
     float boundary_scale;  // γ: the half-space density integral scaled to the rest lattice
     GridDims grid;
     uint32_t capacity;
+    MaterialConstants materials;
 };
 
 // One substep: Δt and what depends on it. Built by the world for each substep it queues.
@@ -119,6 +136,11 @@ struct StepContext {
     float speed_limit;       // min(max_speed, the travel cap · h / Δt)
     ColliderView colliders;
     uint32_t* clamped;       // counts the particles whose speed a limit cut (backend memory)
+    // Materials: each particle's slot (backend memory, set by the solver), and the per-slot
+    // XSPH factor and LDC K of this substep (slot 0 uses xsph_c and ldc_k above).
+    const uint8_t* materials;
+    float material_xsph_c[kMaxMaterials];
+    float material_ldc_k[kMaxMaterials];
 };
 
 }  // namespace pbf

@@ -5,6 +5,7 @@
 #include "atomics.h"
 #include "collide.h"
 #include "grid.h"
+#include "material_ops.h"
 #include "sph.h"
 
 namespace pbf {
@@ -49,11 +50,14 @@ struct GatherOp {
     const uint32_t* id_in;
     Vec4 *a_out, *b_out;
     uint32_t* id_out;
+    const uint8_t* material_in = nullptr;  // the particles' material slots (null: none kept)
+    uint8_t* material_out = nullptr;
     PBF_HD void operator()(uint32_t i) const {
         const uint32_t src = order[i];
         a_out[i] = a_in[src];
         b_out[i] = b_in[src];
         id_out[i] = id_in[src];
+        if (material_out) material_out[i] = material_in[src];
     }
 };
 
@@ -186,11 +190,15 @@ struct PredictOp {
     NeighborMasks masks;  // the last substep's, while the particle order is unchanged; else null
     PBF_HD void operator()(uint32_t i) const {
         Vec3 accel = s.gravity;
-        if (s.ldc_enabled) accel += ldc_force(s, ctx.ldc_k, cell_begin, positions, density, i, masks);
+        const uint32_t m = material_of(ctx, i);
+        // LDC's push is a force per particle: a multiphase world divides it by the particle's mass.
+        if (s.ldc_enabled)
+            accel += ldc_force(s, material_ldc_k(ctx, m), cell_begin, positions, density, i, masks) * inverse_mass(s, ctx, i);
         const Vec3 x = xyz(positions[i]);
         const Vec3 v = limit_speed(ctx, xyz(velocities[i]) + accel * ctx.dt);
         velocities[i] = make_vec4(v, 0.0f);
-        predicted[i] = make_vec4(collide(s, ctx.colliders, x + v * ctx.dt, x), 0.0f);
+        const ColliderView cv = colliders_for_mass(ctx.colliders, inverse_mass(s, ctx, i));
+        predicted[i] = make_vec4(collide(s, cv, x + v * ctx.dt, x), 0.0f);
     }
 };
 
@@ -222,6 +230,8 @@ struct LambdaOp {
             float sum_grad2 = 0.0f;
             Vec3 grad_i{0.0f, 0.0f, 0.0f};
             const float scale = s.mass * s.inv_rest_density;
+            // Multiphase: each particle's share of the correction weighted by its inverse mass.
+            const bool multiphase = s.materials.flags & kMaterialMultiphase;
             auto visit = [&](uint32_t j) {
                 const Vec3 d = xi - xyz(predicted[j]);
                 const float r2 = length_sq(d);
@@ -230,14 +240,16 @@ struct LambdaOp {
                 if (j == i) return;
                 const Vec3 g = pair_gradient(d, r2, s.h, s.spiky_coef, i, j) * scale;
                 grad_i += g;
-                sum_grad2 += length_sq(g);
+                sum_grad2 += multiphase ? length_sq(g) * inverse_mass(s, ctx, j) : length_sq(g);
             };
             if (record) for_each_neighbor_recording(s.grid, cell_begin, predicted, s.h2, masks, i, xi, visit);
             else for_each_listed_neighbor(s.grid, cell_begin, masks, i, visit);
             // The walls' and colliders' density moves with x_i too (they carry no λ of their own).
             const BoundarySample b = boundary_at(s, ctx.colliders, xi);
             boundary = b.density_ratio;
-            denom = (1.0f + ctx.error_damping) * (sum_grad2 + length_sq(grad_i + b.gradient)) + ctx.lambda_epsilon;
+            const float self = length_sq(grad_i + b.gradient);
+            denom = (1.0f + ctx.error_damping) * (sum_grad2 + (multiphase ? self * inverse_mass(s, ctx, i) : self)) +
+                    ctx.lambda_epsilon;
             if (denominator) denominator[i] = denom;
         } else {
             for_each_listed_neighbor(s.grid, cell_begin, masks, i, [&](uint32_t j) {
@@ -314,8 +326,12 @@ struct DeltaOp {
             });
             // The boundary's share of ∇C_i, weighted by λ_i alone (the boundary has no λ).
             dp = dp * (s.mass * s.inv_rest_density) + boundary_at(s, ctx.colliders, xi).gradient * lambda_i;
-            record_boundary_push(s, ctx.colliders, xi, lambda_i);
-            c = collide(s, ctx.colliders, xi + dp, xyz(positions[i]));
+            // Multiphase: Δx_i = w_i ∇_i C λ, and the colliders feel particle i's own mass.
+            const float w_i = inverse_mass(s, ctx, i);
+            const ColliderView cv = colliders_for_mass(ctx.colliders, w_i);
+            if (s.materials.flags & kMaterialMultiphase) dp = dp * w_i;
+            record_boundary_push(s, cv, xi, lambda_i);
+            c = collide(s, cv, xi + dp, xyz(positions[i]));
         }
         if (finish_positions) {
             const Vec3 v = limit_speed(ctx, (c - xyz(positions[i])) * ctx.inv_dt);
@@ -357,7 +373,7 @@ struct VorticityXsphOp {
             xsph += vij * (poly6(r2, s.h2, s.poly6_coef) * vol);
         });
         omega[i] = make_vec4(w, length(w));
-        velocities_out[i] = make_vec4(vi + xsph * ctx.xsph_c, 0.0f);
+        velocities_out[i] = make_vec4(vi + xsph * material_xsph_c(ctx, material_of(ctx, i)), 0.0f);
     }
 };
 
@@ -412,6 +428,8 @@ struct EmitBlockOp {
     Vec3 velocity;
     Vec4 *positions, *velocities;
     uint32_t* ids;
+    uint8_t* materials = nullptr;  // null: the solver keeps none
+    uint8_t material = 0;
     PBF_HD void operator()(uint32_t k) const {
         const uint32_t slot = *count + k;
         if (slot >= capacity) return;
@@ -420,6 +438,7 @@ struct EmitBlockOp {
         positions[slot] = make_vec4(origin + Vec3{ix * spacing, iy * spacing, iz * spacing}, 1.0f);
         velocities[slot] = make_vec4(velocity, 0.0f);
         ids[slot] = particle_id(*next_id, k);
+        if (materials) materials[slot] = material;
     }
 };
 
@@ -436,6 +455,8 @@ struct EmitNozzleOp {
     float radius, speed, dt;
     Vec4 *positions, *velocities;
     uint32_t* ids;
+    uint8_t* materials = nullptr;
+    uint8_t material = 0;
     PBF_HD void operator()(uint32_t k) const {
         const uint32_t slot = *count + k;
         if (slot >= capacity) return;
@@ -447,6 +468,7 @@ struct EmitNozzleOp {
         positions[slot] = make_vec4(p, 1.0f);
         velocities[slot] = make_vec4(direction * speed, 0.0f);
         ids[slot] = particle_id(*next_id, k);
+        if (materials) materials[slot] = material;
     }
 };
 

@@ -23,6 +23,7 @@ struct NozzleEmission {
     uint32_t disc_points;
     Vec3 center, direction, tangent, bitangent;
     float radius, speed;
+    uint8_t material = 0;   // the particles' material slot
 };
 
 struct DrainBox {
@@ -78,6 +79,7 @@ struct BlockEmission {
     float spacing;
     uint32_t nx, ny, nz;
     Vec3 velocity;
+    uint8_t material = 0;  // the particles' material slot
 };
 
 // Stages of a step, for pbf_bench's per-stage table (profiling on: the step is timed stage by
@@ -95,6 +97,7 @@ enum Stage : int {
     kStageDensityEnd,
     kStageRender,  // render data (only in worlds that ask for it)
     kStageDiffuse,  // diffuse particles (only in worlds with a diffuse capacity)
+    kStageMaterialForces,  // surface tension, cohesion, adhesion (only in worlds that use them)
     kStageCount
 };
 const char* stage_name(int stage);
@@ -109,6 +112,7 @@ struct LiveBuffers {
     uint32_t* ids = nullptr;
     void* smoothed_positions = nullptr;  // Vec4 x̄, ȳ, z̄, density ratio; null when not computed
     void* anisotropy = nullptr;          // 3 Vec4 per particle (axis, radius); null when not computed
+    uint8_t* materials = nullptr;     // one byte per particle: its material slot
     const uint32_t* count = nullptr;  // the live count, in the same memory
     uint32_t capacity = 0;
     int32_t cuda_device = -1;         // -1 on the CPU
@@ -130,6 +134,7 @@ inline const void* live_buffer(const LiveBuffers& b, pbf_buffer source) {
         case PBF_BUFFER_ANISOTROPY: return b.anisotropy;
         case PBF_BUFFER_DIFFUSE_POSITIONS: return b.diffuse_positions;
         case PBF_BUFFER_DIFFUSE_VELOCITIES: return b.diffuse_velocities;
+        case PBF_BUFFER_MATERIALS: return b.materials;
         default: return nullptr;
     }
 }
@@ -140,9 +145,12 @@ inline bool is_diffuse_buffer(pbf_buffer source) {
 inline const uint32_t* live_count(const LiveBuffers& b, pbf_buffer source) {
     return is_diffuse_buffer(source) ? b.diffuse_count : b.count;
 }
-// Bytes per particle of source: 4 (ids), 48 (anisotropy) or 16.
+// Bytes per particle of source: 1 (materials), 4 (ids), 48 (anisotropy) or 16.
 inline uint32_t buffer_element_bytes(pbf_buffer source) {
-    return source == PBF_BUFFER_IDS ? 4u : source == PBF_BUFFER_ANISOTROPY ? 48u : 16u;
+    return source == PBF_BUFFER_MATERIALS ? 1u
+           : source == PBF_BUFFER_IDS     ? 4u
+           : source == PBF_BUFFER_ANISOTROPY ? 48u
+                                          : 16u;
 }
 
 struct BackendConfig {

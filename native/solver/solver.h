@@ -85,6 +85,7 @@ public:
         pred_ = vec4_[2];
         spare_ = vec4_[3];
         alloc(ids_, n);
+        alloc(materials_, n);  // 1 B per particle; the sort's gather borrows a free key buffer
         for (int b = 0; b < 2; ++b) {
             alloc(keys_[b], n);
             alloc(order_[b], n);
@@ -129,6 +130,7 @@ public:
         // particles) compute nothing undefined; all counters start at zero.
         for (Vec4* b : vec4_) exec_.zero(b, n * sizeof(Vec4));
         exec_.zero(ids_, n * sizeof(uint32_t));
+        exec_.zero(materials_, n);
         for (int b = 0; b < 2; ++b) {
             exec_.zero(keys_[b], n * sizeof(uint32_t));
             exec_.zero(order_[b], n * sizeof(uint32_t));
@@ -182,6 +184,7 @@ public:
                 view.impulse_scale = s.mass * sub.ctx.inv_dt;
             }
             sub.ctx.clamped = &counters_->speed_clamps;
+            sub.ctx.materials = materials_;
             substep(s, sub);
         }
         // Between steps the colliders stand at the step's end poses.
@@ -252,9 +255,10 @@ public:
         const uint32_t fit = uint32_t(std::min<uint64_t>(requested, config_.capacity - count));
         if (fit > 0) {
             EmitBlockOp op{&counters_->count, &counters_->next_id, config_.capacity, b.origin, b.spacing, b.nx, b.ny,
-                           b.velocity, pos_, vel_, ids_};
+                           b.velocity, pos_, vel_, ids_, materials_, b.material};
             exec_.for_each(fit, op);
             commit_emission(fit);
+            materials_moved_ |= b.material != 0;
             bound_ = count + fit;
             // Keep the grid valid between API calls (stats and LDC rely on it).
             build_grid(s, false);
@@ -355,6 +359,7 @@ public:
         b.positions = pos_;
         b.velocities = vel_;
         b.ids = ids_;
+        b.materials = materials_;
         b.smoothed_positions = smoothed_;
         b.anisotropy = anisotropy_;
         b.count = &counters_->count;
@@ -394,9 +399,10 @@ private:
             if (nz.count == 0) continue;
             EmitNozzleOp op{&counters_->count, &counters_->next_id, config_.capacity, nz.count, nz.sequence,
                             nz.disc_points, nz.center, nz.direction, nz.tangent, nz.bitangent, nz.radius,
-                            nz.speed, ctx.dt, pos_, vel_, ids_};
+                            nz.speed, ctx.dt, pos_, vel_, ids_, materials_, nz.material};
             exec_.for_each(nz.count, op);
             commit_emission(nz.count);
+            materials_moved_ |= nz.material != 0;
             bound_ = std::min<uint64_t>(config_.capacity, uint64_t(bound_) + nz.count);
         }
         for (const DrainBox& d : in.drains) {
@@ -413,6 +419,14 @@ private:
             exec_.profile_mark(kStageDensityX);
             if (!density_valid_)
                 exec_.for_each(bound_, DensityOp{s, ctx.colliders, cell_begin_, pos_, density_, valid_masks()});
+        }
+        // 1b. surface tension, cohesion and adhesion (material_ops.h) at the current positions.
+        if (s.materials.flags & kMaterialSurface) {
+            exec_.profile_mark(kStageMaterialForces);
+            if (!grid_valid_) build_grid(s, false);
+            // pred_ and spare_ are free until the prediction: the normals live in spare_.
+            exec_.for_each(bound_, SurfaceNormalOp{s, ctx, cell_begin_, valid_masks(), pos_, spare_});
+            exec_.for_each(bound_, SurfaceForceOp{s, ctx, cell_begin_, valid_masks(), pos_, spare_, vel_});
         }
         exec_.profile_mark(kStageForcesPredict);
         // 2. forces (gravity + LDC), predict x*.
@@ -446,7 +460,7 @@ private:
         }
         masks_valid_ = true;  // recorded by the first λ pass
         // 5. vorticity confinement and XSPH.
-        if (s.vorticity_epsilon > 0.0f || ctx.xsph_c > 0.0f) {
+        if (s.vorticity_epsilon > 0.0f || any_viscosity(ctx)) {
             // x* now lives in x: pred_ and spare_ are free until the next substep.
             Vec4* omega = spare_;
             exec_.profile_mark(kStageVorticity);
@@ -526,7 +540,12 @@ private:
         Vec4*& second = by_predicted ? pred_ : vel_;
         Vec4*& free_slot = by_predicted ? vel_ : pred_;
         uint32_t*& id_out = order_[1 - order_sel];
-        exec_.for_each(n, GatherOp{order_[order_sel], pos_, second, ids_, spare_, free_slot, id_out});
+        // The materials go through the free key buffer (λ's denominators later) and back; while
+        // every particle is of the default material (all bytes 0) there is nothing to move.
+        uint8_t* material_scratch = materials_moved_ ? reinterpret_cast<uint8_t*>(keys_[1 - key_sel]) : nullptr;
+        exec_.for_each(n, GatherOp{order_[order_sel], pos_, second, ids_, spare_, free_slot, id_out, materials_,
+                                   material_scratch});
+        if (materials_moved_) exec_.for_each(n, CopyMaterialsOp{material_scratch, materials_});
         std::swap(pos_, spare_);
         std::swap(second, free_slot);
         std::swap(ids_, id_out);
@@ -556,6 +575,7 @@ private:
         // The role pointers (pos_, ids_, ...) alias the arrays: release each array once.
         for (Vec4* b : vec4_) exec_.release(b);
         exec_.release(ids_);
+        exec_.release(materials_);
         for (int b = 0; b < 2; ++b) {
             exec_.release(keys_[b]);
             exec_.release(order_[b]);
@@ -587,6 +607,7 @@ private:
     Vec4* pred_ = nullptr;
     Vec4* spare_ = nullptr;
     uint32_t* ids_ = nullptr;  // rotates with the sort's value buffers
+    uint8_t* materials_ = nullptr;  // each particle's material slot (fixed: the gather copies back)
     uint32_t* keys_[2] = {};
     uint32_t* order_[2] = {};
     const uint32_t* sorted_keys_ = nullptr;  // the cell of each particle at the last grid build
@@ -621,6 +642,7 @@ private:
     bool grid_valid_ = true;
     bool density_valid_ = false;
     bool masks_valid_ = false;
+    bool materials_moved_ = false;  // a particle of another material than the default was emitted
 };
 
 }  // namespace pbf

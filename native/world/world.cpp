@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "../core/collide.h"
+#include "../core/material_ops.h"
 #include "../core/sph.h"
 
 namespace pbf {
@@ -154,6 +155,7 @@ std::unique_ptr<World> World::create(const pbf_world_desc& desc, Status* status)
     if (kind == PBF_BACKEND_AUTO) kind = cuda_device_available(desc.cuda_device) ? PBF_BACKEND_CUDA : PBF_BACKEND_CPU;
     w->backend_ = kind == PBF_BACKEND_CUDA ? create_cuda_backend(config, status) : create_cpu_backend(config, status);
     if (!w->backend_) return nullptr;
+    w->init_materials();
     w->update_constants();
     return w;
 }
@@ -191,6 +193,7 @@ void World::update_constants() {
     s.boundary_scale = boundary_scale_;
     s.grid = grid_;
     s.capacity = desc_.max_particles;
+    s.materials = material_constants();
 }
 
 // A substep of sub_dt: everything that depends on Δt.
@@ -207,11 +210,12 @@ StepContext World::step_context(float sub_dt) const {
     c.ldc_k = params_.ldc_gain / (sub_dt * sub_dt + tau * tau);
     // XSPH's c is per 1/60 s: a substep of Δt applies 1 - (1 - c)^(60 Δt), so the smoothing per
     // second does not depend on the substep count.
-    c.xsph_c = params_.xsph_c >= 1.0f ? 1.0f : 1.0f - std::pow(1.0f - params_.xsph_c, 60.0f * sub_dt);
+    c.xsph_c = xsph_factor(params_.xsph_c, sub_dt);
     // No particle may move more than h in a substep (kTravelCap): beyond that a few iterations
     // cannot resolve the compression it creates.
     constexpr float kTravelCap = 1.0f;
     c.speed_limit = std::fmin(params_.max_speed, kTravelCap * h_ / sub_dt);
+    material_step_context(sub_dt, &c);
     return c;
 }
 
@@ -241,6 +245,8 @@ uint32_t World::substeps_for(float dt) {
     if (g > 0.0) n = std::max(n, std::ceil(dt * std::sqrt(64.0 * g / travel) - 1e-6));
     const double depth = std::fmax(fb.fluid_depth, emitted_depth_);
     if (g > 0.0 && depth > 0.0) n = std::max(n, std::ceil(dt * depth_substep_rate(g, depth) - 1e-6));
+    // Surface tension, cohesion and adhesion are explicit forces: Δt within their stability caps.
+    n = std::max(n, std::ceil(double(dt) * surface_substep_rate(constants_.materials) - 1e-6));
     return static_cast<uint32_t>(std::clamp(n, 1.0, double(params_.max_substeps)));
 }
 
@@ -318,7 +324,8 @@ Status World::step(float dt) {
             // Clamped before the conversion: a huge (finite) radius makes this Inf.
             const float area_points = std::fmin(kPi * e.desc.radius * e.desc.radius / (spacing * spacing), 4.0e9f);
             NozzleEmission ne{n, e.sequence, std::max(1u, static_cast<uint32_t>(area_points)),
-                              to_vec3(e.desc.position), dir, t, b, e.desc.radius, e.desc.speed};
+                              to_vec3(e.desc.position), dir, t, b, e.desc.radius, e.desc.speed,
+                              static_cast<uint8_t>(std::max(0, material_slot(e.desc.material)))};
             e.sequence += n;
             in.nozzles.push_back(ne);
         });
@@ -434,6 +441,7 @@ Status World::emit_block(const pbf_block_desc& d, uint32_t* emitted) {
     b.spacing = static_cast<float>(s);
     b.origin = Vec3{float(origin[0]), float(origin[1]), float(origin[2])};
     b.velocity = to_vec3(d.velocity);
+    b.material = static_cast<uint8_t>(material_slot(d.material));  // validated: live or zeroed
     if (uint64_t(b.nx) * b.ny * b.nz > desc_.max_particles) {
         // Emit what fits: the lattice is filled x-first, so whole layers in z are kept.
         b.nz = std::max<uint32_t>(1, desc_.max_particles / (b.nx * uint64_t(b.ny)) + 1);

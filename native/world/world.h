@@ -22,6 +22,13 @@ struct EmitterEntry {
     uint32_t sequence = 0;
 };
 
+// A material slot (issue 16; world_materials.cpp). Slot 0 is the default material.
+struct MaterialSlot {
+    pbf_material_desc desc{};
+    uint32_t generation = 0;
+    bool alive = false;
+};
+
 // Mass and ε scale for a rest lattice, so that a lattice at rest spacing has rest density.
 struct LatticeCalibration {
     double kernel_sum;      // Σ_j W_poly6(|x_j|) over the lattice around one particle (incl. itself)
@@ -35,6 +42,8 @@ float boundary_lattice_scale(float spacing, float h);
 // The eigenvalue (m²) of the render covariance of a rest lattice around one particle (isotropic
 // by the lattice's symmetry): the reference the render scale k_s is given against.
 double rest_render_variance(float spacing, float h);
+// XSPH's factor for a substep of sub_dt from c per 1/60 s: 1 - (1 - c)^(60 Δt).
+float xsph_factor(float c, float sub_dt);
 // The render pass's constants from the desc's render params.
 RenderConstants render_constants(const pbf_render_params& p, float radius, float h);
 // The diffuse pass's constants from the desc's diffuse params (world_diffuse.cpp).
@@ -80,6 +89,17 @@ public:
     const void* collider_force_table() const { return backend_->collider_force_table(); }
     uint32_t max_colliders() const { return desc_.max_colliders; }
     ColliderEntry* find_collider(pbf_collider_id id) { return colliders_.find(id.index, id.generation); }
+
+    // ---- materials (world_materials.cpp); descs arrive validated -------------------------------
+    // The slot of a live material handle, 0 for a zeroed one (the default material), -1 otherwise.
+    int material_slot(pbf_material_id id) const;
+    float rest_density() const { return desc_.rest_density; }
+    Status create_material(const pbf_material_desc& desc, pbf_material_id* out);
+    // INVALID_STATE for the default material; *emitters / *particles: the users found (then refused).
+    Status destroy_material(pbf_material_id id, uint32_t* emitters, uint32_t* particles);
+    Status get_material(pbf_material_id id, pbf_material_desc* out) const;
+    Status set_material(pbf_material_id id, const pbf_material_desc& desc);
+    void material_handles(pbf_material_id out[kMaxMaterials]) const;
 
     Status particle_count(uint32_t* count) { return backend_->particle_count(count); }
     Status copy_positions(float* out, uint32_t max, uint32_t* written) {
@@ -148,6 +168,9 @@ public:
 private:
     World() = default;
     void update_constants();
+    void init_materials();
+    MaterialConstants material_constants();  // also keeps the default material's desc in step
+    void material_step_context(float sub_dt, StepContext* c) const;
     Status check_nozzle(const pbf_emitter_desc& d, Vec3 position) const;
     static void set_nozzle_direction(pbf_emitter_desc& d, Vec3 direction);
     uint32_t substeps_for(float dt);
@@ -169,6 +192,7 @@ private:
     std::unique_ptr<Backend> backend_;
     SlotTable<EmitterEntry> emitters_;
     SlotTable<ColliderEntry> colliders_;
+    MaterialSlot materials_[kMaxMaterials];
     uint64_t step_index_ = 0;
     uint32_t last_iterations_ = 0;
     uint32_t last_substeps_ = 0;

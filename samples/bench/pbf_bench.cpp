@@ -32,6 +32,9 @@ struct Config {
     pbf_backend backend;
     uint32_t render;  // 1: smoothed positions and anisotropy each step (pbf_render_params)
     uint32_t diffuse;  // diffuse capacity (pbf_diffuse_params.max_diffuse); 0: off
+    uint32_t materials = 1;  // 2: two fluids (the default and one of half its density), both with
+                             // surface tension and cohesion (issue 16)
+    float surface_tension = 0, cohesion = 0;
 };
 
 struct Result {
@@ -94,13 +97,32 @@ Result run(const Config& c, int warmup, int steps, bool stages) {
     pbf_block_desc b = pbf_block_desc_default();
     if (dam) set3(b.box_max, a, 2 * a, 0.5f * a);
     else set3(b.box_max, 2 * a, a, a);
-    uint32_t emitted = 0;
-    if (pbf_world_emit_block(w, &b, &emitted) != PBF_OK) {
+    uint32_t emitted = 0, second = 0;
+    bool ok = true;
+    if (c.materials == 2) {
+        // The fluid in two halves along x: the default material and a second of half its
+        // density, both with surface tension and cohesion.
+        pbf_material_id ids[PBF_MAX_MATERIALS];
+        pbf_material_desc m = pbf_material_desc_default();
+        ok = pbf_world_get_materials(w, ids) == PBF_OK && pbf_world_get_material(w, ids[0], &m) == PBF_OK;
+        m.surface_tension = c.surface_tension;
+        m.cohesion = c.cohesion;
+        ok = ok && pbf_world_set_material(w, ids[0], &m) == PBF_OK;
+        m.rest_density *= 0.5f;
+        ok = ok && pbf_world_create_material(w, &m, &b.material) == PBF_OK;
+        const float half = 0.5f * b.box_max[0];
+        pbf_block_desc first = b;
+        first.material = pbf_material_id{0, 0};
+        first.box_max[0] = half;
+        b.box_min[0] = half;
+        ok = ok && pbf_world_emit_block(w, &first, &second) == PBF_OK;
+    }
+    if (!ok || pbf_world_emit_block(w, &b, &emitted) != PBF_OK) {
         r.error = pbf_last_error_message();
         pbf_world_destroy(w);
         return r;
     }
-    r.count = emitted;
+    r.count = emitted + second;
     if (stages) pbf_world_set_profiling(w, 1);
 
     pbf_step_stats s;
@@ -144,6 +166,8 @@ int main(int argc, char** argv) {
                 ldcs = "0,1", renders = "0", diffuses = "0", csv_path;
     int steps = 100, warmup = 20;
     bool stages = false;
+    std::string materials = "1";
+    float surface_tension = 100.0f, cohesion = 100.0f;
     CLI::App app{"pbf_bench: time full solver steps (pbf_world_step, one substep) on either backend, for "
                  "docs/perf.md. Every combination of the comma-separated lists below is run; a Markdown table goes "
                  "to stdout.",
@@ -160,6 +184,11 @@ int main(int argc, char** argv) {
                    "diffuse capacities: 0 (off) or max_diffuse (spray, foam and bubbles each step; comma-separated)");
     app.add_option("--steps", steps, "timed steps per configuration (>= 1)")->check(CLI::Range(1, 1 << 30));
     app.add_option("--warmup", warmup, "untimed steps before them (>= 0)")->check(CLI::Range(0, 1 << 30));
+    app.add_option("--materials", materials,
+                   "1: one fluid (no surface forces); 2: two fluids of 1000 and 500 kg/m3, both with surface "
+                   "tension and cohesion (comma-separated)");
+    app.add_option("--surface-tension", surface_tension, "with --materials 2: surface tension, 1/s^2 (default 100)");
+    app.add_option("--cohesion", cohesion, "with --materials 2: cohesion, 1/s^2 (default 100)");
     app.add_flag("--stages", stages, "per-stage times (profiled run; stage marks add a little overhead)");
     app.add_option("--csv", csv_path, "also write the results, with per-stage columns, to this CSV file");
     try {
@@ -192,12 +221,15 @@ int main(int argc, char** argv) {
                 for (const std::string& it : split_list(iterations))
                     for (const std::string& l : split_list(ldcs))
                         for (const std::string& rd : split_list(renders))
-                        for (const std::string& df : split_list(diffuses)) {
+                        for (const std::string& df : split_list(diffuses))
+                            for (const std::string& mt : split_list(materials)) {
                         const Config c{scene, uint32_t(std::strtoul(n.c_str(), nullptr, 10)),
                                        uint32_t(std::atoi(it.c_str())), uint32_t(std::atoi(l.c_str())), backend,
-                                       uint32_t(std::atoi(rd.c_str())), uint32_t(std::strtoul(df.c_str(), nullptr, 10))};
+                                       uint32_t(std::atoi(rd.c_str())), uint32_t(std::strtoul(df.c_str(), nullptr, 10)),
+                                       uint32_t(std::atoi(mt.c_str())), surface_tension, cohesion};
                         const Result r = run(c, warmup, steps, stages);
-                        const char* bname = backend == PBF_BACKEND_CUDA ? "cuda" : "cpu";
+                        const char* bname = c.materials == 2 ? (backend == PBF_BACKEND_CUDA ? "cuda, 2 mat" : "cpu, 2 mat")
+                                                             : (backend == PBF_BACKEND_CUDA ? "cuda" : "cpu");
                         if (!r.ok) {
                             std::printf("| %s | %u | %u | %u | %u | %u | %s | - | failed: %s |\n", scene.c_str(),
                                         c.particles, c.iterations, c.ldc, c.render, c.diffuse, bname, r.error.c_str());
@@ -227,8 +259,8 @@ int main(int argc, char** argv) {
         for (uint32_t k = 0; k < stage_count(); ++k) std::printf("---|");
         std::printf("\n");
         for (const auto& [c, r] : staged) {
-            std::printf("| %s %u it%u ldc%u render%u diffuse%u %s |", c.scene.c_str(), r.count, c.iterations, c.ldc,
-                        c.render, c.diffuse, c.backend == PBF_BACKEND_CUDA ? "cuda" : "cpu");
+            std::printf("| %s %u it%u ldc%u render%u diffuse%u mat%u %s |", c.scene.c_str(), r.count, c.iterations,
+                        c.ldc, c.render, c.diffuse, c.materials, c.backend == PBF_BACKEND_CUDA ? "cuda" : "cpu");
             for (uint32_t k = 0; k < stage_count(); ++k) std::printf(" %.3f |", r.stage_ms[k]);
             std::printf("\n");
         }

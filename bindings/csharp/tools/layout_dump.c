@@ -91,6 +91,7 @@ int main(void) {
     ENUM(pbf_buffer, PBF_BUFFER_ANISOTROPY);
     ENUM(pbf_buffer, PBF_BUFFER_DIFFUSE_POSITIONS);
     ENUM(pbf_buffer, PBF_BUFFER_DIFFUSE_VELOCITIES);
+    ENUM(pbf_buffer, PBF_BUFFER_MATERIALS);
     ENUM(pbf_buffer, PBF_BUFFER_FORCE32);
 
     ENUM(pbf_copy_mode, PBF_COPY_ON_STEP);
@@ -248,6 +249,7 @@ int main(void) {
     FIELD(pbf_block_desc, box_min);
     FIELD(pbf_block_desc, box_max);
     FIELD(pbf_block_desc, velocity);
+    FIELD(pbf_block_desc, material);
 
     STRUCT(pbf_emitter_desc);
     FIELD(pbf_emitter_desc, struct_size);
@@ -260,6 +262,23 @@ int main(void) {
     FIELD(pbf_emitter_desc, particles_per_second);
     FIELD(pbf_emitter_desc, box_min);
     FIELD(pbf_emitter_desc, box_max);
+    FIELD(pbf_emitter_desc, material);
+
+    STRUCT(pbf_material_id);
+    FIELD(pbf_material_id, index);
+    FIELD(pbf_material_id, generation);
+
+    STRUCT(pbf_material_desc);
+    FIELD(pbf_material_desc, struct_size);
+    FIELD(pbf_material_desc, rest_density);
+    FIELD(pbf_material_desc, viscosity);
+    FIELD(pbf_material_desc, ldc_gain);
+    FIELD(pbf_material_desc, surface_tension);
+    FIELD(pbf_material_desc, cohesion);
+    FIELD(pbf_material_desc, adhesion);
+    FIELD(pbf_material_desc, color);
+    FIELD(pbf_material_desc, user_id);
+    FIELD(pbf_material_desc, reserved0);
 
     STRUCT(pbf_collider_desc);
     FIELD(pbf_collider_desc, struct_size);
@@ -324,6 +343,7 @@ int main(void) {
     FIELD(pbf_device_buffers, diffuse_count_device);
     FIELD(pbf_device_buffers, diffuse_count);
     FIELD(pbf_device_buffers, diffuse_capacity);
+    FIELD(pbf_device_buffers, materials);
 
     STRUCT(pbf_gl_buffer_desc);
     FIELD(pbf_gl_buffer_desc, struct_size);

@@ -270,6 +270,9 @@ namespace Pbf
         public Vector3 BoxMax { get { return Convert3.FromNative(_raw.box_max); } set { _raw.box_max = Convert3.ToNative(value); } }
         /// <summary>Initial velocity (default 0).</summary>
         public Vector3 Velocity { get { return Convert3.FromNative(_raw.velocity); } set { _raw.velocity = Convert3.ToNative(value); } }
+        /// <summary>The particles' material (default null: the world's default material).</summary>
+        public Material Material { get { return _material; } set { _material = value; _raw.material = Material.NativeId(value); } }
+        Material _material;
     }
 
     /// <summary>A nozzle or a drain (pbf_emitter_desc). Use <see cref="Nozzle"/> or <see cref="Drain"/>.</summary>
@@ -322,6 +325,46 @@ namespace Pbf
         /// <summary>Drain volume.</summary>
         public Vector3 BoxMin { get { return Convert3.FromNative(_raw.box_min); } set { _raw.box_min = Convert3.ToNative(value); } }
         public Vector3 BoxMax { get { return Convert3.FromNative(_raw.box_max); } set { _raw.box_max = Convert3.ToNative(value); } }
+        /// <summary>Nozzle: the particles' material (default null: the world's default material).</summary>
+        public Material Material { get { return _material; } set { _material = value; _raw.material = Material.NativeId(value); } }
+        Material _material;
+    }
+
+    /// <summary>A fluid material (pbf_material_desc): README, "Materials".</summary>
+    public sealed class MaterialDesc
+    {
+        pbf_material_desc _raw;
+
+        public MaterialDesc()
+        {
+            _raw.struct_size = Native.SizeOf<pbf_material_desc>();
+            PbfException.Check(Native.pbf_material_desc_init(ref _raw, _raw.struct_size));
+        }
+
+        internal MaterialDesc(pbf_material_desc raw) { _raw = raw; }
+
+        public pbf_material_desc ToNative() { return _raw; }
+
+        /// <summary>kg/m³, 0.1..10 times the world's rest density (default 1000).</summary>
+        public float RestDensity { get { return _raw.rest_density; } set { _raw.rest_density = value; } }
+        /// <summary>XSPH c per 1/60 s, 0..1 (default 0.01).</summary>
+        public float Viscosity { get { return _raw.viscosity; } set { _raw.viscosity = value; } }
+        /// <summary>LDC strength, 0..1 (default 0.3).</summary>
+        public float LdcGain { get { return _raw.ldc_gain; } set { _raw.ldc_gain = value; } }
+        /// <summary>1/s², 0..10000 (default 0: off).</summary>
+        public float SurfaceTension { get { return _raw.surface_tension; } set { _raw.surface_tension = value; } }
+        /// <summary>1/s², 0..10000 (default 0: off).</summary>
+        public float Cohesion { get { return _raw.cohesion; } set { _raw.cohesion = value; } }
+        /// <summary>1/s², 0..10000 (default 0: off): pull towards walls and colliders.</summary>
+        public float Adhesion { get { return _raw.adhesion; } set { _raw.adhesion = value; } }
+        /// <summary>RGBA 0..1 for renderers (default 0.2, 0.45, 0.9, 1).</summary>
+        public Vector4 Color
+        {
+            get { return new Vector4(_raw.color.x, _raw.color.y, _raw.color.z, _raw.color.w); }
+            set { _raw.color = new Float4(value.X, value.Y, value.Z, value.W); }
+        }
+        /// <summary>Any value, for the engine (default 0).</summary>
+        public uint UserId { get { return _raw.user_id; } set { _raw.user_id = value; } }
     }
 
     /// <summary>A collider (pbf_collider_desc). Use the factories, or set Shape and its fields.</summary>

@@ -121,6 +121,9 @@ namespace Pbf
         DiffusePositions = 6,
         /// <summary>16 bytes per diffuse particle: float vx, vy, vz, remaining lifetime in s.</summary>
         DiffuseVelocities = 7,
+        /// <summary>1 byte per particle: the index of its material (<see cref="Material.Index"/>);
+        /// copy-out and device pointers only.</summary>
+        Materials = 8,
     }
 
     /// <summary>PBF_DIFFUSE_*: what a diffuse particle is, stored as a float in its position's w.</summary>

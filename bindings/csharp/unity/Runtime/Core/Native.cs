@@ -87,6 +87,7 @@ namespace Pbf.Interop
         PBF_BUFFER_ANISOTROPY = 5,
         PBF_BUFFER_DIFFUSE_POSITIONS = 6,
         PBF_BUFFER_DIFFUSE_VELOCITIES = 7,
+        PBF_BUFFER_MATERIALS = 8,
         PBF_BUFFER_FORCE32 = 0x7FFFFFFF,
     }
 
@@ -224,6 +225,14 @@ namespace Pbf.Interop
 
     [StructLayout(LayoutKind.Sequential)]
     public struct pbf_collider_id
+    {
+        public uint index;
+        public uint generation;
+        public override string ToString() { return "{" + index + ", " + generation + "}"; }
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_material_id
     {
         public uint index;
         public uint generation;
@@ -401,6 +410,7 @@ namespace Pbf.Interop
         public Float3 box_min;
         public Float3 box_max;
         public Float3 velocity;
+        public pbf_material_id material;
     }
 
     [StructLayout(LayoutKind.Sequential)]
@@ -416,6 +426,22 @@ namespace Pbf.Interop
         public float particles_per_second;
         public Float3 box_min;
         public Float3 box_max;
+        public pbf_material_id material;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_material_desc
+    {
+        public uint struct_size;
+        public float rest_density;
+        public float viscosity;
+        public float ldc_gain;
+        public float surface_tension;
+        public float cohesion;
+        public float adhesion;
+        public Float4 color;
+        public uint user_id;
+        public uint reserved0;
     }
 
     [StructLayout(LayoutKind.Sequential)]
@@ -480,6 +506,7 @@ namespace Pbf.Interop
         public IntPtr diffuse_count_device;
         public uint diffuse_count;
         public uint diffuse_capacity;
+        public IntPtr materials;
     }
 
     [StructLayout(LayoutKind.Sequential)]
@@ -614,6 +641,8 @@ namespace Pbf.Interop
         public const uint PBF_COUNT_ON_DEVICE = 0xFFFFFFFFu;
         /// <summary>The render event id that runs the render work of every world.</summary>
         public const int PBF_RENDER_EVENT_ALL_WORLDS = 0;
+        /// <summary>Materials a world holds at most (the default one included).</summary>
+        public const int PBF_MAX_MATERIALS = 8;
 
         // Version, errors, logging
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
@@ -777,6 +806,20 @@ namespace Pbf.Interop
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_world_destroy_collider(pbf_world_id world, pbf_collider_id collider);
 
+        // ---- materials ----
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_material_desc_init(ref pbf_material_desc desc, uint struct_size);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_create_material(pbf_world_id world, ref pbf_material_desc desc, out pbf_material_id out_material);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_destroy_material(pbf_world_id world, pbf_material_id material);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_get_material(pbf_world_id world, pbf_material_id material, ref pbf_material_desc out_desc);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_set_material(pbf_world_id world, pbf_material_id material, ref pbf_material_desc desc);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_get_materials(pbf_world_id world, [Out] pbf_material_id[] out_materials);
+
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_collider_set_target_pose(pbf_world_id world, pbf_collider_id collider, ref Float3 position, ref Float4 rotation);
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
@@ -823,6 +866,8 @@ namespace Pbf.Interop
         /// anisotropy, else 16). The ref overload passes the first element's address.</summary>
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_world_copy_buffer(pbf_world_id world, pbf_buffer source, ref float @out, ulong out_bytes, out uint out_written);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_copy_buffer(pbf_world_id world, pbf_buffer source, ref byte @out, ulong out_bytes, out uint out_written);
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_world_copy_buffer(pbf_world_id world, pbf_buffer source, IntPtr @out, ulong out_bytes, out uint out_written);
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
@@ -991,6 +1036,13 @@ namespace Pbf.Interop
         {
             var d = new pbf_emitter_desc { struct_size = SizeOf<pbf_emitter_desc>() };
             pbf_emitter_desc_init(ref d, d.struct_size);
+            return d;
+        }
+
+        public static pbf_material_desc pbf_material_desc_default()
+        {
+            var d = new pbf_material_desc { struct_size = SizeOf<pbf_material_desc>() };
+            pbf_material_desc_init(ref d, d.struct_size);
             return d;
         }
 

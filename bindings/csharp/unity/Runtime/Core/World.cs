@@ -331,6 +331,7 @@ namespace Pbf
         public int CopyBuffer(BufferSource source, Span<float> destination)
         {
             if (source == BufferSource.Ids) throw new ArgumentException("ids are uint: use CopyIds", "source");
+            if (source == BufferSource.Materials) throw new ArgumentException("materials are bytes: use CopyMaterials", "source");
             int floats = source == BufferSource.Anisotropy ? 12 : 4;
             ulong bytes = (ulong)(destination.Length / floats) * (ulong)(floats * 4);
             pbf_world_id id = Handle;

@@ -1,0 +1,191 @@
+// Fluid materials (issue 16), written once for both executors: the inverse-mass weights of
+// multiphase PBF, and surface tension, cohesion and adhesion as accelerations applied before the
+// constraint iterations (as LDC is).
+//
+// Multiphase density. Every material's particles have the same volume V = m0/ρ0 (slot 0's mass
+// and rest density; the lattice a block emits), and mass m_k = ρ0_k V. Then the number density
+// of Solenthaler & Pajarola 2008, ρ_i = m_i Σ_j W_ij, over ρ0_i is V Σ_j W_ij whatever the
+// neighbours' materials: the constraint C_i = ρ_i/ρ0_i - 1 is the single-fluid one, and a mixed
+// neighbourhood has no density jump at an interface (no spurious interface tension). The
+// materials differ in mass only, which enters as inverse-mass weights w_k = ρ0_slot0/ρ0_k of
+// the position corrections (Macklin et al. 2014, "Unified particle physics", §7.1):
+// λ_i = -C_i / Σ_k w_k |∇_k C_i|², Δx_i = w_i Σ (λ_i + λ_j) ∇W. The pressure that holds a
+// heavy column then pushes a lighter particle further than gravity pulls it: buoyancy.
+//
+// Surface tension and cohesion follow Akinci et al. 2013 ("Versatile surface tension and
+// adhesion for SPH fluids") between particles of the same material, written as accelerations
+// (1/s² times h, so a coefficient means the same at any particle size). Surface tension σ drives
+// both of Akinci's terms, as their one γ does; cohesion κ adds to the attraction alone:
+//   a_i = -Σ_j K_ij h [(σ + κ) Ĉ(r) x̂_ij + (σ/4) (n_i - n_j)],  K_ij = 2 / (ρ_i/ρ0 + ρ_j/ρ0),
+// The curvature term's weight σ/4: with the curvature term at or above the attraction's weight a
+// relaxing cube tore its surface off (σ = κ = 100 at 4 substeps: 0.69 m/s, particles at the
+// walls); σ/4 held (σ 100, κ 400: 0.29 m from the centre, a ball). Both are explicit forces:
+// per substep their coefficients are capped at kCohesionStiffness/Δt² (Σ over a neighbourhood
+// makes them ~40 times stiffer than one spring; κ Δt² = 0.083 exploded, 0.028 held) and
+// kAdhesionStiffness/Δt², and the automatic substep count keeps Δt within both caps.
+// Ĉ = Akinci's cohesion spline scaled to a peak of 1 (at r = h/2; -1 at r = 0), n_i the surface
+// normal h Σ_j V ∇_i W_ij (dimensionless, pointing into the fluid; V, not Akinci's m_j/ρ_j, see
+// SurfaceNormalOp) and K_ij at most 2. Adhesion pulls a particle within h of
+// a wall or collider towards it: a_i = -β h ψ(d/h) n_b, n_b the boundary's normal into the
+// fluid at distance d. Approximation: Akinci's adhesion kernel summed over boundary particles is
+// replaced by ψ(t) = 1 - t on the continuum boundary of collide.h (strongest in contact).
+#pragma once
+#include "collide.h"
+#include "grid.h"
+#include "sph.h"
+
+namespace pbf {
+
+// The material slot of particle i (0 where the solver keeps none).
+PBF_HD uint32_t material_of(const StepContext& ctx, uint32_t i) { return ctx.materials ? ctx.materials[i] : 0u; }
+
+// w_i = ρ0_slot0 / ρ0_i in a multiphase world, else exactly 1.
+PBF_HD float inverse_mass(const WorldConstants& s, const StepContext& ctx, uint32_t i) {
+    return (s.materials.flags & kMaterialMultiphase) ? s.materials.inv_mass[material_of(ctx, i)] : 1.0f;
+}
+
+// A collider view whose recorded impulses use particle i's mass (m_i = m0 / w_i).
+PBF_HD ColliderView colliders_for_mass(const ColliderView& cv, float inverse_mass) {
+    ColliderView v = cv;
+    v.impulse_scale = cv.impulse_scale / inverse_mass;
+    return v;
+}
+
+// Slot m's XSPH factor and LDC K this substep (slot 0's are the context's own).
+PBF_HD float material_xsph_c(const StepContext& ctx, uint32_t m) { return m == 0 ? ctx.xsph_c : ctx.material_xsph_c[m]; }
+PBF_HD float material_ldc_k(const StepContext& ctx, uint32_t m) { return m == 0 ? ctx.ldc_k : ctx.material_ldc_k[m]; }
+
+// Whether any material smooths velocities this substep (the XSPH pass runs).
+PBF_HD bool any_viscosity(const StepContext& ctx) {
+    for (uint32_t k = 0; k < kMaxMaterials; ++k)
+        if (material_xsph_c(ctx, k) > 0.0f) return true;
+    return false;
+}
+
+// Akinci et al. 2013's cohesion spline C(r) scaled by 2πh³ (peak 1 at r = h/2, -1 at r = 0).
+PBF_HD float cohesion_spline(float r, float h) {
+    if (r >= h || r <= 0.0f) return 0.0f;
+    const float inv_h = 1.0f / h;
+    const float a = (h - r) * inv_h, b = r * inv_h;
+    const float p = a * a * a * b * b * b;
+    return 64.0f * (2.0f * r > h ? p : 2.0f * p - 1.0f / 64.0f);
+}
+
+// Stability caps of the explicit surface forces per substep (coefficient · Δt²), and the
+// substeps per second that keep every material's coefficients within them.
+constexpr float kCohesionStiffness = 0.025f;
+constexpr float kAdhesionStiffness = 0.5f;
+PBF_HD float surface_substep_rate(const MaterialConstants& m) {
+    float rate2 = 0.0f;
+    for (uint32_t k = 0; k < kMaxMaterials; ++k) {
+        rate2 = fmaxf(rate2, (m.surface_tension[k] + m.cohesion[k]) / kCohesionStiffness);
+        rate2 = fmaxf(rate2, m.adhesion[k] / kAdhesionStiffness);
+    }
+    return sqrtf(rate2);
+}
+
+// Pass 1 (only with kMaterialSurface): the surface normal of each particle (into the fluid) from
+// the neighbours of its own material.
+struct SurfaceNormalOp {
+    WorldConstants s;
+    StepContext ctx;
+    const uint32_t* cell_begin;
+    NeighborMasks masks;
+    const Vec4* positions;
+    Vec4* normals;
+    PBF_HD void operator()(uint32_t i) const {
+        const uint32_t m = material_of(ctx, i);
+        const Vec3 xi = xyz(positions[i]);
+        Vec3 n{0.0f, 0.0f, 0.0f};
+        if (s.materials.surface_tension[m] > 0.0f) {
+            const float volume = s.mass * s.inv_rest_density;
+            for_each_neighbor_of(s.grid, cell_begin, masks, i, xi, [&](uint32_t j) {
+                if (j == i || material_of(ctx, j) != m) return;
+                const Vec4 pj = positions[j];
+                const Vec3 d = xi - xyz(pj);
+                const float r2 = length_sq(d);
+                if (r2 >= s.h2) return;
+                // ∇_i W points from i toward j: at a surface n points into the fluid, as Akinci's
+                // normal does (the opposite sign, tried first, pumped energy into a relaxing cube:
+                // 3 m/s at σ = 50). Each neighbour counts at the rest volume V, not m_j/ρ_j: a
+                // stray particle of tiny ρ_j would otherwise get a huge normal and force.
+                n += spiky_gradient_r2(d, r2, s.h, s.spiky_coef) * volume;
+            });
+        }
+        normals[i] = make_vec4(n * s.h, 0.0f);
+    }
+};
+
+// Adhesion's falloff with the distance to a boundary, t = d/h: 1 in contact, 0 at h.
+PBF_HD float adhesion_falloff(float t) { return t >= 1.0f ? 0.0f : 1.0f - fmaxf(t, 0.0f); }
+
+// -Σ ψ(d/h) n over the walls and the colliders (at the substep's start poses) within h of p.
+PBF_HD Vec3 adhesion_pull(const WorldConstants& s, const ColliderView& cv, Vec3 p) {
+    Vec3 a{0.0f, 0.0f, 0.0f};
+    const Vec3 lo = p - s.boundary_min, hi = s.boundary_max - p;
+    const float inv_h = 1.0f / s.h;
+    a.x += adhesion_falloff(hi.x * inv_h) - adhesion_falloff(lo.x * inv_h);
+    a.y += adhesion_falloff(hi.y * inv_h) - adhesion_falloff(lo.y * inv_h);
+    a.z += adhesion_falloff(hi.z * inv_h) - adhesion_falloff(lo.z * inv_h);
+    const Vec3 reach{s.h, s.h, s.h};
+    for (uint32_t k = 0; k < cv.count; ++k) {
+        if (!overlaps(cv.shapes[k].bounds, p - reach, p + reach)) continue;
+        Vec3 n;
+        const float d = collider_distance(cv.shapes[k], cv.prev[k], p, n);
+        if (d < s.h) a -= n * adhesion_falloff(d * inv_h);
+    }
+    return a;
+}
+
+// Pass 2: v_i += Δt (cohesion + curvature + adhesion), in place (no thread reads another's
+// velocity). Particles of a material without any of them are left alone.
+struct SurfaceForceOp {
+    WorldConstants s;
+    StepContext ctx;
+    const uint32_t* cell_begin;
+    NeighborMasks masks;
+    const Vec4* positions;
+    const Vec4* normals;
+    Vec4* velocities;
+    PBF_HD void operator()(uint32_t i) const {
+        const uint32_t m = material_of(ctx, i);
+        float sigma = s.materials.surface_tension[m], kappa = s.materials.cohesion[m];
+        if (sigma <= 0.0f && kappa <= 0.0f && s.materials.adhesion[m] <= 0.0f) return;
+        // The stability caps (a substep too long for the coefficients: fixed substeps).
+        const float inv_dt2 = ctx.inv_dt * ctx.inv_dt;
+        const float attraction = fminf(sigma + kappa, kCohesionStiffness * inv_dt2);
+        const float scale = sigma + kappa > 0.0f ? attraction / (sigma + kappa) : 0.0f;
+        sigma *= scale;
+        const float beta = fminf(s.materials.adhesion[m], kAdhesionStiffness * inv_dt2);
+        const Vec4 pi = positions[i];
+        const Vec3 xi = xyz(pi), ni = xyz(normals[i]);
+        Vec3 a{0.0f, 0.0f, 0.0f};
+        if (attraction > 0.0f) {
+            for_each_neighbor_of(s.grid, cell_begin, masks, i, xi, [&](uint32_t j) {
+                if (j == i || material_of(ctx, j) != m) return;
+                const Vec4 pj = positions[j];
+                const Vec3 d = xi - xyz(pj);
+                const float r2 = length_sq(d);
+                if (r2 >= s.h2 || r2 <= 1e-20f) return;
+                const float inv_r = inv_sqrt(r2);
+                // Akinci's K_ij = 2ρ0/(ρ_i + ρ_j) makes up for the missing neighbours of surface
+                // particles; capped at 2 so that stray particles are not pulled harder still.
+                const float k_ij = 2.0f / fmaxf(pi.w + pj.w, 1.0f);
+                const Vec3 cohesion = d * (attraction * cohesion_spline(r2 * inv_r, s.h) * inv_r);
+                a -= (cohesion + (ni - xyz(normals[j])) * (0.25f * sigma)) * k_ij;
+            });
+        }
+        if (beta > 0.0f) a += adhesion_pull(s, ctx.colliders, xi) * beta;
+        const Vec4 v = velocities[i];
+        velocities[i] = make_vec4(xyz(v) + a * (s.h * ctx.dt), v.w);
+    }
+};
+
+// The sort's gather puts the materials in a scratch buffer; this brings them home.
+struct CopyMaterialsOp {
+    const uint8_t* from;
+    uint8_t* to;
+    PBF_HD void operator()(uint32_t i) const { to[i] = from[i]; }
+};
+
+}  // namespace pbf
