@@ -176,10 +176,10 @@ inline Rest settled_in_container(pbf_backend backend, bool mesh_container) {
     return r;
 }
 
-// An open plane (terrain piece, default thickness 2 r) 0.2 m above the floor, 0.6 m square,
-// under a block of water: returns the lowest particle centre above the plane's footprint
-// (the pool rests on the shell: thickness/2 + r above the plane) and the particles below the
-// plane's level inside its footprint (leaked through).
+// An open plane (terrain piece, default thickness 2 r) 0.2 m above the floor, wider than the
+// domain (the water cannot flow around it), under a falling block of water: returns the lowest
+// particle centre (the pool rests on the shell: thickness/2 + r above the plane) and the
+// particles below the plane (leaked through).
 struct PlaneResult {
     float lowest = 0;
     uint32_t leaked = 0, count = 0;
@@ -187,7 +187,7 @@ struct PlaneResult {
 inline PlaneResult pool_on_open_plane(pbf_backend backend) {
     pbf_world_desc d = scene::tank(backend, kR, 1.0f, 0.8f, 1.0f, 8192);
     pbf_world_id w = scene::create(d);
-    const Mesh m = plane(0.3f, 8);
+    const Mesh m = plane(0.6f, 12);
     const pbf_mesh_id id = create_mesh(w, m.desc(false));
     const float at[3] = {0.5f, 0.2f, 0.5f};
     mesh_collider(w, id, at);
@@ -198,8 +198,7 @@ inline PlaneResult pool_on_open_plane(pbf_backend backend) {
     r.lowest = 1e9f;
     r.count = p.count;
     for (uint32_t k = 0; k < p.count; ++k) {
-        const float x = p.pos[4 * k], y = p.pos[4 * k + 1], z = p.pos[4 * k + 2];
-        if (std::fabs(x - 0.5f) > 0.25f || std::fabs(z - 0.5f) > 0.25f) continue;
+        const float y = p.pos[4 * k + 1];
         if (y < 0.2f) ++r.leaked;
         else r.lowest = std::min(r.lowest, y);
     }
