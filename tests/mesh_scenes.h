@@ -206,6 +206,38 @@ inline PlaneResult pool_on_open_plane(pbf_backend backend) {
     return r;
 }
 
+// Water poured on a sphere (radius 0.2 m, centre 0.3 m up) from above: an icosphere mesh
+// (1280 triangles) or the analytic sphere. Returns the closest any particle centre came to the
+// sphere's surface over a second while the water slid over it (contact keeps it one radius out).
+inline float closest_to_sphere(pbf_backend backend, bool as_mesh) {
+    pbf_world_desc d = scene::tank(backend, kR, 0.8f, 1.0f, 0.8f, 8192);
+    pbf_world_id w = scene::create(d);
+    const float c[3] = {0.4f, 0.3f, 0.4f}, R = 0.2f;
+    if (as_mesh) {
+        const Mesh m = icosphere(R, 3);
+        mesh_collider(w, create_mesh(w, m.desc()), c);
+    } else {
+        pbf_collider_desc s = pbf_collider_desc_default();
+        s.shape = PBF_SHAPE_SPHERE;
+        s.radius = R;
+        set3(s.position, c[0], c[1], c[2]);
+        pbf_collider_id id;
+        REQUIRE_PBF(pbf_world_create_collider(w, &s, &id));
+    }
+    scene::fill(w, 0.3f, 0.56f, 0.3f, 0.5f, 0.68f, 0.5f);
+    float closest = 1e9f;
+    for (int f = 0; f < 60; ++f) {
+        REQUIRE_PBF(pbf_world_step(w, kDt));
+        const scene::Particles p = scene::read(w);
+        for (uint32_t k = 0; k < p.count; ++k) {
+            const float dx = p.pos[4 * k] - c[0], dy = p.pos[4 * k + 1] - c[1], dz = p.pos[4 * k + 2] - c[2];
+            closest = std::min(closest, std::sqrt(dx * dx + dy * dy + dz * dz) - R);
+        }
+    }
+    REQUIRE_PBF(pbf_world_destroy(w));
+    return closest;
+}
+
 // ---- the leak test (issue 13 "Fast containers do not leak") ----------------------------------
 // A closed hollow-box mesh, cavity 0.32 x 0.24 x 0.32 m, walls 2 r thick, half full of water,
 // moved by the engine every frame (1/60 s) along a circle by `travel` particle radii (a chord)

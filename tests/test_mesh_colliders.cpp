@@ -142,6 +142,14 @@ TEST_CASE("mesh: water at rest in a box-mesh container is as dense as in the dom
     CHECK(std::fabs(mesh.height - walls.height) < 0.1 * kSpacing);
 }
 
+TEST_CASE("mesh: water on a sphere mesh keeps the distance it keeps from the analytic sphere", "[mesh][physics]") {
+    const float analytic = closest_to_sphere(PBF_BACKEND_CPU, false);
+    const float sampled = closest_to_sphere(PBF_BACKEND_CPU, true);
+    INFO("closest centre to the surface: analytic " << analytic << " m, mesh " << sampled << " m");
+    CHECK(analytic == Approx(kR).margin(0.1f * kR));
+    CHECK(std::fabs(sampled - analytic) < kR);  // within one cell (cell = r)
+}
+
 TEST_CASE("mesh: an open plane holds a pool on its shell", "[mesh][physics]") {
     const PlaneResult r = pool_on_open_plane(PBF_BACKEND_CPU);
     INFO("lowest centre above the plane " << r.lowest - 0.2f << " m; leaked " << r.leaked << " of " << r.count);
