@@ -17,16 +17,16 @@ Status build_mesh_field(Exec& exec, const MeshBuild& b, float** out_values) {
     uint32_t* indices = exec.template alloc<uint32_t>(b.indices.size());
     uint32_t* begin = exec.template alloc<uint32_t>(b.brick_begin.size());
     uint32_t* listed = exec.template alloc<uint32_t>(b.brick_triangles.size() + 1);
-    float* far_winding = exec.template alloc<float>(bricks);
+    float* winding = exec.template alloc<float>(2 * bricks);
     float* values = exec.template alloc<float>(voxels);
     auto release_build = [&] {
         exec.release(vertices);
         exec.release(indices);
         exec.release(begin);
         exec.release(listed);
-        exec.release(far_winding);
+        exec.release(winding);
     };
-    if (!vertices || !indices || !begin || !listed || !far_winding || !values) {
+    if (!vertices || !indices || !begin || !listed || !winding || !values) {
         release_build();
         exec.release(values);
         return Status::error(PBF_ERROR_OUT_OF_MEMORY, "cannot allocate a mesh's distance field of " +
@@ -39,8 +39,8 @@ Status build_mesh_field(Exec& exec, const MeshBuild& b, float** out_values) {
     exec.upload(listed, b.brick_triangles.data(), b.brick_triangles.size() * sizeof(uint32_t));
     const SdfSource src{vertices, indices, uint32_t(b.indices.size() / 3), begin, listed,
                         b.bricks[0], b.bricks[1], b.bricks[2]};
-    exec.for_each(uint32_t(bricks), SdfBrickWindingOp{src, b.grid, far_winding});
-    exec.for_each(uint32_t(voxels), SdfVoxelOp{src, b.grid, far_winding, b.closed, b.half_thickness, values});
+    exec.for_each(uint32_t(bricks), SdfBrickWindingOp{src, b.grid, winding});
+    exec.for_each(uint32_t(voxels), SdfVoxelOp{src, b.grid, winding, b.closed, b.half_thickness, values});
     // Waits for the build (a download is a host wait): the temporaries are then free to go, and
     // the creation call returns with the field complete.
     float probe = 0.0f;

@@ -24,8 +24,8 @@ MeshLayout mesh_layout(const pbf_mesh_desc& d, float r, float h) {
     // particle within h samples free of clamped corners.
     const float band = h + 2.0f * cell;
     const float pad = band + l.half_thickness + 2.0f * cell;
-    // Far triangles are summed per brick (SdfBrickWindingOp): 1.5 bricks keeps their error small.
-    l.margin = std::max(band + l.half_thickness, 1.5f * float(kSdfBrick) * cell);
+    // Far triangles are summed per brick (SdfBrickWindingOp): 2 bricks keep their error small.
+    l.margin = std::max(band + l.half_thickness, 2.0f * float(kSdfBrick) * cell);
     double voxels = 1.0;
     int32_t n[3];
     const float extent[3] = {hi.x - lo.x, hi.y - lo.y, hi.z - lo.z};
