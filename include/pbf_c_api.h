@@ -385,12 +385,13 @@ PBF_API pbf_result PBF_CALL pbf_emitter_set_drain_box(pbf_world_id world, pbf_em
 /* A triangle mesh becomes a signed distance field on a regular grid of cell_size, built once at
  * pbf_world_create_mesh (on the world's backend: the GPU for a CUDA world; the call waits for
  * the build) and shared by every collider that names it. The arrays are copied: the caller may
- * free them on return. Memory: a dense grid over the mesh's bounds grown by a band,
- * nx·ny·nz·4 bytes with nx = ceil((extent_x + 2·pad) / cell_size) + 1, pad = h + 4·cell_size
- * + thickness/2 (h = 4 particle radii); at most 256 MB per mesh (more: PBF_ERROR_CAPACITY naming
- * the voxel count). At most 256 meshes per world. Distances are exact to float precision at the
- * grid points and trilinear between them: a flat face is honoured to well under a cell, a convex
- * edge or corner is rounded by up to about one cell. */
+ * free them on return. Memory: a dense grid over the mesh's bounds grown by a pad, 8 bytes per
+ * grid point (a distance and the solid's share of a particle's kernel, for boundary density):
+ * nx·ny·nz·8 bytes, nx = ceil((extent_x + 2·pad) / cell_size) + 1, pad = h + 4·cell_size +
+ * thickness/2 (h = 4 particle radii); at most 256 MB per mesh (more: PBF_ERROR_CAPACITY naming
+ * the voxel count), 256 meshes per world. Distances are exact at the grid points and trilinear
+ * between them: a flat face is honoured to well under a cell, a convex edge or corner is rounded
+ * by up to about one cell. */
 typedef struct pbf_mesh_id { uint32_t index; uint32_t generation; } pbf_mesh_id;
 typedef struct pbf_mesh_desc {
     uint32_t struct_size;

@@ -30,6 +30,7 @@ struct Field {
         REQUIRE(build_mesh_field(exec, b, &values).ok());
         view = b.grid;
         view.values = values;
+        view.boundary = values + size_t(view.nx) * size_t(view.ny) * size_t(view.nz);
     }
     ~Field() { exec.release(const_cast<float*>(view.values)); }
 };
@@ -96,6 +97,27 @@ TEST_CASE("sdf: a box mesh's field matches the analytic box within one cell, ins
     INFO("max |error| " << err << " m, cell " << f.view.cell << ", worst normal cos " << normal);
     CHECK(err <= f.view.cell);
     CHECK(normal > 0.95f);
+}
+
+TEST_CASE("sdf: a mesh's boundary share is the half-space's at a face and the union's at an edge", "[mesh][sdf]") {
+    const mesh::Mesh m = mesh::box(0.3f, 0.3f, 0.3f);
+    const Field f(m.desc());
+    float worst = 0.0f;
+    for (float y = -kKernel; y <= kKernel; y += 0.005f) {
+        Vec3 g;
+        const float share = mesh_boundary(f.view, Vec3{0.01f, 0.3f + y, -0.02f}, g);
+        // The half-space y' < 0 at distance y: Φ(y/h) outside, 1 - Φ(-y/h) inside.
+        const float expected = y >= 0.0f ? boundary_phi(y / kKernel) : 1.0f - boundary_phi(-y / kKernel);
+        worst = std::max(worst, std::fabs(share - expected));
+        if (std::fabs(y) < 0.9f * kKernel) CHECK(g.y < 0.0f);  // rises into the solid
+    }
+    INFO("largest difference from the half-space's share at a face: " << worst);
+    CHECK(worst < 0.03f);
+    // Outside a convex edge the solid is the intersection of two half-spaces; inside a concave
+    // one (a container's) the union: the share beside the edge's corner point is neither face's alone.
+    Vec3 g;
+    const float at_edge = mesh_boundary(f.view, Vec3{0.3f + 0.02f, 0.3f + 0.02f, 0.0f}, g);
+    CHECK(at_edge < boundary_phi(0.02f / kKernel) * 0.75f);
 }
 
 TEST_CASE("sdf: an open mesh is a shell of its thickness on both sides", "[mesh][sdf]") {

@@ -203,8 +203,8 @@ Verdict validate_mesh_desc(const pbf_mesh_desc& d) {
 }
 
 Verdict validate_mesh_voxels(uint64_t voxels) {
-    if (voxels * sizeof(float) > pbf::kMaxMeshFieldBytes || voxels > (uint64_t(1) << 40))
-        return Verdict{Check::MESH_VOXELS, voxels, voxels > (uint64_t(1) << 60) ? ~uint64_t(0) : voxels * 4 >> 20};
+    if (voxels * 8 > pbf::kMaxMeshFieldBytes || voxels > (uint64_t(1) << 40))
+        return Verdict{Check::MESH_VOXELS, voxels, voxels > (uint64_t(1) << 40) ? ~uint64_t(0) : voxels * 8 >> 20};
     return {};
 }
 

@@ -174,6 +174,17 @@ PBF_HD BoundarySample half_space(const WorldConstants& s, float y, Vec3 n) {
     return BoundarySample{s.boundary_scale * boundary_phi(t), n * (s.boundary_scale * boundary_phi_slope(t) / s.h)};
 }
 
+// Collider c's share at p, which lies at distance d < h from it along normal n: a mesh's from
+// its precomputed field (exact at its edges, corners and curved parts: SdfBoundaryOp), the
+// analytic shapes' from the half-space at their closest point.
+PBF_HD BoundarySample collider_boundary(const WorldConstants& s, const Collider& c, const ColliderPose& pose, Vec3 p,
+                                        float d, Vec3 n, const MeshView* meshes) {
+    if (c.shape != kShapeMesh) return half_space(s, d, n);
+    Vec3 g;
+    const float share = mesh_boundary(meshes[c.mesh], mul_transpose(pose.rotation, p - pose.position), g);
+    return BoundarySample{s.boundary_scale * share, mul(pose.rotation, g) * s.boundary_scale};
+}
+
 // Walls meeting at an edge or corner overlap: their shares combine as 1 - Π(1 - φ_k) (the
 // overlap counted once, as if independent) rather than Σ φ_k, which over-counted a rest
 // lattice's corner by ~9 %. W tracks P = Π(1 - φ_k) and its gradient.
@@ -204,7 +215,7 @@ PBF_HD BoundarySample boundary_at(const WorldConstants& s, const ColliderView& c
         Vec3 n;
         const float d = collider_distance(cv.shapes[k], cv.cur[k], p, n, cv.meshes);
         if (d >= s.h) continue;
-        const BoundarySample c = half_space(s, d, n);
+        const BoundarySample c = collider_boundary(s, cv.shapes[k], cv.cur[k], p, d, n, cv.meshes);
         b.density_ratio += c.density_ratio;
         b.gradient += c.gradient;
     }
@@ -221,7 +232,7 @@ PBF_HD void record_boundary_push(const WorldConstants& s, const ColliderView& cv
         if (!(c.flags & kColliderDynamic) || !overlaps(c.bounds, p - reach, p + reach)) continue;
         Vec3 n;
         const float d = collider_distance(c, cv.cur[k], p, n, cv.meshes);
-        if (d < s.h) record_push(cv, c, cv.cur[k], p, half_space(s, d, n).gradient * lambda);
+        if (d < s.h) record_push(cv, c, cv.cur[k], p, collider_boundary(s, c, cv.cur[k], p, d, n, cv.meshes).gradient * lambda);
     }
 }
 

@@ -1,9 +1,10 @@
 // Triangle meshes as signed distance fields (issue 13): the build's per-brick and per-voxel ops
 // (launched by CpuExec and CudaExec alike) and the sampling the collider code uses.
 //
-// The field is a dense grid of float distances (first version: no sparse bricks) over the
-// mesh's bounds grown by the band and two cells, sampled at the grid points origin + i·cell.
-// Memory: nx·ny·nz·4 bytes, nx = ceil((extent_x + 2·pad) / cell) + 1, pad = band + 2·cell.
+// The field is a dense grid (first version: no sparse bricks) of float distances and boundary
+// shares over the mesh's bounds grown by a pad, sampled at the grid points origin + i·cell.
+// Memory: nx·ny·nz·8 bytes, nx = ceil((extent_x + 2·pad) / cell) + 1, pad = band + 2·cell
+// (+ half the thickness of an open mesh).
 // Values are clamped to ±band (band = h + 2 cells): particles never look farther (contact
 // looks one radius out, boundary density h), and a clamped value never overestimates.
 #pragma once
@@ -22,41 +23,67 @@ struct MeshView {
     int32_t nx, ny, nz;  // grid points per axis (each >= 2)
     float band;          // |values| <= band
     const float* values;  // nx·ny·nz, x fastest
+    const float* boundary;  // nx·ny·nz: the solid's share of a particle's kernel there (SdfBoundaryOp)
 };
 
 // ---- sampling --------------------------------------------------------------------------------
-// Signed distance at q (the mesh's frame) and the outward normal there: trilinear value and the
-// gradient of the trilinear interpolant, normalised. Beyond the grid: band plus the distance to
-// the grid's box (the mesh lies at least band inside it: never an overestimate).
-PBF_HD float mesh_distance(const MeshView& m, Vec3 q, Vec3& normal) {
-    const Vec3 g = (q - m.origin) * m.inv_cell;
-    const Vec3 top{float(m.nx - 1), float(m.ny - 1), float(m.nz - 1)};
-    const Vec3 c = min3(max3(g, Vec3{0.0f, 0.0f, 0.0f}), top);
-    const Vec3 out = g - c;
-    const float out_len = length(out);
-    if (out_len > 0.0f) {
-        normal = out * (1.0f / out_len);
-        return m.band + out_len * m.cell;
-    }
+// Trilinear interpolation of a grid field at grid coordinates c (inside the grid) and the
+// gradient of the interpolant (per grid unit).
+PBF_HD float trilinear(const MeshView& m, const float* field, Vec3 c, Vec3& grad) {
     // The cell's lower corner (the top face's points use the last cell).
-    const int32_t ix = int32_t(fminf(c.x, top.x - 1.0f)), iy = int32_t(fminf(c.y, top.y - 1.0f)),
-                  iz = int32_t(fminf(c.z, top.z - 1.0f));
+    const int32_t ix = int32_t(fminf(c.x, float(m.nx - 2))), iy = int32_t(fminf(c.y, float(m.ny - 2))),
+                  iz = int32_t(fminf(c.z, float(m.nz - 2)));
     const float fx = c.x - float(ix), fy = c.y - float(iy), fz = c.z - float(iz);
     const size_t sx = 1, sy = size_t(m.nx), sz = size_t(m.nx) * size_t(m.ny);
-    const float* v = m.values + size_t(ix) + sy * size_t(iy) + sz * size_t(iz);
+    const float* v = field + size_t(ix) + sy * size_t(iy) + sz * size_t(iz);
     const float v000 = v[0], v100 = v[sx], v010 = v[sy], v110 = v[sx + sy];
     const float v001 = v[sz], v101 = v[sx + sz], v011 = v[sy + sz], v111 = v[sx + sy + sz];
     // Along x first, then y, then z; the gradient by differentiating each stage.
     const float a00 = v000 + (v100 - v000) * fx, a10 = v010 + (v110 - v010) * fx;
     const float a01 = v001 + (v101 - v001) * fx, a11 = v011 + (v111 - v011) * fx;
     const float b0 = a00 + (a10 - a00) * fy, b1 = a01 + (a11 - a01) * fy;
-    const float d = b0 + (b1 - b0) * fz;
     const float dx0 = (v100 - v000) + ((v110 - v010) - (v100 - v000)) * fy;
     const float dx1 = (v101 - v001) + ((v111 - v011) - (v101 - v001)) * fy;
-    const Vec3 grad{dx0 + (dx1 - dx0) * fz, (a10 - a00) + ((a11 - a01) - (a10 - a00)) * fz, b1 - b0};
+    grad = Vec3{dx0 + (dx1 - dx0) * fz, (a10 - a00) + ((a11 - a01) - (a10 - a00)) * fz, b1 - b0};
+    return b0 + (b1 - b0) * fz;
+}
+
+// Grid coordinates of q, clamped to the grid; *outside = how far beyond it q lies (grid units).
+PBF_HD Vec3 grid_coordinates(const MeshView& m, Vec3 q, Vec3* outside) {
+    const Vec3 g = (q - m.origin) * m.inv_cell;
+    const Vec3 c = min3(max3(g, Vec3{0.0f, 0.0f, 0.0f}), Vec3{float(m.nx - 1), float(m.ny - 1), float(m.nz - 1)});
+    *outside = g - c;
+    return c;
+}
+
+// Signed distance at q (the mesh's frame) and the outward normal there: trilinear value and the
+// gradient of the trilinear interpolant, normalised. Beyond the grid: band plus the distance to
+// the grid's box (the mesh lies at least band inside it: never an overestimate).
+PBF_HD float mesh_distance(const MeshView& m, Vec3 q, Vec3& normal) {
+    Vec3 out;
+    const Vec3 c = grid_coordinates(m, q, &out);
+    const float out_len = length(out);
+    if (out_len > 0.0f) {
+        normal = out * (1.0f / out_len);
+        return m.band + out_len * m.cell;
+    }
+    Vec3 grad;
+    const float d = trilinear(m, m.values, c, grad);
     const float len = length(grad);
     normal = len > 1e-12f ? grad * (1.0f / len) : Vec3{0.0f, 1.0f, 0.0f};
     return d;
+}
+
+// The solid's share of the kernel at q (the mesh's frame) and its gradient (1/m): 0 beyond the
+// grid (the solid lies inside it, farther than h from its faces).
+PBF_HD float mesh_boundary(const MeshView& m, Vec3 q, Vec3& gradient) {
+    Vec3 out;
+    const Vec3 c = grid_coordinates(m, q, &out);
+    gradient = Vec3{0.0f, 0.0f, 0.0f};
+    if (length_sq(out) > 0.0f) return 0.0f;
+    const float b = trilinear(m, m.boundary, c, gradient);
+    gradient = gradient * m.inv_cell;
+    return b;
 }
 
 // ---- geometry of one triangle ----------------------------------------------------------------
@@ -187,6 +214,45 @@ struct SdfVoxelOp {
             d = u - half_thickness;
         }
         values[i] = clampf(d, -grid.band, grid.band);
+    }
+};
+
+// One thread per grid point, after SdfVoxelOp: the solid's share of a poly6 kernel of radius h
+// centred there, Σ W·solid / Σ W over the grid points within h, each point solid by the
+// fraction clamp(1/2 - d/cell, 0, 1) (a point on the surface counts half). A particle's
+// boundary density is then γ times this, sampled trilinearly: exact at edges, corners and
+// curved parts, where the flat-at-the-closest-point rule of the analytic shapes sees only the
+// nearest face (it under-counts a concave edge of a container by the other face's share).
+struct SdfBoundaryOp {
+    MeshView grid;
+    float h;
+    float* boundary;
+    PBF_HD static float solid(const MeshView& g, int32_t x, int32_t y, int32_t z) {
+        if (x < 0 || y < 0 || z < 0 || x >= g.nx || y >= g.ny || z >= g.nz) return 0.0f;
+        const float d = g.values[size_t(x) + size_t(g.nx) * (size_t(y) + size_t(g.ny) * size_t(z))];
+        return clampf(0.5f - d * g.inv_cell, 0.0f, 1.0f);
+    }
+    PBF_HD void operator()(uint32_t i) const {
+        const uint32_t nx = uint32_t(grid.nx), ny = uint32_t(grid.ny);
+        const int32_t x = int32_t(i % nx), y = int32_t((i / nx) % ny), z = int32_t(i / (nx * ny));
+        const float d = grid.values[i];
+        if (fabsf(d) > h + grid.cell) {  // the kernel lies wholly on one side
+            boundary[i] = d < 0.0f ? 1.0f : 0.0f;
+            return;
+        }
+        const int32_t reach = int32_t(h * grid.inv_cell);
+        const float h2 = h * h * grid.inv_cell * grid.inv_cell;  // in grid units²
+        float sum = 0.0f, weights = 0.0f;
+        for (int32_t dz = -reach; dz <= reach; ++dz)
+            for (int32_t dy = -reach; dy <= reach; ++dy)
+                for (int32_t dx = -reach; dx <= reach; ++dx) {
+                    const float r2 = float(dx * dx + dy * dy + dz * dz);
+                    if (r2 >= h2) continue;
+                    const float u = h2 - r2, w = u * u * u;
+                    weights += w;
+                    sum += w * solid(grid, x + dx, y + dy, z + dz);
+                }
+        boundary[i] = sum / weights;
     }
 };
 

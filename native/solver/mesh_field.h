@@ -1,5 +1,5 @@
 // The build of a mesh's distance field on either executor: uploads the prepared mesh, runs
-// SdfBrickWindingOp per brick and SdfVoxelOp per grid point (core/sdf.h), waits for them and
+// SdfBrickWindingOp per brick, SdfVoxelOp and SdfBoundaryOp per grid point (core/sdf.h), waits for them and
 // frees everything but the field.
 #pragma once
 #include <string>
@@ -18,7 +18,7 @@ Status build_mesh_field(Exec& exec, const MeshBuild& b, float** out_values) {
     uint32_t* begin = exec.template alloc<uint32_t>(b.brick_begin.size());
     uint32_t* listed = exec.template alloc<uint32_t>(b.brick_triangles.size() + 1);
     float* winding = exec.template alloc<float>(2 * bricks);
-    float* values = exec.template alloc<float>(voxels);
+    float* values = exec.template alloc<float>(2 * voxels);  // distances, then the boundary shares
     auto release_build = [&] {
         exec.release(vertices);
         exec.release(indices);
@@ -41,6 +41,9 @@ Status build_mesh_field(Exec& exec, const MeshBuild& b, float** out_values) {
                         b.bricks[0], b.bricks[1], b.bricks[2]};
     exec.for_each(uint32_t(bricks), SdfBrickWindingOp{src, b.grid, winding});
     exec.for_each(uint32_t(voxels), SdfVoxelOp{src, b.grid, winding, b.closed, b.half_thickness, values});
+    MeshView field = b.grid;
+    field.values = values;
+    exec.for_each(uint32_t(voxels), SdfBoundaryOp{field, b.kernel_radius, values + voxels});
     // Waits for the build (a download is a host wait): the temporaries are then free to go, and
     // the creation call returns with the field complete.
     float probe = 0.0f;

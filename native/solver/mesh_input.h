@@ -12,7 +12,7 @@ namespace pbf {
 // Rows of a world's mesh table (MeshView, 48 B each, allocated with the world): meshes alive at
 // once. The fields themselves are allocated per mesh at its creation.
 constexpr uint32_t kMaxMeshes = 256;
-// The largest field a mesh may have (values only; its build also holds its triangles and their
+// The largest field a mesh may have (8 bytes per voxel: a distance and a boundary share; its build also holds its triangles and their
 // brick lists for the time of the build).
 constexpr uint64_t kMaxMeshFieldBytes = 256ull << 20;
 
@@ -24,6 +24,7 @@ struct MeshBuild {
     int32_t bricks[3] = {};
     uint32_t closed = 1;
     float half_thickness = 0.0f;    // open meshes: the shell's half thickness
+    float kernel_radius = 0.0f;     // h, for the boundary shares
 };
 
 }  // namespace pbf

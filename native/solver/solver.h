@@ -240,6 +240,7 @@ public:
         if (!st.ok()) return st;
         MeshView v = b.grid;
         v.values = values;
+        v.boundary = values + size_t(v.nx) * size_t(v.ny) * size_t(v.nz);
         mesh_values_[row] = values;
         exec_.upload(mesh_table_ + row, &v, sizeof v);
         return exec_.check("pbf_world_create_mesh");

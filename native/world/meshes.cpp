@@ -43,6 +43,7 @@ MeshLayout mesh_layout(const pbf_mesh_desc& d, float r, float h) {
     l.grid.ny = n[1];
     l.grid.nz = n[2];
     l.grid.band = band;
+    l.kernel_radius = h;
     return l;
 }
 
@@ -90,6 +91,7 @@ MeshBuild prepare_mesh(const pbf_mesh_desc& d, const MeshLayout& l, float* reach
     std::copy(l.bricks, l.bricks + 3, b.bricks);
     b.closed = d.closed;
     b.half_thickness = l.half_thickness;
+    b.kernel_radius = l.kernel_radius;
     *reach = 0.0f;
     b.vertices.resize(d.vertex_count);
     for (uint32_t k = 0; k < d.vertex_count; ++k) {

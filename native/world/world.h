@@ -28,6 +28,7 @@ struct MeshLayout {
     int32_t bricks[3] = {};
     float half_thickness = 0.0f;
     float margin = 0.0f;   // triangles are binned to the bricks within this distance
+    float kernel_radius = 0.0f;
     uint64_t voxels = 0;
 };
 // The layout of desc's field in a world of particle radius r and kernel radius h.
