@@ -479,6 +479,11 @@ PBF_API pbf_result PBF_CALL pbf_world_destroy_collider(pbf_world_id world, pbf_c
  * by slerp in rotation, one pose per substep). A static collider gives PBF_ERROR_INVALID_STATE. */
 PBF_API pbf_result PBF_CALL pbf_collider_set_target_pose(pbf_world_id world, pbf_collider_id collider,
                                                          const float position[3], const float rotation[4]);
+/* Any collider: puts it at this pose now, without moving it there (no sweep, no push: the next
+ * step starts and ends at this pose, and so does a pending target). For engines that respawn or
+ * stream a body: a target pose far away would sweep through the fluid in one step and fling it. */
+PBF_API pbf_result PBF_CALL pbf_collider_teleport(pbf_world_id world, pbf_collider_id collider, const float position[3],
+                                                  const float rotation[4]);
 
 /* ---- Two-way coupling --------------------------------------------------------------------- *
  * The fluid's push on a dynamic collider over one step, as its mean force (N) and its torque

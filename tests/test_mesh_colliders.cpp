@@ -180,3 +180,51 @@ TEST_CASE("mesh: leak limit of a fast container", "[.leak_limit]") {
                                      << r.outside_max << " of " << r.count << ", first loss at frame " << r.first_frame);
             }
 }
+
+// The fastest particle's speed.
+static float fastest(pbf_world_id w) {
+    const scene::Particles p = scene::read(w);
+    float v = 0.0f;
+    for (uint32_t k = 0; k < p.count; ++k)
+        v = std::max(v, std::sqrt(p.vel[4 * k] * p.vel[4 * k] + p.vel[4 * k + 1] * p.vel[4 * k + 1] +
+                                  p.vel[4 * k + 2] * p.vel[4 * k + 2]));
+    return v;
+}
+
+TEST_CASE("mesh: a teleported collider starts its next step where it was put, pushing nothing", "[mesh][teleport]") {
+    // A box collider standing in a pool is taken 3 m away and brought back, each time in a step
+    // of 0.1 ms: as target poses it would sweep through the water at 30 km/s; teleported, it
+    // leaves and returns to where the water left room for it, and no particle speeds up.
+    pbf_world_desc d = scene::tank(PBF_BACKEND_CPU, kR, 0.64f, 0.8f, 0.64f, 8192);
+    set3(d.domain_min, -3.5f, 0, 0);
+    TestWorld w(d);
+    pbf_collider_desc c = pbf_collider_desc_default();
+    c.shape = PBF_SHAPE_BOX;
+    c.motion = PBF_MOTION_KINEMATIC;
+    set3(c.half_extents, 0.08f, 0.08f, 0.08f);
+    set3(c.position, 0.32f, 0.16f, 0.32f);
+    pbf_collider_id box{};
+    REQUIRE_OK(pbf_world_create_collider(w, &c, &box));
+    scene::fill(w, 0, 0, 0, 0.24f, 0.24f, 0.64f);  // beside the box; it spreads around it
+    for (int k = 0; k < 90; ++k) REQUIRE_OK(pbf_world_step(w, kDt));
+    const float before = fastest(w);
+    const float away[3] = {-3.0f, 0.16f, 0.32f}, back[3] = {0.32f, 0.16f, 0.32f}, q[4] = {0, 0, 0, 1};
+    REQUIRE_OK(pbf_collider_teleport(w, box, away, q));
+    REQUIRE_OK(pbf_world_step(w, 1e-4f));
+    REQUIRE_OK(pbf_collider_teleport(w, box, back, q));
+    REQUIRE_OK(pbf_world_step(w, 1e-4f));
+    const float after = fastest(w);
+    INFO("fastest particle before " << before << " m/s, after " << after << " m/s");
+    CHECK(after <= before + 0.05f);
+    // A static collider can be teleported too; a bad pose or handle is refused.
+    c.motion = PBF_MOTION_STATIC;
+    set3(c.position, 0.1f, 0.6f, 0.1f);
+    pbf_collider_id fixed{};
+    REQUIRE_OK(pbf_world_create_collider(w, &c, &fixed));
+    REQUIRE_OK(pbf_collider_teleport(w, fixed, away, q));
+    const float nan_pos[3] = {kNaN, 0, 0};
+    CHECK_FAILS(pbf_collider_teleport(w, fixed, nan_pos, q), PBF_ERROR_INVALID_ARGUMENT, "position");
+    CHECK_FAILS(pbf_collider_teleport(w, fixed, away, nullptr), PBF_ERROR_INVALID_ARGUMENT, "rotation");
+    CHECK_FAILS(pbf_collider_teleport(w, pbf_collider_id{fixed.index, fixed.generation + 99}, away, q),
+                PBF_ERROR_INVALID_HANDLE, "collider");
+}

@@ -146,6 +146,8 @@ public:
     // The pose a kinematic collider reaches at the end of the next step (rotation normalised
     // here): INVALID_HANDLE when not live, INVALID_STATE when static.
     Status set_collider_target(pbf_collider_id id, const float position[3], const float rotation[4]);
+    // Any collider: its pose now, without motion (the next step starts and ends there).
+    Status teleport_collider(pbf_collider_id id, const float position[3], const float rotation[4]);
     // The one route to map the particles: the live buffers in backend memory, valid until the
     // next step or emission, and the live count (read back unless !wait_for_count on CUDA, where
     // it is PBF_COUNT_ON_DEVICE and only *live.count holds it). Marks the world mapped.

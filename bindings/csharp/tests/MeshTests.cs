@@ -37,6 +37,12 @@ namespace Pbf.Tests
                 Vector4[] p = Scene.Positions(world);
                 Assert.IsTrue(p.All(q => q.Y > 0.4f - 0.01f), "the water rests on the box's top (y = 0.4)");
 
+                // Teleported away: the water that rested on it falls.
+                float restY = Scene.Mean(p).Y;
+                a.Teleport(new Vector3(0, 0.3f, -0.8f), Quaternion.Identity);
+                Scene.Steps(world, 30);
+                Assert.Less(Scene.Mean(Scene.Positions(world)).Y, restY - 0.2f);
+
                 var e = Assert.Throws<PbfException>(() => mesh.Destroy());
                 Assert.AreEqual(Result.InvalidState, e.Code);
                 a.Destroy();

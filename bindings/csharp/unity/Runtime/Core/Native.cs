@@ -754,6 +754,8 @@ namespace Pbf.Interop
         public static extern pbf_result pbf_collider_set_target_pose(pbf_world_id world, pbf_collider_id collider, ref Float3 position, ref Float4 rotation);
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_collider_set_target_pose(pbf_world_id world, pbf_collider_id collider, IntPtr position, IntPtr rotation);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_collider_teleport(pbf_world_id world, pbf_collider_id collider, ref Float3 position, ref Float4 rotation);
 
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_collider_get_force(pbf_world_id world, pbf_collider_id collider, out pbf_collider_force out_force);
