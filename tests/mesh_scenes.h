@@ -312,4 +312,41 @@ inline LeakResult shaken_container(pbf_backend backend, float travel_radii, floa
     return r;
 }
 
+// ---- the checks both suites run (CPU in test_mesh_colliders.cpp, CUDA in its [gpu] twin) -------
+inline void check_sphere_contact(pbf_backend backend) {
+    const float analytic = closest_to_sphere(backend, false);
+    const float sampled = closest_to_sphere(backend, true);
+    INFO("closest centre to the surface: analytic " << analytic << " m, mesh " << sampled << " m");
+    CHECK(analytic == Approx(kR).margin(0.1f * kR));
+    CHECK(std::fabs(sampled - analytic) < kR);  // within one cell (cell = r)
+}
+
+inline void check_container_rest(pbf_backend backend) {
+    const Rest walls = settled_in_container(backend, false);
+    const Rest mesh = settled_in_container(backend, true);
+    INFO("density ratio: walls " << walls.density << ", mesh " << mesh.density << "; mean height: walls "
+                                 << walls.height << ", mesh " << mesh.height);
+    REQUIRE(mesh.count == walls.count);
+    CHECK(mesh.density == Approx(walls.density).epsilon(0.01));
+    // Packing against the walls would lower the water: its mean height agrees within a tenth of
+    // a particle spacing.
+    CHECK(std::fabs(mesh.height - walls.height) < 0.1 * kSpacing);
+}
+
+inline void check_open_plane(pbf_backend backend) {
+    const PlaneResult r = pool_on_open_plane(backend);
+    INFO("lowest centre above the plane " << r.lowest - 0.2f << " m; leaked " << r.leaked << " of " << r.count);
+    CHECK(r.leaked == 0u);
+    // Resting on the shell: thickness/2 (one radius by default) + one radius above the plane.
+    CHECK(r.lowest - 0.2f == Approx(2 * kR).margin(0.5f * kR));
+}
+
+// Issue 13's leak test: 20 particle radii and 30 degrees per frame, 600 frames.
+inline void check_no_leak(pbf_backend backend) {
+    const LeakResult r = shaken_container(backend, 20.0f, 30.0f, 600);
+    INFO("particles " << r.count << ", most outside " << r.outside_max << ", first loss at frame " << r.first_frame);
+    CHECK(r.count == 192u);
+    CHECK(r.outside_max == 0u);
+}
+
 }  // namespace mesh
