@@ -459,6 +459,47 @@ PBF_API pbf_result PBF_CALL pbf_emitter_set_nozzle(pbf_world_id world, pbf_emitt
 PBF_API pbf_result PBF_CALL pbf_emitter_set_drain_box(pbf_world_id world, pbf_emitter_id emitter,
                                                       const float box_min[3], const float box_max[3]);
 
+/* ---- Meshes (for PBF_SHAPE_MESH colliders) ------------------------------------------------ */
+/* A triangle mesh becomes a signed distance field on a regular grid of cell_size, built once at
+ * pbf_world_create_mesh (on the world's backend: the GPU for a CUDA world; the call waits for
+ * the build) and shared by every collider that names it. The arrays are copied: the caller may
+ * free them on return. Memory: a dense grid over the mesh's bounds grown by a pad, 8 bytes per
+ * grid point (a distance and the solid's share of a particle's kernel, for boundary density):
+ * nx·ny·nz·8 bytes, nx = ceil((extent_x + 2·pad) / cell_size) + 1, pad = h + 4·cell_size +
+ * thickness/2 (h = 4 particle radii); at most 256 MB per mesh (more: PBF_ERROR_CAPACITY naming
+ * the voxel count), 256 meshes per world. Distances are exact at the grid points and trilinear
+ * between them: a flat face is honoured to well under a cell, a convex edge or corner is rounded
+ * by up to about one cell. */
+typedef struct pbf_mesh_id { uint32_t index; uint32_t generation; } pbf_mesh_id;
+typedef struct pbf_mesh_desc {
+    uint32_t struct_size;
+    const float* vertices;      /* vertex_count x 3 floats: the mesh in its own frame (a collider's
+                                   pose places it), engine units (metres) */
+    uint32_t vertex_count;      /* 3 .. 2^24 */
+    const uint32_t* indices;    /* triangle_count x 3, each < vertex_count; counter-clockwise seen
+                                   from outside (the right-hand normal points out of the solid) */
+    uint32_t triangle_count;    /* 1 .. 2^22; degenerate (zero-area) triangles are skipped, a mesh of
+                                   only degenerate ones is refused */
+    uint32_t closed;            /* 1 (default): watertight, inside by the generalised winding number
+                                   (small holes and overlaps tolerated); 0: open (terrain pieces,
+                                   single-sided planes): solid within thickness/2 of the surface on
+                                   both sides, whatever its winding */
+    float thickness;            /* open meshes: the shell's thickness (0, the default: 2 particle
+                                   radii; fluid then rests thickness/2 + 1 radius from the surface) */
+    float cell_size;            /* the field's grid spacing (0, the default: the particle radius) */
+} pbf_mesh_desc;
+PBF_API pbf_result PBF_CALL pbf_mesh_desc_init(pbf_mesh_desc* desc, uint32_t struct_size);
+static inline pbf_mesh_desc pbf_mesh_desc_default(void) {
+    pbf_mesh_desc d;
+    memset(&d, 0, sizeof d);
+    d.struct_size = (uint32_t)sizeof(pbf_mesh_desc);
+    (void)pbf_mesh_desc_init(&d, d.struct_size);
+    return d;
+}
+PBF_API pbf_result PBF_CALL pbf_world_create_mesh(pbf_world_id world, const pbf_mesh_desc* desc, pbf_mesh_id* out_mesh);
+/* PBF_ERROR_INVALID_STATE while a collider uses the mesh (destroy those colliders first). */
+PBF_API pbf_result PBF_CALL pbf_world_destroy_mesh(pbf_world_id world, pbf_mesh_id mesh);
+
 /* ---- Colliders ---------------------------------------------------------------------------- */
 typedef enum pbf_collider_shape {
     PBF_SHAPE_PLANE = 1,        /* the half-space below the plane through position with normal
@@ -466,6 +507,8 @@ typedef enum pbf_collider_shape {
     PBF_SHAPE_SPHERE = 2,       /* radius */
     PBF_SHAPE_CAPSULE = 3,      /* radius; segment from -half_height to +half_height on local y */
     PBF_SHAPE_BOX = 4,          /* half_extents, oriented by rotation */
+    PBF_SHAPE_MESH = 5,         /* the triangle mesh `mesh` (pbf_world_create_mesh), placed by the
+                                   pose; radius, half_height, half_extents unused */
     PBF_SHAPE_FORCE32 = 0x7FFFFFFF
 } pbf_collider_shape;
 
@@ -495,6 +538,8 @@ typedef struct pbf_collider_desc {
                                    dynamic collider only measures (a load on a fixed wall). */
     float center_of_mass[3];    /* dynamic: the point torques are taken about, in the collider's
                                    own frame (default 0: its position) */
+    pbf_mesh_id mesh;           /* PBF_SHAPE_MESH: a live mesh of this world (any number of
+                                   colliders may share it); ignored by the other shapes */
 } pbf_collider_desc;
 PBF_API pbf_result PBF_CALL pbf_collider_desc_init(pbf_collider_desc* desc, uint32_t struct_size);
 static inline pbf_collider_desc pbf_collider_desc_default(void) {
@@ -512,6 +557,11 @@ PBF_API pbf_result PBF_CALL pbf_world_destroy_collider(pbf_world_id world, pbf_c
  * by slerp in rotation, one pose per substep). A static collider gives PBF_ERROR_INVALID_STATE. */
 PBF_API pbf_result PBF_CALL pbf_collider_set_target_pose(pbf_world_id world, pbf_collider_id collider,
                                                          const float position[3], const float rotation[4]);
+/* Any collider: puts it at this pose now, without moving it there (no sweep, no push: the next
+ * step starts and ends at this pose, and so does a pending target). For engines that respawn or
+ * stream a body: a target pose far away would sweep through the fluid in one step and fling it. */
+PBF_API pbf_result PBF_CALL pbf_collider_teleport(pbf_world_id world, pbf_collider_id collider, const float position[3],
+                                                  const float rotation[4]);
 
 /* ---- Two-way coupling --------------------------------------------------------------------- *
  * The fluid's push on a dynamic collider over one step, as its mean force (N) and its torque

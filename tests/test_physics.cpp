@@ -251,7 +251,7 @@ TEST_CASE("colliders push particle centres out to one radius from the surface", 
     const ColliderView set{shapes, poses, poses, 4};
     Vec3 n;
     const Vec3 in_sphere = collide(sc.s, set, Vec3{0.05f, 0.0f, 0.0f}, Vec3{0, 0, 0});
-    CHECK(collider_distance(shapes[0], poses[0], in_sphere, n) == Approx(r).margin(1e-5));
+    CHECK(collider_distance(shapes[0], poses[0], in_sphere, n, nullptr) == Approx(r).margin(1e-5));
     CHECK(in_sphere.x > 0.0f);
     const Vec3 in_box = collide(sc.s, set, Vec3{1.08f, 0.0f, 0.0f}, Vec3{1.08f, 0, 0});
     CHECK(in_box.x == Approx(1.1f + r).margin(1e-5));  // out through the nearest (+x) face

@@ -40,6 +40,16 @@ PBF_API pbf_result PBF_CALL pbf_collider_set_target_pose(pbf_world_id id, pbf_co
     });
 }
 
+PBF_API pbf_result PBF_CALL pbf_collider_teleport(pbf_world_id id, pbf_collider_id c, const float position[3],
+                                                 const float rotation[4]) {
+    const char* fn = "pbf_collider_teleport";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_VALIDATE(pbf::api::validate_collider_pose(position, rotation));
+        PBF_LOCK_WORLD(w, id);
+        return fail(fn, w->teleport_collider(c, position, rotation));
+    });
+}
+
 PBF_API pbf_result PBF_CALL pbf_collider_get_force(pbf_world_id id, pbf_collider_id c, pbf_collider_force* out) {
     const char* fn = "pbf_collider_get_force";
     return guarded(fn, [&]() -> pbf_result {

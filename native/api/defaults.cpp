@@ -132,6 +132,12 @@ PBF_API pbf_result PBF_CALL pbf_material_desc_init(pbf_material_desc* d, uint32_
     return PBF_OK;
 }
 
+PBF_API pbf_result PBF_CALL pbf_mesh_desc_init(pbf_mesh_desc* d, uint32_t struct_size) {
+    if (pbf_result r = start("pbf_mesh_desc_init", "pbf_mesh_desc", d, struct_size); r != PBF_OK) return r;
+    d->closed = 1;
+    return PBF_OK;
+}
+
 // ---- interop descs ----------------------------------------------------------------------------
 PBF_API pbf_result PBF_CALL pbf_gl_buffer_desc_init(pbf_gl_buffer_desc* d, uint32_t struct_size) {
     if (pbf_result r = start("pbf_gl_buffer_desc_init", "pbf_gl_buffer_desc", d, struct_size); r != PBF_OK) return r;

@@ -187,7 +187,7 @@ Verdict validate_emitter_kind(pbf_emitter_type kind, pbf_emitter_type type) {
 }
 
 Verdict validate_collider_desc(const pbf_collider_desc& d) {
-    V(raw(d.shape) >= PBF_SHAPE_PLANE && raw(d.shape) <= PBF_SHAPE_BOX, COLLIDER_SHAPE);
+    V(raw(d.shape) >= PBF_SHAPE_PLANE && raw(d.shape) <= PBF_SHAPE_MESH, COLLIDER_SHAPE);
     V(raw(d.motion) == PBF_MOTION_STATIC || raw(d.motion) == PBF_MOTION_KINEMATIC, COLLIDER_MOTION);
     V(finite3(d.position) && finite_nonzero_quat(d.rotation), COLLIDER_POSE);
     V(in(d.friction, 0.0f, 1.0f), COLLIDER_FRICTION);
@@ -205,6 +205,31 @@ Verdict validate_collider_desc(const pbf_collider_desc& d) {
 
 Verdict validate_collider_pose(const float position[3], const float rotation[4]) {
     V(position && rotation && finite3(position) && finite_nonzero_quat(rotation), COLLIDER_POSE);
+    return {};
+}
+
+Verdict validate_mesh_desc(const pbf_mesh_desc& d) {
+    V(d.vertices && d.vertex_count >= 3 && d.vertex_count <= (1u << 24), MESH_VERTICES);
+    V(d.indices && d.triangle_count >= 1 && d.triangle_count <= (1u << 22), MESH_INDICES);
+    V(d.closed <= 1, MESH_CLOSED);
+    V(std::isfinite(d.thickness) && d.thickness >= 0.0f, MESH_THICKNESS);
+    V(std::isfinite(d.cell_size) && d.cell_size >= 0.0f, MESH_CELL_SIZE);
+    for (uint32_t k = 0; k < d.vertex_count; ++k)
+        if (!finite3(d.vertices + 3 * k)) return Verdict{Check::MESH_VERTEX_FINITE, k};
+    const uint64_t indices = uint64_t(d.triangle_count) * 3;
+    for (uint64_t k = 0; k < indices; ++k)
+        if (d.indices[k] >= d.vertex_count) return Verdict{Check::MESH_INDEX_RANGE, k, d.indices[k]};
+    auto vertex = [&](uint32_t i) { return pbf::Vec3{d.vertices[3 * i], d.vertices[3 * i + 1], d.vertices[3 * i + 2]}; };
+    bool surface = false;
+    for (uint64_t t = 0; t < indices && !surface; t += 3)
+        surface = !pbf::triangle_degenerate(vertex(d.indices[t]), vertex(d.indices[t + 1]), vertex(d.indices[t + 2]));
+    V(surface, MESH_DEGENERATE);
+    return {};
+}
+
+Verdict validate_mesh_voxels(uint64_t voxels) {
+    if (voxels * 8 > pbf::kMaxMeshFieldBytes || voxels > (uint64_t(1) << 40))
+        return Verdict{Check::MESH_VOXELS, voxels, voxels > (uint64_t(1) << 40) ? ~uint64_t(0) : voxels * 8 >> 20};
     return {};
 }
 

@@ -111,7 +111,7 @@ inline uint32_t element_alignment(pbf_buffer source) {
     X(EMITTER_KIND, PBF_ERROR_INVALID_ARGUMENT,                                                                      \
       "pbf_emitter_set_nozzle moves nozzles and pbf_emitter_set_drain_box drains: the emitter is of the other type")  \
     /* pbf_collider_desc, pbf_collider_set_target_pose */                                                                   \
-    X(COLLIDER_SHAPE, PBF_ERROR_INVALID_ARGUMENT, "shape must be PBF_SHAPE_PLANE, _SPHERE, _CAPSULE or _BOX")        \
+    X(COLLIDER_SHAPE, PBF_ERROR_INVALID_ARGUMENT, "shape must be PBF_SHAPE_PLANE, _SPHERE, _CAPSULE, _BOX or _MESH") \
     X(COLLIDER_MOTION, PBF_ERROR_INVALID_ARGUMENT, "motion must be PBF_MOTION_STATIC or PBF_MOTION_KINEMATIC")       \
     X(COLLIDER_POSE, PBF_ERROR_INVALID_ARGUMENT,                                                                     \
       "position must be finite and rotation a finite, non-zero quaternion")                                          \
@@ -123,6 +123,17 @@ inline uint32_t element_alignment(pbf_buffer source) {
       "radius, half_height and half_extents must be finite, also where the shape does not use them")                 \
     X(COLLIDER_DYNAMIC, PBF_ERROR_INVALID_ARGUMENT, "dynamic must be 0 or 1")                                        \
     X(COLLIDER_CENTER, PBF_ERROR_INVALID_ARGUMENT, "center_of_mass must be finite")                                  \
+    /* pbf_mesh_desc */                                                                                              \
+    X(MESH_VERTICES, PBF_ERROR_INVALID_ARGUMENT, "vertices must be non-NULL and vertex_count 3..2^24")              \
+    X(MESH_INDICES, PBF_ERROR_INVALID_ARGUMENT, "indices must be non-NULL and triangle_count 1..2^22")              \
+    X(MESH_CLOSED, PBF_ERROR_INVALID_ARGUMENT, "closed must be 0 or 1")                                              \
+    X(MESH_THICKNESS, PBF_ERROR_INVALID_ARGUMENT, "thickness must be finite and >= 0")                               \
+    X(MESH_CELL_SIZE, PBF_ERROR_INVALID_ARGUMENT, "cell_size must be finite and >= 0")                               \
+    X(MESH_VERTEX_FINITE, PBF_ERROR_INVALID_ARGUMENT, "vertex {a} is not finite")                                    \
+    X(MESH_INDEX_RANGE, PBF_ERROR_INVALID_ARGUMENT, "index {a} is {b}: indices must be below vertex_count")         \
+    X(MESH_DEGENERATE, PBF_ERROR_INVALID_ARGUMENT, "every triangle is degenerate (zero area): the mesh has no surface") \
+    X(MESH_VOXELS, PBF_ERROR_CAPACITY,                                                                               \
+      "the mesh's distance field would take {a} voxels ({b} MB; at most 256 MB per mesh): raise cell_size")          \
     /* interop: pbf_gl_buffer_desc, pbf_external_buffer_desc, pbf_semaphore_desc, pbf_external_sync */               \
     X(GL_BUFFER_NAME, PBF_ERROR_INVALID_ARGUMENT, "buffer must be a GL buffer object name (non-zero)")               \
     X(COPY_SOURCE, PBF_ERROR_INVALID_ARGUMENT,                                                                       \
@@ -202,6 +213,8 @@ Verdict validate_emitter_transform(const pbf_emitter_type* type, const float a[3
 Verdict validate_emitter_kind(pbf_emitter_type kind, pbf_emitter_type type);
 Verdict validate_collider_desc(const pbf_collider_desc& d);
 Verdict validate_collider_pose(const float position[3], const float rotation[4]);
+Verdict validate_mesh_desc(const pbf_mesh_desc& d);  // the arrays are read (counts checked first)
+Verdict validate_mesh_voxels(uint64_t voxels);       // a field of this many voxels may be built
 Verdict validate_gl_buffer_desc(const pbf_gl_buffer_desc& d);
 Verdict validate_external_buffer_desc(const pbf_external_buffer_desc& d);
 Verdict validate_semaphore_desc(const pbf_semaphore_desc& d);

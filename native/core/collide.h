@@ -4,11 +4,14 @@
 #pragma once
 #include "bodies.h"
 #include "params.h"
+#include "sdf.h"
 
 namespace pbf {
 
 // Signed distance from a collider's surface at pose `pose`, and the outward normal there.
-PBF_HD float collider_distance(const Collider& c, const ColliderPose& pose, Vec3 p, Vec3& normal) {
+// meshes: the mesh table (read by mesh colliders only).
+PBF_HD float collider_distance(const Collider& c, const ColliderPose& pose, Vec3 p, Vec3& normal,
+                               const MeshView* meshes) {
     const Vec3 q = mul_transpose(pose.rotation, p - pose.position);  // local coordinates
     Vec3 n_local;
     float dist;
@@ -26,6 +29,9 @@ PBF_HD float collider_distance(const Collider& c, const ColliderPose& pose, Vec3
             dist = len - c.radius;
             break;
         }
+        case kShapeMesh:
+            dist = mesh_distance(meshes[c.mesh], q, n_local);
+            break;
         default: {  // box
             const Vec3 e = c.half_extents;
             const Vec3 a = Vec3{fabsf(q.x) - e.x, fabsf(q.y) - e.y, fabsf(q.z) - e.z};
@@ -55,7 +61,7 @@ PBF_HD float collider_distance(const Collider& c, const ColliderPose& pose, Vec3
 // through a collider that moves (or that it crosses) more than about its thickness in one
 // substep, or be pushed through a thin one from contact and leave by the far face.
 PBF_HD bool swept_contact(const Collider& c, const ColliderPose& prev, const ColliderPose& cur, Vec3 x_old, Vec3 p,
-                          float radius, Vec3& hit) {
+                          float radius, const MeshView* meshes, Vec3& hit) {
     // Both ends in the end pose's world frame: the collider stands still there and the particle
     // moves from a to b.
     const Vec3 a = cur.position + mul(cur.rotation, mul_transpose(prev.rotation, x_old - prev.position));
@@ -63,23 +69,26 @@ PBF_HD bool swept_contact(const Collider& c, const ColliderPose& prev, const Col
     const float len = length(ab);
     if (len <= 1e-3f * radius) return false;
     Vec3 n;
-    const float d_start = collider_distance(c, cur, a, n);
+    const float d_start = collider_distance(c, cur, a, n, meshes);
     if (d_start <= 0.0f) return false;  // started inside: the end-pose projection handles it
     // In contact at the start (within the radius, resting or sliding): only a crossing of the
     // surface itself counts, so a sliding particle keeps sliding.
     const float reach = d_start < 1.001f * radius ? 0.5f * d_start : radius;
     // A short move that ends clear of that reach: the end-pose projection handles it.
-    if (len <= radius && collider_distance(c, cur, p, n) > reach) return false;
+    if (len <= radius && collider_distance(c, cur, p, n, meshes) > reach) return false;
     const Vec3 dir = ab * (1.0f / len);
+    // A sampled field can overestimate the distance slightly near convex ridges (trilinear
+    // interpolation of a true distance): mesh colliders march 0.9 of it.
+    const float step_scale = c.shape == kShapeMesh ? 0.9f : 1.0f;
     float t = 0.0f;
     for (int k = 0; k < 16; ++k) {
         const Vec3 x = a + dir * t;
-        const float d = collider_distance(c, cur, x, n) - reach;
+        const float d = collider_distance(c, cur, x, n, meshes) - reach;
         if (d <= 1e-4f * radius) {
             hit = x;
             return true;
         }
-        t += d;
+        t += d * step_scale;
         if (t >= len) return false;
     }
     // Out of probes (a path grazing the surface converges slowly): stop at the last point
@@ -93,11 +102,11 @@ PBF_HD bool swept_contact(const Collider& c, const ColliderPose& prev, const Col
 // friction. Friction is Coulomb's, in position form: the tangential motion relative to the
 // collider over the substep is removed up to μ times the depth this projection pushed out.
 PBF_HD Vec3 contact(const WorldConstants& s, const Collider& c, const ColliderPose& prev, const ColliderPose& cur,
-                    Vec3 p, Vec3 x_old) {
+                    Vec3 p, Vec3 x_old, const MeshView* meshes) {
     Vec3 hit;
-    if (swept_contact(c, prev, cur, x_old, p, s.radius, hit)) p = hit;
+    if (swept_contact(c, prev, cur, x_old, p, s.radius, meshes, hit)) p = hit;
     Vec3 n;
-    const float d = collider_distance(c, cur, p, n);
+    const float d = collider_distance(c, cur, p, n, meshes);
     if (d >= s.radius) return p;
     const float depth = s.radius - d;
     p += n * depth;
@@ -123,7 +132,7 @@ PBF_HD Vec3 collide(const WorldConstants& s, const ColliderView& cv, Vec3 p, Vec
     for (uint32_t k = 0; k < cv.count; ++k) {
         const Collider& c = cv.shapes[k];
         if (!overlaps(c.bounds, min3(x_old, p) - r, max3(x_old, p) + r)) continue;
-        const Vec3 moved = contact(s, c, cv.prev[k], cv.cur[k], p, x_old);
+        const Vec3 moved = contact(s, c, cv.prev[k], cv.cur[k], p, x_old, cv.meshes);
         if (cv.impulses && (c.flags & kColliderDynamic)) record_push(cv, c, cv.cur[k], moved, moved - p);
         p = moved;
     }
@@ -165,6 +174,17 @@ PBF_HD BoundarySample half_space(const WorldConstants& s, float y, Vec3 n) {
     return BoundarySample{s.boundary_scale * boundary_phi(t), n * (s.boundary_scale * boundary_phi_slope(t) / s.h)};
 }
 
+// Collider c's share at p, which lies at distance d < h from it along normal n: a mesh's from
+// its precomputed field (exact at its edges, corners and curved parts: SdfBoundaryOp), the
+// analytic shapes' from the half-space at their closest point.
+PBF_HD BoundarySample collider_boundary(const WorldConstants& s, const Collider& c, const ColliderPose& pose, Vec3 p,
+                                        float d, Vec3 n, const MeshView* meshes) {
+    if (c.shape != kShapeMesh) return half_space(s, d, n);
+    Vec3 g;
+    const float share = mesh_boundary(meshes[c.mesh], mul_transpose(pose.rotation, p - pose.position), g);
+    return BoundarySample{s.boundary_scale * share, mul(pose.rotation, g) * s.boundary_scale};
+}
+
 // Walls meeting at an edge or corner overlap: their shares combine as 1 - Π(1 - φ_k) (the
 // overlap counted once, as if independent) rather than Σ φ_k, which over-counted a rest
 // lattice's corner by ~9 %. W tracks P = Π(1 - φ_k) and its gradient.
@@ -193,9 +213,9 @@ PBF_HD BoundarySample boundary_at(const WorldConstants& s, const ColliderView& c
     for (uint32_t k = 0; k < cv.count; ++k) {
         if (!overlaps(cv.shapes[k].bounds, p - reach, p + reach)) continue;
         Vec3 n;
-        const float d = collider_distance(cv.shapes[k], cv.cur[k], p, n);
+        const float d = collider_distance(cv.shapes[k], cv.cur[k], p, n, cv.meshes);
         if (d >= s.h) continue;
-        const BoundarySample c = half_space(s, d, n);
+        const BoundarySample c = collider_boundary(s, cv.shapes[k], cv.cur[k], p, d, n, cv.meshes);
         b.density_ratio += c.density_ratio;
         b.gradient += c.gradient;
     }
@@ -211,8 +231,8 @@ PBF_HD void record_boundary_push(const WorldConstants& s, const ColliderView& cv
         const Collider& c = cv.shapes[k];
         if (!(c.flags & kColliderDynamic) || !overlaps(c.bounds, p - reach, p + reach)) continue;
         Vec3 n;
-        const float d = collider_distance(c, cv.cur[k], p, n);
-        if (d < s.h) record_push(cv, c, cv.cur[k], p, half_space(s, d, n).gradient * lambda);
+        const float d = collider_distance(c, cv.cur[k], p, n, cv.meshes);
+        if (d < s.h) record_push(cv, c, cv.cur[k], p, collider_boundary(s, c, cv.cur[k], p, d, n, cv.meshes).gradient * lambda);
     }
 }
 

@@ -131,7 +131,7 @@ PBF_HD Vec3 adhesion_pull(const WorldConstants& s, const ColliderView& cv, Vec3 
     for (uint32_t k = 0; k < cv.count; ++k) {
         if (!overlaps(cv.shapes[k].bounds, p - reach, p + reach)) continue;
         Vec3 n;
-        const float d = collider_distance(cv.shapes[k], cv.prev[k], p, n);
+        const float d = collider_distance(cv.shapes[k], cv.prev[k], p, n, cv.meshes);
         if (d < s.h) a -= n * adhesion_falloff(d * inv_h);
     }
     return a;

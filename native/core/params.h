@@ -23,7 +23,9 @@ struct GridDims {
     uint32_t num_cells;  // nx·ny·nz; also the key of dead particles
 };
 
-enum ColliderShape : uint32_t { kShapePlane = 1, kShapeSphere = 2, kShapeCapsule = 3, kShapeBox = 4 };
+enum ColliderShape : uint32_t { kShapePlane = 1, kShapeSphere = 2, kShapeCapsule = 3, kShapeBox = 4, kShapeMesh = 5 };
+
+struct MeshView;  // a mesh's distance field (sdf.h)
 
 struct ColliderPose {
     Vec3 position;
@@ -46,7 +48,7 @@ struct Bounds {
 // A collider's shape and what a step knows about it; its poses live beside it (ColliderView).
 struct Collider {
     uint32_t shape;
-    float radius;
+    float radius;         // sphere, capsule; mesh: the reach of its solid from its origin
     float half_height;
     float friction;  // Coulomb coefficient μ
     Vec3 half_extents;
@@ -54,6 +56,7 @@ struct Collider {
     uint32_t row;         // its row of the force tables (the collider handle's index)
     Vec3 center_local;    // the point torques are taken about, in the body frame
     Bounds bounds;        // contains the collider at every pose of the step (the broad phase)
+    uint32_t mesh;        // kShapeMesh: its row of the mesh table (ColliderView::meshes)
 };
 
 // Where a collider starts and ends a step (or, between steps, stands: from = to).
@@ -81,6 +84,7 @@ struct ColliderView {
     uint32_t dynamic_count = 0;
     ColliderForce* impulses = nullptr;
     float impulse_scale = 0.0f;
+    const MeshView* meshes = nullptr;  // the world's mesh table (rows named by Collider::mesh)
 };
 
 // ---- fluid materials (issue 16) -------------------------------------------------------------

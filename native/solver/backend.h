@@ -13,6 +13,7 @@
 #include "../core/params.h"
 #include "../core/diffuse_ops.h"
 #include "../core/render_ops.h"
+#include "mesh_input.h"
 #include "pbf_c_api.h"
 
 namespace pbf {
@@ -32,7 +33,7 @@ struct DrainBox {
 
 // Substeps per step: the pose table holds kMaxSubsteps + 1 rows of the world's max_colliders.
 constexpr uint32_t kMaxSubsteps = 64;
-// The largest max_colliders a world may ask for. Each step uploads its colliders' shapes (72 B
+// The largest max_colliders a world may ask for. Each step uploads its colliders' shapes (76 B
 // each) and start and end poses (56 B each) through pinned staging slots of 256 KB without a
 // host wait: 2048 keep each upload within one slot. On the backend a world holds 65 pose rows
 // of 48 B per collider (6.4 MB at 2048), and every particle pass scans the bounds of all of
@@ -185,6 +186,10 @@ public:
     virtual const ColliderForce* collider_force_table() const = 0;
     // Zeroes one row (a collider created there has felt nothing yet).
     virtual Status clear_collider_force(uint32_t row) = 0;
+    // Builds a mesh's distance field into row `row` of the mesh table (waits for the build), and
+    // frees it (no collider may use the row any more).
+    virtual Status create_mesh(const MeshBuild& mesh, uint32_t row) = 0;
+    virtual void destroy_mesh(uint32_t row) = 0;
     // Emits a lattice block (waits for the device); *emitted = particles that fitted.
     virtual Status emit_block(const BlockEmission& block, const WorldConstants& constants, uint32_t* emitted) = 0;
     virtual Status particle_count(uint32_t* count) = 0;

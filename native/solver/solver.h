@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "backend.h"
+#include "mesh_field.h"
 #include "../core/passes.h"
 #include "../core/diffuse_ops.h"
 #include "../core/render_ops.h"
@@ -102,6 +103,7 @@ public:
         alloc(collider_impulses_, colliders);
         alloc(collider_forces_, colliders);
         host_forces_.assign(colliders, ColliderForce{});
+        alloc(mesh_table_, kMaxMeshes);
         // Render data only where the world asks for it: nothing at all otherwise.
         const RenderConstants& r = config.render;
         if (r.flags & kRenderSmoothed) alloc(smoothed_, n);
@@ -141,6 +143,7 @@ public:
         exec_.zero(counters_, sizeof(DeviceCounters));
         exec_.zero(collider_impulses_, colliders * sizeof(ColliderForce));
         exec_.zero(collider_forces_, colliders * sizeof(ColliderForce));
+        exec_.zero(mesh_table_, kMaxMeshes * sizeof(MeshView));
         if (smoothed_) exec_.zero(smoothed_, n * sizeof(Vec4));
         if (anisotropy_) exec_.zero(anisotropy_, n * 3 * sizeof(Vec4));
         if (dcap) {
@@ -178,6 +181,7 @@ public:
             SubstepInput sub = in.substeps[k];
             ColliderView& view = sub.ctx.colliders;
             view = ColliderView{collider_shapes_, collider_poses_ + k * count, collider_poses_ + (k + 1) * count, count};
+            view.meshes = mesh_table_;
             if (dynamic) {
                 view.dynamic_count = in.dynamic_count;
                 view.impulses = collider_impulses_;
@@ -190,6 +194,7 @@ public:
         // Between steps the colliders stand at the step's end poses.
         rest_colliders_ = ColliderView{collider_shapes_, collider_poses_ + substeps * count,
                                        collider_poses_ + substeps * count, count};
+        rest_colliders_.meshes = mesh_table_;
         if (dynamic)
             exec_.for_each(count, ColliderForceOp{collider_shapes_, collider_impulses_, collider_forces_, 1.0f / in.step_dt});
         host_forces_valid_ = false;
@@ -222,6 +227,7 @@ public:
             exec_.for_each(count, ColliderPoseOp{collider_keys_, rest_poses_, count, 0});
         }
         rest_colliders_ = ColliderView{collider_shapes_, rest_poses_, rest_poses_, count};
+        rest_colliders_.meshes = mesh_table_;
         density_valid_ = false;
         return exec_.check("updating colliders");
     }
@@ -244,6 +250,27 @@ public:
         exec_.zero(collider_forces_ + row, sizeof(ColliderForce));
         host_forces_valid_ = false;
         return exec_.check("clearing a collider's force");
+    }
+
+    // ---- meshes (issue 13): a field per mesh, its view in a row of the mesh table -------------
+    Status create_mesh(const MeshBuild& b, uint32_t row) override {
+        exec_.activate();
+        if (row >= kMaxMeshes || mesh_values_[row]) return Status::error(PBF_ERROR_INTERNAL, "mesh row in use");
+        float* values = nullptr;
+        Status st = build_mesh_field(exec_, b, &values);
+        if (!st.ok()) return st;
+        MeshView v = b.grid;
+        v.values = values;
+        v.boundary = values + size_t(v.nx) * size_t(v.ny) * size_t(v.nz);
+        mesh_values_[row] = values;
+        exec_.upload(mesh_table_ + row, &v, sizeof v);
+        return exec_.check("pbf_world_create_mesh");
+    }
+    void destroy_mesh(uint32_t row) override {
+        exec_.activate();
+        if (row >= kMaxMeshes) return;
+        exec_.release(mesh_values_[row]);  // a CUDA free waits for the steps that may still read it
+        mesh_values_[row] = nullptr;
     }
 
     Status emit_block(const BlockEmission& b, const WorldConstants& s, uint32_t* emitted) override {
@@ -590,6 +617,8 @@ private:
         exec_.release(rest_poses_);
         exec_.release(collider_impulses_);
         exec_.release(collider_forces_);
+        exec_.release(mesh_table_);
+        for (float*& v : mesh_values_) exec_.release(v);
         exec_.release(smoothed_);
         exec_.release(anisotropy_);
         for (Vec4* b : diffuse_) exec_.release(b);
@@ -623,6 +652,8 @@ private:
     ColliderForce* collider_impulses_ = nullptr;  // max_colliders rows: the running step's impulses
     ColliderForce* collider_forces_ = nullptr;    // max_colliders rows: the last step's mean forces
     std::vector<ColliderForce> host_forces_;      // the host's copy of collider_forces_
+    MeshView* mesh_table_ = nullptr;              // kMaxMeshes rows
+    float* mesh_values_[kMaxMeshes] = {};         // each live mesh's field (its row's values)
     bool host_forces_valid_ = false;
     ColliderView rest_colliders_{};           // the colliders outside a step
     Vec4* smoothed_ = nullptr;                // render data: null unless the world asks for it

@@ -16,7 +16,8 @@ namespace pbf {
 // The core's shape codes are the public ones, so create_collider passes a shape through a cast.
 constexpr bool same_code(ColliderShape core, pbf_collider_shape api) { return uint32_t(core) == uint32_t(api); }
 static_assert(same_code(kShapePlane, PBF_SHAPE_PLANE) && same_code(kShapeSphere, PBF_SHAPE_SPHERE) &&
-                  same_code(kShapeCapsule, PBF_SHAPE_CAPSULE) && same_code(kShapeBox, PBF_SHAPE_BOX),
+                  same_code(kShapeCapsule, PBF_SHAPE_CAPSULE) && same_code(kShapeBox, PBF_SHAPE_BOX) &&
+                  same_code(kShapeMesh, PBF_SHAPE_MESH),
               "core/params.h ColliderShape mirrors pbf_collider_shape");
 namespace {
 
@@ -288,7 +289,10 @@ Status World::colliders_changed() {
 }
 
 bool World::destroy_collider(pbf_collider_id id) {
-    if (!colliders_.erase(id.index, id.generation)) return false;
+    const ColliderEntry* e = find_collider(id);
+    if (!e) return false;
+    if (MeshEntry* m = meshes_.find(e->mesh.index, e->mesh.generation)) --m->users;
+    colliders_.erase(id.index, id.generation);
     (void)colliders_changed();  // the step uploads its colliders anyway; this serves stats between steps
     return true;
 }
@@ -506,8 +510,15 @@ Status World::create_collider(const pbf_collider_desc& d, pbf_collider_id* out) 
                                                      std::to_string(desc_.max_colliders) +
                                                      " colliders already (pbf_world_desc.max_colliders)");
     ColliderEntry e{};
+    MeshEntry* mesh = nullptr;
+    if (d.shape == PBF_SHAPE_MESH) {
+        mesh = meshes_.find(d.mesh.index, d.mesh.generation);
+        if (!mesh) return Status::error(PBF_ERROR_INVALID_HANDLE, "mesh is not a live mesh of this world");
+        e.mesh = d.mesh;
+        e.collider.mesh = d.mesh.index;
+    }
     e.collider.shape = static_cast<uint32_t>(d.shape);
-    e.collider.radius = d.radius;
+    e.collider.radius = mesh ? mesh->reach : d.radius;
     e.collider.half_height = d.half_height;
     e.collider.friction = d.friction;
     e.collider.half_extents = to_vec3(d.half_extents);
@@ -529,6 +540,7 @@ Status World::create_collider(const pbf_collider_desc& d, pbf_collider_id* out) 
         colliders_.erase(h.index, h.generation);
         return st;
     }
+    if (mesh) ++mesh->users;
     *out = pbf_collider_id{h.index, h.generation};
     return st;
 }

@@ -14,7 +14,28 @@ struct ColliderEntry {
     uint32_t motion;     // pbf_collider_motion
     Vec3 position, target_position;
     float rotation[4], target_rotation[4];  // unit quaternions (x, y, z, w)
+    pbf_mesh_id mesh{};  // PBF_SHAPE_MESH: the mesh it uses
 };
+
+struct MeshEntry {
+    uint32_t users = 0;  // colliders using it: destroy is refused until none
+    float reach = 0.0f;  // farthest point of its solid from its origin
+};
+
+// Where a mesh's field lies (its own frame) and how many voxels it takes (meshes.cpp).
+struct MeshLayout {
+    MeshView grid{};
+    int32_t bricks[3] = {};
+    float half_thickness = 0.0f;
+    float margin = 0.0f;   // triangles are binned to the bricks within this distance
+    float kernel_radius = 0.0f;
+    uint64_t voxels = 0;
+};
+// The layout of desc's field in a world of particle radius r and kernel radius h.
+MeshLayout mesh_layout(const pbf_mesh_desc& desc, float r, float h);
+// The host's part of the build: vertices, the non-degenerate triangles binned to bricks; *reach
+// = the farthest point of the solid from the mesh's origin.
+MeshBuild prepare_mesh(const pbf_mesh_desc& desc, const MeshLayout& layout, float* reach);
 
 struct EmitterEntry {
     pbf_emitter_desc desc;  // normalised direction
@@ -100,6 +121,11 @@ public:
     Status get_material(pbf_material_id id, pbf_material_desc* out) const;
     Status set_material(pbf_material_id id, const pbf_material_desc& desc);
     void material_handles(pbf_material_id out[kMaxMaterials]) const;
+    // Meshes (meshes.cpp). desc validated, its field within kMaxMeshFieldBytes (mesh_layout).
+    MeshLayout mesh_layout(const pbf_mesh_desc& desc) const;
+    Status create_mesh(const pbf_mesh_desc& desc, pbf_mesh_id* out);
+    // INVALID_HANDLE when not live, INVALID_STATE while a collider uses it.
+    Status destroy_mesh(pbf_mesh_id id);
 
     Status particle_count(uint32_t* count) { return backend_->particle_count(count); }
     Status copy_positions(float* out, uint32_t max, uint32_t* written) {
@@ -145,6 +171,8 @@ public:
     // The pose a kinematic collider reaches at the end of the next step (rotation normalised
     // here): INVALID_HANDLE when not live, INVALID_STATE when static.
     Status set_collider_target(pbf_collider_id id, const float position[3], const float rotation[4]);
+    // Any collider: its pose now, without motion (the next step starts and ends there).
+    Status teleport_collider(pbf_collider_id id, const float position[3], const float rotation[4]);
     // The one route to map the particles: the live buffers in backend memory, valid until the
     // next step or emission, and the live count (read back unless !wait_for_count on CUDA, where
     // it is PBF_COUNT_ON_DEVICE and only *live.count holds it). Marks the world mapped.
@@ -193,6 +221,7 @@ private:
     SlotTable<EmitterEntry> emitters_;
     SlotTable<ColliderEntry> colliders_;
     MaterialSlot materials_[kMaxMaterials];
+    SlotTable<MeshEntry> meshes_;  // a mesh's handle index is its row of the backend's mesh table
     uint64_t step_index_ = 0;
     uint32_t last_iterations_ = 0;
     uint32_t last_substeps_ = 0;

@@ -3,6 +3,7 @@
 // profiling, so that nothing above the world reaches its backend.
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstring>
 
 #include "world.h"
 
@@ -36,18 +37,34 @@ Status World::set_emitter_transform(pbf_emitter_id id, const float a[3], const f
     return Status{};
 }
 
+namespace {
+// A pose from the API: the rotation normalised.
+void store_pose(const float position[3], const float rotation[4], Vec3* p, float q_out[4]) {
+    const Eigen::Quaternionf q = Eigen::Quaternionf(rotation[3], rotation[0], rotation[1], rotation[2]).normalized();
+    *p = Vec3{position[0], position[1], position[2]};
+    q_out[0] = q.x();
+    q_out[1] = q.y();
+    q_out[2] = q.z();
+    q_out[3] = q.w();
+}
+}  // namespace
+
 Status World::set_collider_target(pbf_collider_id id, const float position[3], const float rotation[4]) {
     ColliderEntry* e = find_collider(id);
     if (!e) return Status::error(PBF_ERROR_INVALID_HANDLE, "collider is not live");
     if (e->motion != PBF_MOTION_KINEMATIC)
         return Status::error(PBF_ERROR_INVALID_STATE, "only kinematic colliders can be moved");
-    const Eigen::Quaternionf q = Eigen::Quaternionf(rotation[3], rotation[0], rotation[1], rotation[2]).normalized();
-    e->target_position = Vec3{position[0], position[1], position[2]};
-    e->target_rotation[0] = q.x();
-    e->target_rotation[1] = q.y();
-    e->target_rotation[2] = q.z();
-    e->target_rotation[3] = q.w();
+    store_pose(position, rotation, &e->target_position, e->target_rotation);
     return Status{};
+}
+
+Status World::teleport_collider(pbf_collider_id id, const float position[3], const float rotation[4]) {
+    ColliderEntry* e = find_collider(id);
+    if (!e) return Status::error(PBF_ERROR_INVALID_HANDLE, "collider is not live");
+    store_pose(position, rotation, &e->position, e->rotation);
+    e->target_position = e->position;
+    std::memcpy(e->target_rotation, e->rotation, sizeof e->rotation);
+    return colliders_changed();
 }
 
 Status World::map_particles(bool wait_for_count, Mapping* out) {

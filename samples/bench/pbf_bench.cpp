@@ -2,7 +2,12 @@
 //
 //   pbf_bench [--backend cpu|cuda|both] [--scene dam,tank] [--particles 65536,262144,1000000]
 //             [--iterations 1,2,4] [--ldc 0,1] [--render 0,1] [--diffuse 0,1000000] [--steps 100] [--warmup 20] [--stages]
+//             [--collider none,box,mesh] [--mesh-triangles 100000]
 //             [--csv FILE]      (--help lists the options with their defaults)
+//
+// --collider adds one static collider to the scene: an analytic box, or the same box as a
+// triangle mesh with each face subdivided (about --mesh-triangles triangles); the mesh's
+// creation (its distance field's build, which the call waits for) is timed as "build ms".
 //
 // One "step" is one solver step (pbf_world_step with substeps = 1): LDC when on, prediction,
 // grid build on x*, the constraint iterations with collisions, velocity update, vorticity
@@ -10,6 +15,7 @@
 // physical at every resolution. GPU times come from CUDA events recorded on the world's stream
 // around each step (the backend's own step timer), CPU times from a steady clock.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -35,6 +41,8 @@ struct Config {
     uint32_t materials = 1;  // 2: two fluids (the default and one of half its density), both with
                              // surface tension and cohesion (issue 16)
     float surface_tension = 0, cohesion = 0;
+    std::string collider = "none";  // none, box or mesh
+    uint32_t mesh_triangles = 0;
 };
 
 struct Result {
@@ -45,6 +53,8 @@ struct Result {
     uint32_t diffuse_count = 0;  // live diffuse particles after the last step
     float dt = 0;
     double stage_ms[PBF_PROFILE_MAX_STAGES] = {};  // per step, averaged
+    double build_ms = 0;  // the mesh's creation (its field's build)
+    uint32_t triangles = 0;
 };
 
 // The solver's stages, as the library names them (pbf_profile_stage_name).
@@ -58,6 +68,61 @@ void set3(float* d, float x, float y, float z) {
     d[0] = x;
     d[1] = y;
     d[2] = z;
+}
+
+// The box [-e, e]³ with each face cut into n x n squares of two triangles (12 n² in all),
+// counter-clockwise seen from outside.
+void subdivided_box(float e, int n, std::vector<float>* v, std::vector<uint32_t>* tri) {
+    // Face k: normal axis a = k / 2, side s = ±1; (u, w) span the other two axes, ordered so
+    // that u x w points along the normal.
+    for (int k = 0; k < 6; ++k) {
+        const int a = k / 2;
+        const float side = k % 2 ? 1.0f : -1.0f;
+        const int u = (a + 1) % 3, w = (a + 2) % 3;
+        const uint32_t base = uint32_t(v->size() / 3);
+        for (int j = 0; j <= n; ++j)
+            for (int i = 0; i <= n; ++i) {
+                float p[3];
+                p[a] = side * e;
+                p[u] = -e + 2 * e * i / n;
+                p[w] = -e + 2 * e * j / n;
+                v->insert(v->end(), p, p + 3);
+            }
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                const uint32_t q = base + uint32_t(j * (n + 1) + i), r = q + 1, t = q + uint32_t(n + 1), x = t + 1;
+                if (side > 0) tri->insert(tri->end(), {q, r, x, q, x, t});
+                else tri->insert(tri->end(), {q, x, r, q, t, x});
+            }
+    }
+}
+
+// The scene's collider (none, box or mesh): a box of half size a/4 in the middle of the fluid.
+bool add_collider(pbf_world_id w, const Config& c, float a, Result* r) {
+    if (c.collider == "none") return true;
+    pbf_collider_desc d = pbf_collider_desc_default();
+    set3(d.position, a, 0.5f * a, 0.5f * a);
+    const float e = 0.25f * a;
+    if (c.collider == "box") {
+        d.shape = PBF_SHAPE_BOX;
+        set3(d.half_extents, e, e, e);
+    } else {
+        std::vector<float> v;
+        std::vector<uint32_t> tri;
+        subdivided_box(e, std::max(1, int(std::lround(std::sqrt(c.mesh_triangles / 12.0)))), &v, &tri);
+        pbf_mesh_desc m = pbf_mesh_desc_default();
+        m.vertices = v.data();
+        m.vertex_count = uint32_t(v.size() / 3);
+        m.indices = tri.data();
+        m.triangle_count = uint32_t(tri.size() / 3);
+        r->triangles = m.triangle_count;
+        const auto t0 = std::chrono::steady_clock::now();
+        if (pbf_world_create_mesh(w, &m, &d.mesh) != PBF_OK) return false;
+        r->build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        d.shape = PBF_SHAPE_MESH;
+    }
+    pbf_collider_id id;
+    return pbf_world_create_collider(w, &d, &id) == PBF_OK;
 }
 
 Result run(const Config& c, int warmup, int steps, bool stages) {
@@ -123,6 +188,11 @@ Result run(const Config& c, int warmup, int steps, bool stages) {
         return r;
     }
     r.count = emitted + second;
+    if (!add_collider(w, c, a, &r)) {
+        r.error = pbf_last_error_message();
+        pbf_world_destroy(w);
+        return r;
+    }
     if (stages) pbf_world_set_profiling(w, 1);
 
     pbf_step_stats s;
@@ -163,8 +233,9 @@ Result run(const Config& c, int warmup, int steps, bool stages) {
 
 int main(int argc, char** argv) {
     std::string backends = "both", scenes = "dam,tank", particles = "65536,262144,1000000", iterations = "4",
-                ldcs = "0,1", renders = "0", diffuses = "0", csv_path;
+                ldcs = "0,1", renders = "0", diffuses = "0", colliders = "none", csv_path;
     int steps = 100, warmup = 20;
+    uint32_t mesh_triangles = 100000;
     bool stages = false;
     std::string materials = "1";
     float surface_tension = 100.0f, cohesion = 100.0f;
@@ -189,6 +260,10 @@ int main(int argc, char** argv) {
                    "tension and cohesion (comma-separated)");
     app.add_option("--surface-tension", surface_tension, "with --materials 2: surface tension, 1/s^2 (default 100)");
     app.add_option("--cohesion", cohesion, "with --materials 2: cohesion, 1/s^2 (default 100)");
+    app.add_option("--collider", colliders, "one static collider in the fluid: none, box (analytic) or mesh (the same "
+                                            "box as a subdivided triangle mesh) (comma-separated)");
+    app.add_option("--mesh-triangles", mesh_triangles, "about how many triangles the mesh box has")
+        ->check(CLI::Range(12, 1 << 22));
     app.add_flag("--stages", stages, "per-stage times (profiled run; stage marks add a little overhead)");
     app.add_option("--csv", csv_path, "also write the results, with per-stage columns, to this CSV file");
     try {
@@ -206,13 +281,14 @@ int main(int argc, char** argv) {
     FILE* csv = csv_path.empty() ? nullptr : std::fopen(csv_path.c_str(), "w");
     if (csv) {
         std::fprintf(csv, "scene,particles,iterations,ldc,render,backend,device,ms_median,ms_min,ms_max,particle_steps_per_s,"
-                          "bytes_per_particle,density_error_mean,density_error_max,dt,diffuse,diffuse_count");
+                          "bytes_per_particle,density_error_mean,density_error_max,dt,diffuse,diffuse_count,collider,triangles,"
+                          "build_ms");
         for (uint32_t k = 0; k < stage_count(); ++k) std::fprintf(csv, ",stage_%s_ms", pbf_profile_stage_name(k));
         std::fprintf(csv, "\n");
     }
     std::printf("| scene | particles | iter | LDC | render | diffuse cap/live | backend | device | ms median | min | max | "
-                "particle-steps/s | B/particle | density err mean | max |\n"
-                "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+                "particle-steps/s | B/particle | density err mean | max | collider | triangles | build ms |\n"
+                "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     int failures = 0;
     std::vector<std::pair<Config, Result>> staged;
     for (pbf_backend backend : backend_list)
@@ -222,11 +298,12 @@ int main(int argc, char** argv) {
                     for (const std::string& l : split_list(ldcs))
                         for (const std::string& rd : split_list(renders))
                         for (const std::string& df : split_list(diffuses))
-                            for (const std::string& mt : split_list(materials)) {
+                            for (const std::string& mt : split_list(materials))
+                            for (const std::string& col : split_list(colliders)) {
                         const Config c{scene, uint32_t(std::strtoul(n.c_str(), nullptr, 10)),
                                        uint32_t(std::atoi(it.c_str())), uint32_t(std::atoi(l.c_str())), backend,
                                        uint32_t(std::atoi(rd.c_str())), uint32_t(std::strtoul(df.c_str(), nullptr, 10)),
-                                       uint32_t(std::atoi(mt.c_str())), surface_tension, cohesion};
+                                       uint32_t(std::atoi(mt.c_str())), surface_tension, cohesion, col, mesh_triangles};
                         const Result r = run(c, warmup, steps, stages);
                         const char* bname = c.materials == 2 ? (backend == PBF_BACKEND_CUDA ? "cuda, 2 mat" : "cpu, 2 mat")
                                                              : (backend == PBF_BACKEND_CUDA ? "cuda" : "cpu");
@@ -237,16 +314,18 @@ int main(int argc, char** argv) {
                             continue;
                         }
                         const double rate = r.count / (r.ms_median / 1000.0);
-                        std::printf("| %s | %u | %u | %u | %u | %u/%u | %s | %s | %.3f | %.3f | %.3f | %.3g | %.1f | %.5f | %.4f |\n",
+                        std::printf("| %s | %u | %u | %u | %u | %u/%u | %s | %s | %.3f | %.3f | %.3f | %.3g | %.1f | %.5f | %.4f "
+                                    "| %s | %u | %.1f |\n",
                                     scene.c_str(), r.count, c.iterations, c.ldc, c.render, c.diffuse, r.diffuse_count, bname,
-                                    r.device.c_str(), r.ms_median,
-                                    r.ms_min, r.ms_max, rate, r.bytes_per_particle, r.error_mean, r.error_max);
+                                    r.device.c_str(), r.ms_median, r.ms_min, r.ms_max, rate, r.bytes_per_particle,
+                                    r.error_mean, r.error_max, c.collider.c_str(), r.triangles, r.build_ms);
                         std::fflush(stdout);
                         if (csv) {
                             std::fprintf(csv, "%s,%u,%u,%u,%u,%s,%s,%.4f,%.4f,%.4f,%.6g,%.2f,%.6f,%.6f,%.6f",
                                          scene.c_str(), r.count, c.iterations, c.ldc, c.render, bname, r.device.c_str(), r.ms_median, r.ms_min,
                                          r.ms_max, rate, r.bytes_per_particle, r.error_mean, r.error_max, r.dt);
-                            std::fprintf(csv, ",%u,%u", c.diffuse, r.diffuse_count);
+                            std::fprintf(csv, ",%u,%u,%s,%u,%.3f", c.diffuse, r.diffuse_count, c.collider.c_str(),
+                                         r.triangles, r.build_ms);
                             for (uint32_t k = 0; k < stage_count(); ++k) std::fprintf(csv, ",%.4f", r.stage_ms[k]);
                             std::fprintf(csv, "\n");
                         }

@@ -74,6 +74,7 @@ int main(void) {
     ENUM(pbf_collider_shape, PBF_SHAPE_SPHERE);
     ENUM(pbf_collider_shape, PBF_SHAPE_CAPSULE);
     ENUM(pbf_collider_shape, PBF_SHAPE_BOX);
+    ENUM(pbf_collider_shape, PBF_SHAPE_MESH);
     ENUM(pbf_collider_shape, PBF_SHAPE_FORCE32);
 
     ENUM(pbf_collider_motion, PBF_MOTION_STATIC);
@@ -292,6 +293,20 @@ int main(void) {
     FIELD(pbf_collider_desc, friction);
     FIELD(pbf_collider_desc, dynamic);
     FIELD(pbf_collider_desc, center_of_mass);
+    FIELD(pbf_collider_desc, mesh);
+
+    STRUCT(pbf_mesh_id);
+    FIELD(pbf_mesh_id, index);
+    FIELD(pbf_mesh_id, generation);
+    STRUCT(pbf_mesh_desc);
+    FIELD(pbf_mesh_desc, struct_size);
+    FIELD(pbf_mesh_desc, vertices);
+    FIELD(pbf_mesh_desc, vertex_count);
+    FIELD(pbf_mesh_desc, indices);
+    FIELD(pbf_mesh_desc, triangle_count);
+    FIELD(pbf_mesh_desc, closed);
+    FIELD(pbf_mesh_desc, thickness);
+    FIELD(pbf_mesh_desc, cell_size);
 
     STRUCT(pbf_collider_force);
     FIELD(pbf_collider_force, force);

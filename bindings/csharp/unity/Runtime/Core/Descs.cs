@@ -404,6 +404,17 @@ namespace Pbf
             };
         }
 
+        /// <summary>The triangle mesh <paramref name="mesh"/> of the same world, placed by the pose
+        /// (any number of colliders may share a mesh).</summary>
+        public static ColliderDesc FromMesh(Mesh mesh, Vector3 position, Quaternion rotation,
+                                            ColliderMotion motion = ColliderMotion.Static)
+        {
+            if (mesh == null) throw new ArgumentNullException("mesh");
+            var d = new ColliderDesc(ColliderShape.Mesh) { Position = position, Rotation = rotation, Motion = motion };
+            d._raw.mesh = mesh.Id;
+            return d;
+        }
+
         /// <summary>The half-space below the plane through point with the given normal is solid.</summary>
         public static ColliderDesc Plane(Vector3 point, Vector3 normal, ColliderMotion motion = ColliderMotion.Static)
         {

@@ -110,6 +110,15 @@ namespace Pbf
             PbfException.Check(Native.pbf_collider_set_target_pose(World.Handle, Id, ref p, ref q));
         }
 
+        /// <summary>Any collider: puts it at this pose now, without moving it there (no sweep, no
+        /// push: the next step starts and ends here). For respawned or streamed bodies.</summary>
+        public void Teleport(Vector3 position, Quaternion rotation)
+        {
+            Float3 p = Convert3.ToNative(position);
+            Float4 q = Convert3.ToNative(rotation);
+            PbfException.Check(Native.pbf_collider_teleport(World.Handle, Id, ref p, ref q));
+        }
+
         /// <summary>Dynamic colliders only (else <see cref="Result.InvalidState"/>): the fluid's mean
         /// force and torque over the last step (zero before the first). Waits for that step to finish
         /// on the backend; on CUDA the first call after a step copies every collider's row at once.</summary>

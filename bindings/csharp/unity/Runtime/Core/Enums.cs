@@ -64,6 +64,8 @@ namespace Pbf
         Capsule = 3,
         /// <summary>HalfExtents, oriented by Rotation.</summary>
         Box = 4,
+        /// <summary>A triangle mesh of the world (<see cref="World.CreateMesh"/>), placed by the pose.</summary>
+        Mesh = 5,
     }
 
     /// <summary>pbf_collider_motion.</summary>

@@ -60,6 +60,7 @@ namespace Pbf.Interop
         PBF_SHAPE_SPHERE = 2,
         PBF_SHAPE_CAPSULE = 3,
         PBF_SHAPE_BOX = 4,
+        PBF_SHAPE_MESH = 5,
         PBF_SHAPE_FORCE32 = 0x7FFFFFFF,
     }
 
@@ -458,6 +459,30 @@ namespace Pbf.Interop
         public float friction;
         public uint dynamic;
         public Float3 center_of_mass;
+        public pbf_mesh_id mesh;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_mesh_id
+    {
+        public uint index;
+        public uint generation;
+        public override string ToString() { return "{" + index + ", " + generation + "}"; }
+    }
+
+    /// <summary>vertices and indices point at arrays the caller keeps pinned for the call
+    /// (the library copies them).</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_mesh_desc
+    {
+        public uint struct_size;
+        public IntPtr vertices;
+        public uint vertex_count;
+        public IntPtr indices;
+        public uint triangle_count;
+        public uint closed;
+        public float thickness;
+        public float cell_size;
     }
 
     [StructLayout(LayoutKind.Sequential)]
@@ -821,9 +846,18 @@ namespace Pbf.Interop
         public static extern pbf_result pbf_world_get_materials(pbf_world_id world, [Out] pbf_material_id[] out_materials);
 
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_mesh_desc_init(ref pbf_mesh_desc desc, uint struct_size);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_create_mesh(pbf_world_id world, ref pbf_mesh_desc desc, out pbf_mesh_id out_mesh);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_world_destroy_mesh(pbf_world_id world, pbf_mesh_id mesh);
+
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_collider_set_target_pose(pbf_world_id world, pbf_collider_id collider, ref Float3 position, ref Float4 rotation);
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_collider_set_target_pose(pbf_world_id world, pbf_collider_id collider, IntPtr position, IntPtr rotation);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_collider_teleport(pbf_world_id world, pbf_collider_id collider, ref Float3 position, ref Float4 rotation);
 
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_collider_get_force(pbf_world_id world, pbf_collider_id collider, out pbf_collider_force out_force);

@@ -7,11 +7,13 @@
 //
 // Setup: open FluidDemo.unity (beside this file) and press Play. Or add this component to any
 // GameObject: it uses the assigned material, else one made from the Pbf/Particles shader
-// (PbfParticles.shader beside this file). Optionally assign a Transform to "Pusher".
+// (PbfParticles.shader beside this file). Optionally assign a Transform to "Pusher", and a
+// MeshFilter to "Obstacle": its mesh becomes a static mesh collider where the GameObject stands.
 using Pbf;
 using Pbf.Unity;
 using UnityEngine;
 using PbfCollider = Pbf.Collider;  // UnityEngine has a Collider too
+using Mesh = UnityEngine.Mesh;     // and Pbf has a Mesh too
 
 public sealed class PbfFluidDemo : MonoBehaviour
 {
@@ -36,6 +38,8 @@ public sealed class PbfFluidDemo : MonoBehaviour
     public float nozzleRadius = 0.1f;
     [Tooltip("Optional: a kinematic sphere collider follows this Transform (its scale.x is the diameter).")]
     public Transform pusher;
+    [Tooltip("Optional: this MeshFilter's mesh (closed, e.g. a rock) becomes a static mesh collider at its Transform.")]
+    public MeshFilter obstacle;
 
     [Header("Rendering")]
     public Material particleMaterial;
@@ -103,6 +107,7 @@ public sealed class PbfFluidDemo : MonoBehaviour
             if (pusher != null)
                 _pusher = _world.CreateCollider(ColliderDesc.Sphere(pusher.position.ToNumerics(), 0.5f * pusher.lossyScale.x,
                                                                     ColliderMotion.Kinematic));
+            if (obstacle != null) AddObstacle(obstacle);
         }
         catch (PbfException e)
         {
@@ -132,6 +137,28 @@ public sealed class PbfFluidDemo : MonoBehaviour
             particleMesh = sphere.GetComponent<MeshFilter>().sharedMesh;
             Destroy(sphere);
         }
+    }
+
+    // The MeshFilter's mesh, scaled by its Transform, as a static mesh collider at its pose. Unity
+    // winds front faces clockwise; libpbf wants them counter-clockwise seen from outside, so each
+    // triangle's last two indices are swapped.
+    void AddObstacle(MeshFilter filter)
+    {
+        Mesh m = filter.sharedMesh;
+        Vector3 scale = filter.transform.lossyScale;
+        Vector3[] v = m.vertices;
+        var vertices = new System.Numerics.Vector3[v.Length];
+        for (int k = 0; k < v.Length; ++k) vertices[k] = Vector3.Scale(v[k], scale).ToNumerics();
+        int[] indices = m.triangles;
+        for (int k = 0; k + 2 < indices.Length; k += 3)
+        {
+            int t = indices[k + 1];
+            indices[k + 1] = indices[k + 2];
+            indices[k + 2] = t;
+        }
+        Pbf.Mesh mesh = _world.CreateMesh(new MeshDesc(vertices, indices));
+        _world.CreateCollider(ColliderDesc.FromMesh(mesh, filter.transform.position.ToNumerics(),
+                                                    filter.transform.rotation.ToNumerics()));
     }
 
     void FixedUpdate()

@@ -1,0 +1,30 @@
+// A triangle mesh on its way to the backend (issue 13): the world prepares it on the host
+// (bounds, grid, triangles binned to bricks); the solver builds its distance field with the
+// ops of core/sdf.h (mesh_field.h) and keeps it in a row of its mesh table.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "../core/sdf.h"
+
+namespace pbf {
+
+// Rows of a world's mesh table (MeshView, 48 B each, allocated with the world): meshes alive at
+// once. The fields themselves are allocated per mesh at its creation.
+constexpr uint32_t kMaxMeshes = 256;
+// The largest field a mesh may have (8 bytes per voxel: a distance and a boundary share; its build also holds its triangles and their
+// brick lists for the time of the build).
+constexpr uint64_t kMaxMeshFieldBytes = 256ull << 20;
+
+struct MeshBuild {
+    MeshView grid{};                // values null: the backend allocates them
+    std::vector<Vec3> vertices;
+    std::vector<uint32_t> indices;  // the non-degenerate triangles, 3 each
+    std::vector<uint32_t> brick_begin, brick_triangles;
+    int32_t bricks[3] = {};
+    uint32_t closed = 1;
+    float half_thickness = 0.0f;    // open meshes: the shell's half thickness
+    float kernel_radius = 0.0f;     // h, for the boundary shares
+};
+
+}  // namespace pbf

@@ -1,0 +1,137 @@
+// Meshes of a world (issue 13): the layout of a mesh's distance field, the host's part of its
+// build (the triangles binned to the field's bricks), and the mesh table's slots.
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "world.h"
+
+namespace pbf {
+
+MeshLayout World::mesh_layout(const pbf_mesh_desc& d) const { return pbf::mesh_layout(d, desc_.particle_radius, h_); }
+
+MeshLayout mesh_layout(const pbf_mesh_desc& d, float r, float h) {
+    MeshLayout l;
+    Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t k = 0; k < d.vertex_count; ++k) {
+        const Vec3 v{d.vertices[3 * k], d.vertices[3 * k + 1], d.vertices[3 * k + 2]};
+        lo = min3(lo, v);
+        hi = max3(hi, v);
+    }
+    const float cell = d.cell_size > 0.0f ? d.cell_size : r;
+    l.half_thickness = d.closed ? 0.0f : 0.5f * (d.thickness > 0.0f ? d.thickness : 2.0f * r);
+    // Contact looks one radius out and boundary density h: band = h + 2 cells keeps every cell a
+    // particle within h samples free of clamped corners.
+    const float band = h + 2.0f * cell;
+    const float pad = band + l.half_thickness + 2.0f * cell;
+    // Far triangles are summed per brick (SdfBrickWindingOp): 2 bricks keep their error small.
+    l.margin = std::max(band + l.half_thickness, 2.0f * float(kSdfBrick) * cell);
+    double voxels = 1.0;
+    int32_t n[3];
+    const float extent[3] = {hi.x - lo.x, hi.y - lo.y, hi.z - lo.z};
+    for (int a = 0; a < 3; ++a) {
+        const double points = std::ceil((double(extent[a]) + 2.0 * pad) / cell) + 1.0;
+        voxels *= points;
+        n[a] = int32_t(std::min(points, 2.0e9));
+        l.bricks[a] = (n[a] + kSdfBrick - 1) / kSdfBrick;
+    }
+    l.voxels = uint64_t(std::min(voxels, 1.8e19));
+    l.grid.origin = lo - Vec3{pad, pad, pad};
+    l.grid.cell = cell;
+    l.grid.inv_cell = 1.0f / cell;
+    l.grid.nx = n[0];
+    l.grid.ny = n[1];
+    l.grid.nz = n[2];
+    l.grid.band = band;
+    l.kernel_radius = h;
+    return l;
+}
+
+namespace {
+
+// Per brick, the triangles whose bounds grown by the margin meet it (compressed rows).
+void bin_triangles(const MeshLayout& l, const std::vector<Vec3>& v, const std::vector<uint32_t>& tri, MeshBuild* b) {
+    const uint32_t bricks = uint32_t(l.bricks[0] * l.bricks[1] * l.bricks[2]);
+    const uint32_t count = uint32_t(tri.size() / 3);
+    // The brick range of each triangle, by the grid points its grown bounds cover.
+    auto range = [&](uint32_t t, int32_t first[3], int32_t last[3]) {
+        const Vec3 a = v[tri[3 * t]], bb = v[tri[3 * t + 1]], c = v[tri[3 * t + 2]];
+        const Vec3 m{l.margin, l.margin, l.margin};
+        const Vec3 lo = (min3(a, min3(bb, c)) - m - l.grid.origin) * l.grid.inv_cell;
+        const Vec3 hi = (max3(a, max3(bb, c)) + m - l.grid.origin) * l.grid.inv_cell;
+        const float lo_a[3] = {lo.x, lo.y, lo.z}, hi_a[3] = {hi.x, hi.y, hi.z};
+        for (int k = 0; k < 3; ++k) {
+            first[k] = std::clamp(int32_t(std::floor(lo_a[k])) / kSdfBrick, 0, l.bricks[k] - 1);
+            last[k] = std::clamp(int32_t(std::ceil(hi_a[k])) / kSdfBrick, 0, l.bricks[k] - 1);
+        }
+    };
+    auto visit = [&](auto&& f) {
+        for (uint32_t t = 0; t < count; ++t) {
+            int32_t first[3], last[3];
+            range(t, first, last);
+            for (int32_t z = first[2]; z <= last[2]; ++z)
+                for (int32_t y = first[1]; y <= last[1]; ++y)
+                    for (int32_t x = first[0]; x <= last[0]; ++x)
+                        f(uint32_t(x + l.bricks[0] * (y + l.bricks[1] * z)), t);
+        }
+    };
+    b->brick_begin.assign(bricks + 1, 0);
+    visit([&](uint32_t brick, uint32_t) { ++b->brick_begin[brick + 1]; });
+    for (uint32_t k = 0; k < bricks; ++k) b->brick_begin[k + 1] += b->brick_begin[k];
+    b->brick_triangles.resize(b->brick_begin[bricks]);
+    std::vector<uint32_t> fill(b->brick_begin.begin(), b->brick_begin.end() - 1);
+    visit([&](uint32_t brick, uint32_t t) { b->brick_triangles[fill[brick]++] = t; });
+}
+
+}  // namespace
+
+MeshBuild prepare_mesh(const pbf_mesh_desc& d, const MeshLayout& l, float* reach) {
+    MeshBuild b;
+    b.grid = l.grid;
+    std::copy(l.bricks, l.bricks + 3, b.bricks);
+    b.closed = d.closed;
+    b.half_thickness = l.half_thickness;
+    b.kernel_radius = l.kernel_radius;
+    *reach = 0.0f;
+    b.vertices.resize(d.vertex_count);
+    for (uint32_t k = 0; k < d.vertex_count; ++k) {
+        b.vertices[k] = Vec3{d.vertices[3 * k], d.vertices[3 * k + 1], d.vertices[3 * k + 2]};
+        *reach = std::max(*reach, length(b.vertices[k]));
+    }
+    *reach += l.half_thickness;
+    for (uint32_t t = 0; t < d.triangle_count; ++t) {
+        const uint32_t* i = d.indices + 3 * t;
+        if (triangle_degenerate(b.vertices[i[0]], b.vertices[i[1]], b.vertices[i[2]])) continue;
+        b.indices.insert(b.indices.end(), i, i + 3);
+    }
+    bin_triangles(l, b.vertices, b.indices, &b);
+    return b;
+}
+
+Status World::create_mesh(const pbf_mesh_desc& d, pbf_mesh_id* out) {
+    if (meshes_.size() >= kMaxMeshes)
+        return Status::error(PBF_ERROR_CAPACITY, "the world holds " + std::to_string(kMaxMeshes) + " meshes already");
+    MeshEntry entry;
+    const MeshBuild b = prepare_mesh(d, mesh_layout(d), &entry.reach);
+    const auto h = meshes_.insert(entry);
+    Status st = backend_->create_mesh(b, h.index);
+    if (!st.ok()) {
+        meshes_.erase(h.index, h.generation);
+        return st;
+    }
+    *out = pbf_mesh_id{h.index, h.generation};
+    return st;
+}
+
+Status World::destroy_mesh(pbf_mesh_id id) {
+    const MeshEntry* m = meshes_.find(id.index, id.generation);
+    if (!m) return Status::error(PBF_ERROR_INVALID_HANDLE, "mesh is not live");
+    if (m->users > 0)
+        return Status::error(PBF_ERROR_INVALID_STATE, std::to_string(m->users) +
+                                                          " collider(s) use the mesh: destroy them first");
+    backend_->destroy_mesh(id.index);
+    meshes_.erase(id.index, id.generation);
+    return Status{};
+}
+
+}  // namespace pbf
