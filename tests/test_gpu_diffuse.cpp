@@ -35,6 +35,8 @@ TEST_CASE("CUDA and CPU agree on diffuse particles: injected kinds move alike", 
     for (size_t k = 0; k < a.pos.size(); ++k) {
         worst = std::max(worst, double(std::fabs(a.pos[k] - b.pos[k])));
         worst = std::max(worst, double(std::fabs(a.vel[k] - b.vel[k])));
+        UNSCOPED_INFO("particle " << k / 4 << " component " << k % 4 << ": position CPU " << a.pos[k] << " CUDA "
+                                  << b.pos[k] << ", velocity CPU " << a.vel[k] << " CUDA " << b.vel[k]);
     }
     INFO("largest difference of a diffuse position or velocity component: " << worst);
     CHECK(worst < 1e-3);

@@ -160,7 +160,7 @@ TEST_CASE("interop: the ABI refuses bad arguments, stale handles, CPU worlds; in
         g.capacity = 0;
         CHECK_CODE(pbf_world_register_gl_buffer(w, &g, &gid), PBF_ERROR_INVALID_ARGUMENT);
         g.capacity = 16;
-        int32_t bad = 7;
+        int32_t bad = 9;  // past the last pbf_buffer (PBF_BUFFER_MATERIALS = 8)
         std::memcpy(&g.source, &bad, sizeof bad);
         CHECK_CODE(pbf_world_register_gl_buffer(w, &g, &gid), PBF_ERROR_INVALID_ARGUMENT);
         g.source = PBF_BUFFER_POSITIONS;
