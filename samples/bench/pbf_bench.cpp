@@ -305,7 +305,7 @@ int main(int argc, char** argv) {
                                        uint32_t(std::atoi(rd.c_str())), uint32_t(std::strtoul(df.c_str(), nullptr, 10)),
                                        uint32_t(std::atoi(mt.c_str())), surface_tension, cohesion, col, mesh_triangles};
                         const Result r = run(c, warmup, steps, stages);
-                        const char* bname = c.materials == 2 ? (backend == PBF_BACKEND_CUDA ? "cuda, 2 mat" : "cpu, 2 mat")
+                        const char* bname = c.materials == 2 ? (backend == PBF_BACKEND_CUDA ? "cuda 2-mat" : "cpu 2-mat")
                                                              : (backend == PBF_BACKEND_CUDA ? "cuda" : "cpu");
                         if (!r.ok) {
                             std::printf("| %s | %u | %u | %u | %u | %u | %s | - | failed: %s |\n", scene.c_str(),
