@@ -232,9 +232,11 @@ TEST_CASE("diffuse: off costs nothing; on, its bytes, passes and pointers are ac
     CHECK(i1.diffuse_bytes == 1000u * 64u + (1000u + 4096u) * 8u + 24u);
     CHECK(i1.device_bytes == i0.device_bytes + i1.diffuse_bytes);
     CHECK(i1.diffuse_updates == 3u);
-    // Profiled, the "diffuse" stage takes no time when off.
+    // Profiled, the "diffuse" (sources) and "diffuse advect" stages take no time when off.
     CHECK(profiled_stage_ms(off, "diffuse") == 0.0f);
+    CHECK(profiled_stage_ms(off, "diffuse advect") == 0.0f);
     CHECK(profiled_stage_ms(on, "diffuse") > 0.0f);
+    CHECK(profiled_stage_ms(on, "diffuse advect") > 0.0f);
     CHECK(world_info(off).diffuse_updates == 0u);
     // Device pointers (host memory on the CPU backend): none when off, the copy-out's data when on.
     const float pos[] = {0.0f, 0.8f, 0.0f, PBF_DIFFUSE_SPRAY, 0.1f, 0.8f, 0.0f, PBF_DIFFUSE_SPRAY};

@@ -97,8 +97,9 @@ enum Stage : int {
     kStageVorticityXsph,
     kStageDensityEnd,
     kStageRender,  // render data (only in worlds that ask for it)
-    kStageDiffuse,  // diffuse particles (only in worlds with a diffuse capacity)
+    kStageDiffuse,  // diffuse sources: normals and counts (only in worlds with a diffuse capacity)
     kStageMaterialForces,  // surface tension, cohesion, adhesion (only in worlds that use them)
+    kStageDiffuseAdvect,   // diffuse particles moved, generated and packed (diffuse capacity only)
     kStageCount
 };
 const char* stage_name(int stage);

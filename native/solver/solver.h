@@ -535,6 +535,7 @@ private:
             exec_.for_each(n, DiffuseSourceOp{s.grid, s.h2, inv_h, dt, d, cell_begin_, masks, pos_, vel_, normals, ids_,
                                               diffuse_steps_, &counters_->count, diffuse_flags_ + d.capacity});
         }
+        exec_.profile_mark(kStageDiffuseAdvect);
         const FluidSampler fluid{s.grid, s.h2, inv_h, cell_begin_, pos_, vel_};
         exec_.for_each(d.capacity, DiffuseAdvectOp{s, rest_colliders_, fluid, dt, d, &diffuse_counters_->count,
                                                    diffuse_[0], diffuse_[1], diffuse_flags_});
