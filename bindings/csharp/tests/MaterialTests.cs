@@ -1,6 +1,7 @@
 using System;
 using System.Linq;
 using System.Numerics;
+using System.Runtime.InteropServices;
 using NUnit.Framework;
 using Pbf.Interop;
 
@@ -165,6 +166,34 @@ namespace Pbf.Tests
                 int[] byHeight = Enumerable.Range(0, p.Length).OrderBy(k => p[k].Y).ToArray();
                 int above = byHeight.Skip(heavy).Count(k => bytes[k] == oil.Index);
                 Assert.GreaterOrEqual(above, 0.9 * light, "oil above the interface after 4 s");
+            }
+        }
+
+        [Test]
+        public void ANozzlePoursItsMaterialAndTheMappedBytesAgree()
+        {
+            using (var world = Scene.CpuWorld())
+            {
+                Material oil = world.CreateMaterial(new MaterialDesc { RestDensity = 700f });
+                EmitterDesc d = EmitterDesc.Nozzle(new Vector3(0, 0.5f, 0), -Vector3.UnitY, 1f, 0.1f, 200f);
+                d.Material = oil;
+                Emitter nozzle = world.CreateEmitter(d);
+                world.EmitBlock(new Vector3(-0.5f, 0, -0.5f), new Vector3(-0.3f, 0.1f, -0.3f));  // water
+                int water = world.ParticleCount;
+                Scene.Steps(world, 30);
+                var bytes = new byte[world.ParticleCount];
+                Assert.AreEqual(bytes.Length, world.CopyMaterials(bytes));
+                Assert.Greater(bytes.Length, water, "the nozzle poured");
+                Assert.AreEqual(bytes.Length - water, bytes.Count(b => b == oil.Index), "all it poured is oil");
+                using (DeviceBuffers b = world.MapDeviceBuffers())
+                {
+                    Assert.AreNotEqual(IntPtr.Zero, b.Materials);
+                    var mapped = new byte[b.Count];
+                    Marshal.Copy(b.Materials, mapped, 0, mapped.Length);
+                    CollectionAssert.AreEqual(bytes, mapped, "the mapped bytes are the copied ones");
+                }
+                Scene.ExpectError(Result.InvalidState, () => oil.Destroy(), "emitter");
+                nozzle.Destroy();
             }
         }
     }
