@@ -95,5 +95,75 @@ namespace Pbf.Tests
                 Assert.Less(Math.Abs(fa.Torque.Z), 0.2f * Math.Abs(fb.Torque.Z), "about the box's centre it nearly cancels");
             }
         }
+
+        [Test]
+        public void ACubeFreeToTurnFloatsStablyOnTheAveragedForce()
+        {
+            // PbfFloatingBody's loop without Unity: a 0.16 m cube of 500 kg/m^3, tilted 6 degrees,
+            // integrated in all six degrees of freedom (its inertia is isotropic: I = m a^2 / 6)
+            // at Unity's 50 Hz, its target pose predicted from its velocities, the fluid's force
+            // and torque averaged by SmoothedForce(0.8). It must stay afloat in the pool, turning
+            // slowly at most (a cube of half the water's density floats tilted: not checked here).
+            const float dt = 1f / 50f;
+            var desc = new WorldDesc
+            {
+                Backend = Backend.Cpu, ParticleRadius = R, MaxParticles = 8192, MaxColliders = 4,
+                DomainMin = Vector3.Zero, DomainMax = new Vector3(Pool, 0.8f, Pool),
+            };
+            using (World world = World.Create(desc))
+            {
+                world.EmitBlock(Vector3.Zero, new Vector3(Pool, Depth, Pool));
+                float mass = 500f * 8 * Half * Half * Half, inertia = mass * 4 * Half * Half / 6;
+                var p = new Vector3(0.5f * Pool, Depth + 0.01f + Half, 0.5f * Pool);
+                var q = Quaternion.CreateFromAxisAngle(Vector3.UnitZ, 0.1f);
+                Vector3 v = Vector3.Zero, w = Vector3.Zero;
+                var d = ColliderDesc.Box(p, q, new Vector3(Half), ColliderMotion.Kinematic);
+                d.Dynamic = true;
+                Collider box = world.CreateCollider(d);
+                var average = new SmoothedForce(0.8f);
+                float fastest = 0;
+                for (int step = 0; step < 200; ++step)
+                {
+                    box.SetTargetPose(p + v * dt, Turn(q, w, dt));
+                    world.Step(dt);
+                    ColliderForce f = average.Add(box.GetForce());
+                    v += (f.Force / mass + new Vector3(0, -G, 0)) * dt;
+                    p += v * dt;
+                    w = (w + f.Torque / inertia * dt) / (1 + 0.05f * dt);  // Unity's default angular drag
+                    q = Turn(q, w, dt);
+                    fastest = Math.Max(fastest, w.Length());
+                }
+                Assert.IsFalse(float.IsNaN(p.Y) || float.IsNaN(w.Length()));
+                Assert.Less(fastest, 3f, "it never spun up (rad/s)");
+                Assert.That(p.X, Is.InRange(Half, Pool - Half), "still in the pool");
+                Assert.That(p.Z, Is.InRange(Half, Pool - Half), "still in the pool");
+                Assert.That(p.Y, Is.InRange(Depth - Half, Depth + Half), "the surface crosses it: afloat");
+            }
+        }
+
+        static Quaternion Turn(Quaternion q, Vector3 w, float dt)
+        {
+            float angle = w.Length() * dt;
+            return angle > 0 ? Quaternion.Normalize(Quaternion.Concatenate(q, Quaternion.CreateFromAxisAngle(Vector3.Normalize(w), angle))) : q;
+        }
+
+        [Test]
+        public void SmoothedForceKeepsASteadyForceAndDelaysAStep()
+        {
+            var a = new SmoothedForce(0.8f);
+            var up = new ColliderForce { Force = new Vector3(0, 10, 0), Torque = new Vector3(1, 0, 0) };
+            Assert.AreEqual(up.Force, a.Add(up).Force, "the first value is taken as it is");
+            for (int k = 0; k < 5; ++k) a.Add(up);
+            Assert.AreEqual(10f, a.Value.Force.Y, 1e-5f, "a steady force stays what it is");
+            ColliderForce after = a.Add(new ColliderForce());
+            Assert.AreEqual(8f, after.Force.Y, 1e-5f, "a step to zero: 0.8 of the old value is kept");
+            Assert.AreEqual(0.8f, after.Torque.X, 1e-6f);
+            a.Reset();
+            Assert.AreEqual(Vector3.Zero, a.Value.Force);
+            Assert.AreEqual(-3f, a.Add(new ColliderForce { Force = new Vector3(0, -3, 0) }).Force.Y, "after Reset: raw again");
+            Assert.AreEqual(0f, new SmoothedForce(0f).Add(up).Force.Y - 10f);
+            Assert.Throws<ArgumentOutOfRangeException>(() => new SmoothedForce(1f));
+            Assert.Throws<ArgumentOutOfRangeException>(() => new SmoothedForce(float.NaN));
+        }
     }
 }

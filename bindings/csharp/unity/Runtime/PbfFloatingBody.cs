@@ -2,10 +2,11 @@
 // dynamic, kinematic box collider of the world. Unity integrates the body; the fluid only pushes
 // it. The owner of the world calls, in its FixedUpdate, BeforeStep on every body, then
 // World.Step(Time.fixedDeltaTime) once, then AfterStep on every body: AfterStep reads the force
-// and torque the fluid exerted during that step and adds them to the Rigidbody, which Unity's
-// physics step (after all FixedUpdates) then integrates with gravity and contacts. Buoyancy,
-// drag and splashes' push all arrive through that one force. See samples/csharp/FloatingBox.cs
-// for the same loop without Unity.
+// and torque the fluid exerted during that step and adds them, averaged over the last few steps
+// (SmoothedForce: the explicit coupling is unstable for light or turning bodies without it), to
+// the Rigidbody, which Unity's physics step (after all FixedUpdates) then integrates with gravity
+// and contacts. Buoyancy, drag and splashes' push all arrive through that one force. See
+// samples/csharp/FloatingBox.cs for the same loop without Unity.
 using System;
 using UnityEngine;
 
@@ -19,6 +20,9 @@ namespace Pbf.Unity
         public float density = 0.0f;
         [Tooltip("Coulomb friction of the fluid on the box, 0..1 (0: the fluid slips along it).")]
         [Range(0.0f, 1.0f)] public float friction = 0.0f;
+        [Tooltip("Each step keeps this share of the force and torque applied the step before (an average over " +
+                 "about s/(1-s) steps): 0 applies the raw force; light bodies and turning ones need about 0.8 to stay stable.")]
+        [Range(0.0f, 0.95f)] public float forceSmoothing = 0.8f;
         [Tooltip("If the body is found this far (m) from where the fluid last put it, something else moved it " +
                  "(a respawn, a script): the fluid's collider is teleported there instead of sweeping through the fluid.")]
         public float teleportDistance = 0.25f;
@@ -27,11 +31,14 @@ namespace Pbf.Unity
         BoxCollider _box;
         Collider _collider;          // Pbf.Collider (this namespace sits in Pbf)
         Vector3 _placedPosition;     // where the fluid's box is now: its last target position
+        SmoothedForce _applied;
 
         /// <summary>The world's collider for this body (null until <see cref="Attach"/>).</summary>
         public Collider FluidCollider { get { return _collider; } }
         /// <summary>The force (N) and the torque about the centre of mass (N·m) of the last step.</summary>
         public ColliderForce LastForce { get; private set; }
+        /// <summary>What the last AfterStep added to the Rigidbody: the average of the steps' forces.</summary>
+        public ColliderForce AppliedForce { get { return _applied != null ? _applied.Value : default(ColliderForce); } }
         public bool IsAttached { get { return _collider != null && !_collider.IsDestroyed; } }
 
         /// <summary>Makes the body's box a dynamic collider of <paramref name="world"/> where the
@@ -55,6 +62,7 @@ namespace Pbf.Unity
             _collider = world.CreateCollider(desc);
             _placedPosition = centre;
             LastForce = default(ColliderForce);
+            _applied = new SmoothedForce(Mathf.Clamp(forceSmoothing, 0.0f, 0.95f));
         }
 
         /// <summary>Removes the collider from its world (a no-op once the world is disposed).</summary>
@@ -73,7 +81,10 @@ namespace Pbf.Unity
             if (!IsAttached) return;
             Vector3 now = BoxCentre(_body.position, _body.rotation);
             if ((now - _placedPosition).magnitude > teleportDistance)
+            {
                 _collider.Teleport(now.ToNumerics(), _body.rotation.ToNumerics());
+                _applied.Reset();  // the forces of the old place say nothing of the new one
+            }
             Vector3 omega = _body.angularVelocity;
             float angle = omega.magnitude * dt * Mathf.Rad2Deg;
             Quaternion rotation = angle > 0.0f ? Quaternion.AngleAxis(angle, omega.normalized) * _body.rotation : _body.rotation;
@@ -83,15 +94,17 @@ namespace Pbf.Unity
         }
 
         /// <summary>After the world's step: the fluid's force and torque on the box over that step,
-        /// added to the Rigidbody for Unity's next physics step (waits for the step to finish on
-        /// CUDA). Expects one world step per FixedUpdate: the force is that step's mean.</summary>
+        /// averaged with the steps before (<see cref="forceSmoothing"/>) and added to the
+        /// Rigidbody for Unity's next physics step (waits for the step to finish on CUDA). Expects
+        /// one world step per FixedUpdate: the force is that step's mean.</summary>
         public void AfterStep()
         {
             if (!IsAttached) return;
             LastForce = _collider.GetForce();
+            ColliderForce applied = _applied.Add(LastForce);
             if (_body.isKinematic) return;
-            _body.AddForce(LastForce.Force.ToUnity(), ForceMode.Force);
-            _body.AddTorque(LastForce.Torque.ToUnity(), ForceMode.Force);
+            _body.AddForce(applied.Force.ToUnity(), ForceMode.Force);
+            _body.AddTorque(applied.Torque.ToUnity(), ForceMode.Force);
         }
 
         void OnDisable() { Detach(); }
@@ -121,7 +134,7 @@ namespace Pbf.Unity
         {
             if (!IsAttached) return;
             Gizmos.color = Color.cyan;
-            Gizmos.DrawRay(_placedPosition, 0.01f * LastForce.Force.ToUnity());  // 1 cm per newton
+            Gizmos.DrawRay(_placedPosition, 0.01f * AppliedForce.Force.ToUnity());  // 1 cm per newton
         }
     }
 }
