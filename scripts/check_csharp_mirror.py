@@ -9,13 +9,21 @@
    bindings/csharp/tools/layout_dump.c: the dump bindings/csharp/tests/LayoutTests.cs compares,
    size by size and value by value, with the C# mirror. A header addition missing from the dump
    would otherwise go unchecked;
-3. every pbf_buffer kind has a member of the friendly BufferSource enum (by value).
+3. every pbf_buffer kind has a member of the friendly BufferSource enum (by value);
+4. every field of every *_desc and *_params struct is reached by the friendly layer (a `.field`
+   access in Runtime/Core outside Native.cs), but for the raw-only structs and fields below.
+
+Then it checks itself: on a copy of the header with a new function, a new world desc field and a
+new buffer kind it must fail (at least three checks).
 
 Ends with 'csharp mirror: N passed, N failed'; exit 1 on any failure.
 """
+import contextlib
+import io
 import os
 import re
 import sys
+import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import pbf_packages as P  # noqa: E402  (the header parser the package checks use)
@@ -24,6 +32,10 @@ CORE = os.path.join(P.ROOT, "bindings", "csharp", "unity", "Runtime", "Core")
 DUMP = os.path.join(P.ROOT, "bindings", "csharp", "tools", "layout_dump.c")
 # Macros that are not values: the include guard and the export/calling-convention decorations.
 NOT_VALUES = {"PBF_C_API_H", "PBF_API", "PBF_CALL"}
+# External memory and semaphores are raw-layer only (bindings/csharp/README.md says so); a desc's
+# struct_size, reserved fields and header_version are filled by the bindings' *_desc_init calls.
+RAW_ONLY_STRUCTS = {"pbf_external_buffer_desc", "pbf_semaphore_desc"}
+SET_BY_INIT = {"struct_size", "header_version"}
 
 
 def header_structs(text):
@@ -70,6 +82,7 @@ def csharp_enum_values(source, name):
 
 
 def check(report):
+    """Adds the checks above to report."""
     text = P._header_text()
     with open(os.path.join(CORE, "Native.cs"), encoding="utf-8") as f:
         native_cs = f.read()
@@ -110,11 +123,14 @@ def check(report):
     else:
         report.ok("layout_dump.c lists all %d PBF_* value macros of the header" % len(macros))
 
-    sources = ""
+    sources, friendly_layer = "", ""
     for name in sorted(os.listdir(CORE)):
         if name.endswith(".cs"):
             with open(os.path.join(CORE, name), encoding="utf-8") as f:
-                sources += f.read()
+                text_cs = f.read()
+            sources += text_cs
+            if name != "Native.cs":
+                friendly_layer += text_cs
     friendly = csharp_enum_values(sources, "BufferSource")
     kinds = {n: v for n, v in header_buffer_values(text).items() if not n.endswith("FORCE32")}
     if friendly is None:
@@ -125,12 +141,50 @@ def check(report):
             report.fail("BufferSource has no member for: %s" % ", ".join(lacking))
         else:
             report.ok("BufferSource has a member for each of the header's %d buffer kinds" % len(kinds))
-    return report.close()
+
+    descs = {n: f for n, f in structs.items() if n.endswith(("_desc", "_params")) and n not in RAW_ONLY_STRUCTS}
+    missing = ["%s.%s" % (n, f) for n, fs in sorted(descs.items()) for f in fs
+               if f not in SET_BY_INIT and not f.startswith("reserved") and not re.search(r"\.%s\b" % f, friendly_layer)]
+    if missing:
+        report.fail("the friendly layer never sets or reads: %s" % ", ".join(missing))
+    else:
+        report.ok("the friendly layer reaches every field of the header's %d desc and params structs "
+                  "(raw only: %s)" % (len(descs), ", ".join(sorted(RAW_ONLY_STRUCTS))))
+
+
+def selftest(report):
+    """The check on a header that gained a function, a world desc field and a buffer kind."""
+    with open(P.HEADER, encoding="utf-8") as f:
+        text = f.read()
+    broken = text.replace("PBF_API pbf_result PBF_CALL pbf_world_step(",
+                          "PBF_API pbf_result PBF_CALL pbf_world_selftest_call(pbf_world_id world);\n"
+                          "PBF_API pbf_result PBF_CALL pbf_world_step(", 1)
+    broken = re.sub(r"(typedef struct pbf_world_desc \{.*?)(\} pbf_world_desc;)", r"\1    uint32_t selftest_field;\n\2",
+                    broken, count=1, flags=re.S)
+    broken = broken.replace("PBF_BUFFER_FORCE32 = 0x7FFFFFFF", "PBF_BUFFER_SELFTEST = 99,\n    PBF_BUFFER_FORCE32 = 0x7FFFFFFF", 1)
+    real = P.HEADER
+    with tempfile.TemporaryDirectory() as tmp:
+        P.HEADER = os.path.join(tmp, "pbf_c_api.h")
+        with open(P.HEADER, "w", encoding="utf-8") as f:
+            f.write(broken)
+        inner = P.Report("csharp mirror self-test")
+        try:
+            with contextlib.redirect_stdout(io.StringIO()):
+                check(inner)
+        finally:
+            P.HEADER = real
+    if broken != text and inner.failed >= 3:
+        report.ok("self-test: fails (%d times) on a header with a new function, desc field and buffer kind" % inner.failed)
+    else:
+        report.fail("self-test: a header with a new function, desc field and buffer kind failed only %d checks" % inner.failed)
 
 
 def main():
     print("== C# mirror of %s" % os.path.relpath(P.HEADER, P.ROOT))
-    return check(P.Report("csharp mirror"))
+    report = P.Report("csharp mirror")
+    check(report)
+    selftest(report)
+    return report.close()
 
 
 if __name__ == "__main__":

@@ -8,7 +8,8 @@
 #   3. scripts/check_nuget.sh LIBDIR         pack the NuGet package, validate it, consume it under Mono
 #   4. scripts/check_csharp_mirror.py         every function, struct, field, enum constant, macro and
 #                                            buffer kind of the header has its C# counterpart
-#                                            (the layout dump LayoutTests compares lists them all)
+#                                            (the layout dump LayoutTests compares lists them all),
+#                                            the friendly layer reaches every desc field; self-test
 #   5. tools/check_unity_sample.sh           the package's UnityEngine scripts and its sample compile
 #                                            (mcs against UnityEngine stubs; shaders with glslang);
 #                                            skipped, and said so, without mcs or glslang
