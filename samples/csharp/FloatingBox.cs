@@ -1,7 +1,9 @@
 // Two-way coupling through the C# bindings, the engine's loop of samples/floating_box.c: a crate of
 // 500 kg/m^3 dropped into a pool. After each step the program reads the force the water exerted on
 // the crate (Collider.GetForce), integrates the crate's body and sets its next pose
-// (Collider.SetTargetPose) -- what a Unity script does with a Rigidbody in FixedUpdate.
+// (Collider.SetTargetPose) -- what the Unity package's PbfFloatingBody does with a Rigidbody in
+// FixedUpdate (there the body also turns, and the force and torque are averaged over the last
+// steps with Pbf.SmoothedForce, without which a light body free to turn is flung about).
 //
 //   mono FloatingBox.exe [steps=300]          (or samples/csharp/run.sh --floating-box [steps])
 //   PBF_BACKEND=cpu|cuda overrides the backend.

@@ -69,5 +69,26 @@ namespace Pbf.Tests
                 Assert.Throws<ArgumentNullException>(() => ColliderDesc.FromMesh(null, Vector3.Zero, Quaternion.Identity));
             }
         }
+
+        [Test]
+        public void AnOpenQuadWithThicknessHoldsWater()
+        {
+            using (var world = Scene.CpuWorld())
+            {
+                // A single-sided square, 1 m wide, at y = 0.3: an open mesh is solid within
+                // Thickness/2 of its surface, from either side.
+                var v = new[] { new Vector3(-0.5f, 0, -0.5f), new Vector3(0.5f, 0, -0.5f), new Vector3(0.5f, 0, 0.5f), new Vector3(-0.5f, 0, 0.5f) };
+                var d = new MeshDesc(v, new[] { 0, 2, 1, 0, 3, 2 }) { Closed = false, Thickness = 0.06f };
+                Assert.IsTrue(new MeshDesc(v, new[] { 0, 2, 1 }).Closed, "closed by default");
+                Mesh sheet = world.CreateMesh(d);
+                world.CreateCollider(ColliderDesc.FromMesh(sheet, new Vector3(0, 0.3f, 0), Quaternion.Identity));
+                int n = world.EmitBlock(new Vector3(-0.1f, 0.4f, -0.1f), new Vector3(0.1f, 0.5f, 0.1f));
+                Assert.Greater(n, 0);
+                Scene.Steps(world, 45);
+                Vector4[] p = Scene.Positions(world);
+                Assert.AreEqual(n, p.Length);
+                Assert.IsTrue(p.All(q => q.Y > 0.3f + 0.03f - 0.01f), "the water rests on the sheet's upper face (y = 0.33)");
+            }
+        }
     }
 }

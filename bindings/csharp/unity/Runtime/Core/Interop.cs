@@ -218,6 +218,9 @@ namespace Pbf
         public uint DiffuseCount { get { return Raw.diffuse_count; } }
         /// <summary>Diffuse particles allocated behind each diffuse pointer.</summary>
         public int DiffuseCapacity { get { return (int)Raw.diffuse_capacity; } }
+        /// <summary>byte per particle (stride 1): the index of its material
+        /// (<see cref="BufferSource.Materials"/>, <see cref="World.Materials"/>), in the positions' order.</summary>
+        public IntPtr Materials { get { return Raw.materials; } }
 
         /// <summary>Ends the world's mapping; does nothing when a step or another call already ended it.</summary>
         public void Dispose()

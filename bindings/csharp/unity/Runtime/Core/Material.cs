@@ -58,6 +58,21 @@ namespace Pbf
             return ids;
         }
 
+        /// <summary>The live materials by index, null where none: element k is the material of the
+        /// particles whose <see cref="BufferSource.Materials"/> byte is k (a renderer's colour
+        /// table: <see cref="MaterialDesc.Color"/> of each).</summary>
+        public Material[] Materials
+        {
+            get
+            {
+                pbf_material_id[] ids = MaterialIds();
+                var materials = new Material[ids.Length];
+                for (int k = 0; k < ids.Length; ++k)
+                    if (ids[k].generation != 0) materials[k] = new Material(this, ids[k]);
+                return materials;
+            }
+        }
+
         /// <summary>Each particle's material index (1 byte per particle), same order as the
         /// positions; returns how many particles were copied.</summary>
         public int CopyMaterials(byte[] destination)

@@ -1,19 +1,27 @@
-// libpbf sample: a dam break in a tank, a nozzle pouring into it, and an optional sphere that
-// follows a Transform and pushes the fluid. The world steps in FixedUpdate; every frame the
-// positions are copied (no allocation) into a GraphicsBuffer and drawn as instanced spheres by
-// the "Pbf/Particles" shader, coloured by density. With "Anisotropic" on (the default) the world
-// also computes smoothed positions and anisotropy (Yu & Turk 2013), and each sphere is drawn as
-// its particle's ellipsoid: flat along the surface, so the water reads as a surface, not beads.
+// libpbf sample: a dam break of water in a tank, a block of oil (a second fluid material, half
+// as dense) that the water runs under and that rises to float on it, a nozzle pouring into the
+// tank, a rock (a mesh collider made from a Unity mesh) in the water's way, a crate that floats
+// (a Unity Rigidbody coupled both ways by PbfFloatingBody), and an optional sphere that follows a
+// Transform and pushes the fluid. The world steps in FixedUpdate; every frame the positions and
+// the particles' material indices are copied (no allocation) into GraphicsBuffers and drawn as
+// instanced spheres by the "Pbf/Particles" shader, each in its material's colour, brighter where
+// compressed. With "Anisotropic" on (the default) the world also computes smoothed positions and
+// anisotropy (Yu & Turk 2013), and each sphere is drawn as its particle's ellipsoid: flat along
+// the surface, so the water reads as a surface, not beads.
 //
 // Setup: open FluidDemo.unity (beside this file) and press Play. Or add this component to any
 // GameObject: it uses the assigned material, else one made from the Pbf/Particles shader
-// (PbfParticles.shader beside this file). Optionally assign a Transform to "Pusher", and a
-// MeshFilter to "Obstacle": its mesh becomes a static mesh collider where the GameObject stands.
+// (PbfParticles.shader beside this file). Optionally assign a Transform to "Pusher", a
+// MeshFilter to "Obstacle" (its mesh becomes a static mesh collider where the GameObject
+// stands), and Rigidbodies with a BoxCollider and a PbfFloatingBody to "Floating Bodies".
+using System;
+using System.Runtime.InteropServices;
 using Pbf;
 using Pbf.Unity;
 using UnityEngine;
-using PbfCollider = Pbf.Collider;  // UnityEngine has a Collider too
-using Mesh = UnityEngine.Mesh;     // and Pbf has a Mesh too
+using PbfCollider = Pbf.Collider;      // UnityEngine has a Collider too,
+using Mesh = UnityEngine.Mesh;         // Pbf has a Mesh too,
+using Material = UnityEngine.Material; // and a Material (a fluid's): written Pbf.Material here
 
 public sealed class PbfFluidDemo : MonoBehaviour
 {
@@ -40,6 +48,22 @@ public sealed class PbfFluidDemo : MonoBehaviour
     public Transform pusher;
     [Tooltip("Optional: this MeshFilter's mesh (closed, e.g. a rock) becomes a static mesh collider at its Transform.")]
     public MeshFilter obstacle;
+    [Tooltip("Rigidbodies (each with a BoxCollider) that float: the fluid pushes them, Unity moves them.")]
+    public PbfFloatingBody[] floatingBodies = new PbfFloatingBody[0];
+    [Tooltip("Invisible Unity box colliders on the domain's floor and walls, so that floating bodies stay in the tank.")]
+    public bool tankColliders = true;
+
+    [Header("Fluids")]
+    [Tooltip("The world's default material: the dam-break block, and the nozzle unless it pours oil.")]
+    public Color waterColor = new Color(0.15f, 0.45f, 0.95f, 1.0f);
+    [Tooltip("A second fluid in the oil block. Off: water only.")]
+    public bool oil = true;
+    [Tooltip("kg/m^3, 0.1..10 times the water's 1000: lighter than water, it floats on it.")]
+    public float oilDensity = 500.0f;
+    public Color oilColor = new Color(0.95f, 0.7f, 0.1f, 1.0f);
+    public Vector3 oilBlockMin = new Vector3(0.4f, 0.0f, -0.5f);
+    public Vector3 oilBlockMax = new Vector3(1.0f, 0.3f, 0.5f);
+    public bool nozzlePoursOil = false;
 
     [Header("Rendering")]
     public Material particleMaterial;
@@ -56,6 +80,10 @@ public sealed class PbfFluidDemo : MonoBehaviour
     GraphicsBuffer _anisotropyBuffer;
     Vector4[] _anisotropy;  // 3 rows per particle: unit axis, radius (m)
     bool _anisotropic;
+    GraphicsBuffer _materialsBuffer;
+    uint[] _materialWords;  // the particles' material bytes, four to a word (the shader unpacks them)
+    readonly Vector4[] _materialColors = new Vector4[Pbf.Interop.Native.PBF_MAX_MATERIALS];
+    GameObject _tank;
     int _count;
     bool _nozzleOn;
     MaterialPropertyBlock _props;
@@ -64,6 +92,9 @@ public sealed class PbfFluidDemo : MonoBehaviour
     static readonly int RadiusId = Shader.PropertyToID("_Radius");
     static readonly int AnisotropyId = Shader.PropertyToID("_PbfAnisotropy");
     static readonly int UseAnisotropyId = Shader.PropertyToID("_UseAnisotropy");
+    static readonly int MaterialsId = Shader.PropertyToID("_PbfMaterials");
+    static readonly int MaterialColorsId = Shader.PropertyToID("_PbfMaterialColors");
+    static readonly int UseMaterialsId = Shader.PropertyToID("_UseMaterials");
 
     void OnEnable()
     {
@@ -92,15 +123,27 @@ public sealed class PbfFluidDemo : MonoBehaviour
         try
         {
             _world = World.Create(desc);
+            Pbf.Material water = _world.DefaultMaterial;
+            MaterialDesc waterDesc = water.GetDesc();
+            waterDesc.Color = waterColor.ToNumerics();
+            water.SetDesc(waterDesc);
+            Pbf.Material oilMaterial = oil
+                ? _world.CreateMaterial(new MaterialDesc { RestDensity = oilDensity, Color = oilColor.ToNumerics() })
+                : water;
             _world.EmitBlock(blockMin.ToNumerics(), blockMax.ToNumerics());
+            if (oil) _world.EmitBlock(new BlockDesc(oilBlockMin.ToNumerics(), oilBlockMax.ToNumerics()) { Material = oilMaterial });
             if (nozzle)
             {
                 // Emit at most the rest-density flux through the disc (speed · area / spacing³):
                 // a higher rate packs particles closer than rest spacing and the jet bursts apart.
                 float spacing = 2.0f * particleRadius;
                 float rate = 0.8f * nozzleSpeed * Mathf.PI * nozzleRadius * nozzleRadius / (spacing * spacing * spacing);
-                _nozzle = _world.CreateNozzle(nozzlePosition.ToNumerics(), new System.Numerics.Vector3(0, -1, 0),
-                                              nozzleSpeed, nozzleRadius, rate);
+                _nozzle = _world.CreateEmitter(new EmitterDesc(EmitterType.Nozzle)
+                {
+                    Position = nozzlePosition.ToNumerics(), Direction = new System.Numerics.Vector3(0, -1, 0),
+                    Speed = nozzleSpeed, Radius = nozzleRadius, ParticlesPerSecond = rate,
+                    Material = nozzlePoursOil ? oilMaterial : water,
+                });
                 _nozzle.SetEnabled(nozzleEnabled);
                 _nozzleOn = nozzleEnabled;
             }
@@ -108,6 +151,9 @@ public sealed class PbfFluidDemo : MonoBehaviour
                 _pusher = _world.CreateCollider(ColliderDesc.Sphere(pusher.position.ToNumerics(), 0.5f * pusher.lossyScale.x,
                                                                     ColliderMotion.Kinematic));
             if (obstacle != null) AddObstacle(obstacle);
+            foreach (PbfFloatingBody body in floatingBodies)
+                if (body != null) body.Attach(_world);
+            ReadMaterialColors();
         }
         catch (PbfException e)
         {
@@ -124,6 +170,9 @@ public sealed class PbfFluidDemo : MonoBehaviour
         // The shader declares the buffer either way; without anisotropy it holds one unused row.
         _anisotropy = new Vector4[_anisotropic ? 3 * maxParticles : 1];
         _anisotropyBuffer = new GraphicsBuffer(GraphicsBuffer.Target.Structured, _anisotropy.Length, 16);
+        _materialWords = new uint[(maxParticles + 3) / 4];
+        _materialsBuffer = new GraphicsBuffer(GraphicsBuffer.Target.Structured, _materialWords.Length, 4);
+        if (tankColliders) _tank = MakeTank();
         _props = new MaterialPropertyBlock();
         if (particleMaterial == null)
         {
@@ -139,26 +188,46 @@ public sealed class PbfFluidDemo : MonoBehaviour
         }
     }
 
-    // The MeshFilter's mesh, scaled by its Transform, as a static mesh collider at its pose. Unity
-    // winds front faces clockwise; libpbf wants them counter-clockwise seen from outside, so each
-    // triangle's last two indices are swapped.
+    // The MeshFilter's mesh, scaled by its Transform, as a static mesh collider at its pose.
     void AddObstacle(MeshFilter filter)
     {
-        Mesh m = filter.sharedMesh;
-        Vector3 scale = filter.transform.lossyScale;
-        Vector3[] v = m.vertices;
-        var vertices = new System.Numerics.Vector3[v.Length];
-        for (int k = 0; k < v.Length; ++k) vertices[k] = Vector3.Scale(v[k], scale).ToNumerics();
-        int[] indices = m.triangles;
-        for (int k = 0; k + 2 < indices.Length; k += 3)
-        {
-            int t = indices[k + 1];
-            indices[k + 1] = indices[k + 2];
-            indices[k + 2] = t;
-        }
-        Pbf.Mesh mesh = _world.CreateMesh(new MeshDesc(vertices, indices));
+        Pbf.Mesh mesh = _world.CreateMesh(PbfUnityMesh.ToMeshDesc(filter.sharedMesh, filter.transform.lossyScale));
         _world.CreateCollider(ColliderDesc.FromMesh(mesh, filter.transform.position.ToNumerics(),
                                                     filter.transform.rotation.ToNumerics()));
+    }
+
+    // The shader's colour table: entry k is the colour of the material whose index is k, as the
+    // world holds it (what MaterialDesc.Color is for). Read again if materials change.
+    void ReadMaterialColors()
+    {
+        Pbf.Material[] materials = _world.Materials;
+        for (int k = 0; k < _materialColors.Length; ++k)
+        {
+            System.Numerics.Vector4 c = materials[k] != null ? materials[k].GetDesc().Color : new System.Numerics.Vector4(1, 0, 1, 1);
+            _materialColors[k] = new Vector4(c.X, c.Y, c.Z, c.W);
+        }
+    }
+
+    // Unity colliders around the domain (floor and four walls, 0.5 m thick, outside it), for the
+    // Rigidbodies: libpbf's walls hold only the fluid.
+    GameObject MakeTank()
+    {
+        var tank = new GameObject("PbfTank (colliders)");
+        Vector3 size = domainMax - domainMin, centre = 0.5f * (domainMin + domainMax);
+        const float t = 0.5f;
+        AddWall(tank, new Vector3(centre.x, domainMin.y - 0.5f * t, centre.z), new Vector3(size.x + 2 * t, t, size.z + 2 * t));
+        AddWall(tank, new Vector3(domainMin.x - 0.5f * t, centre.y, centre.z), new Vector3(t, size.y, size.z + 2 * t));
+        AddWall(tank, new Vector3(domainMax.x + 0.5f * t, centre.y, centre.z), new Vector3(t, size.y, size.z + 2 * t));
+        AddWall(tank, new Vector3(centre.x, centre.y, domainMin.z - 0.5f * t), new Vector3(size.x, size.y, t));
+        AddWall(tank, new Vector3(centre.x, centre.y, domainMax.z + 0.5f * t), new Vector3(size.x, size.y, t));
+        return tank;
+    }
+
+    static void AddWall(GameObject tank, Vector3 centre, Vector3 size)
+    {
+        BoxCollider wall = tank.AddComponent<BoxCollider>();
+        wall.center = centre;
+        wall.size = size;
     }
 
     void FixedUpdate()
@@ -171,7 +240,13 @@ public sealed class PbfFluidDemo : MonoBehaviour
         }
         if (_pusher != null && pusher != null)
             _pusher.SetTargetPose(pusher.position.ToNumerics(), pusher.rotation.ToNumerics());
-        _world.Step(Time.fixedDeltaTime);
+        float dt = Time.fixedDeltaTime;
+        foreach (PbfFloatingBody body in floatingBodies)
+            if (body != null) body.BeforeStep(dt);
+        _world.Step(dt);
+        // The fluid's push of this step, for Unity's physics step that follows the FixedUpdates.
+        foreach (PbfFloatingBody body in floatingBodies)
+            if (body != null) body.AfterStep();
     }
 
     void Update()
@@ -187,10 +262,16 @@ public sealed class PbfFluidDemo : MonoBehaviour
             int rows = 3 * _world.CopyAnisotropy(_anisotropy);
             _anisotropyBuffer.SetData(_anisotropy, 0, 0, rows);
         }
+        // The material bytes, in the positions' order (both copied between the same two steps).
+        int bytes = _world.CopyMaterials(MemoryMarshal.AsBytes(new Span<uint>(_materialWords)));
+        _materialsBuffer.SetData(_materialWords, 0, 0, (bytes + 3) / 4);
 
         _props.SetBuffer(PositionsId, _positionsBuffer);
         _props.SetBuffer(AnisotropyId, _anisotropyBuffer);
         _props.SetFloat(UseAnisotropyId, _anisotropic ? 1.0f : 0.0f);
+        _props.SetBuffer(MaterialsId, _materialsBuffer);
+        _props.SetVectorArray(MaterialColorsId, _materialColors);
+        _props.SetFloat(UseMaterialsId, 1.0f);
         _props.SetFloat(RadiusId, particleRadius);
         var bounds = new Bounds(0.5f * (domainMin + domainMax), domainMax - domainMin);
         Graphics.DrawMeshInstancedProcedural(particleMesh, 0, particleMaterial, bounds, _count, _props);
@@ -198,7 +279,9 @@ public sealed class PbfFluidDemo : MonoBehaviour
 
     void OnDisable()
     {
-        if (_world != null) _world.Dispose();  // destroys its emitters and colliders too
+        foreach (PbfFloatingBody body in floatingBodies)
+            if (body != null) body.Detach();
+        if (_world != null) _world.Dispose();  // destroys its emitters, colliders and materials too
         _world = null;
         _nozzle = null;
         _pusher = null;
@@ -206,6 +289,10 @@ public sealed class PbfFluidDemo : MonoBehaviour
         _positionsBuffer = null;
         if (_anisotropyBuffer != null) _anisotropyBuffer.Release();
         _anisotropyBuffer = null;
+        if (_materialsBuffer != null) _materialsBuffer.Release();
+        _materialsBuffer = null;
+        if (_tank != null) Destroy(_tank);
+        _tank = null;
         PbfUnityLog.Uninstall();
     }
 

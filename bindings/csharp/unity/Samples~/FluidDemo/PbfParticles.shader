@@ -7,6 +7,11 @@
 // x, y, z, radius in m), longest axis first (PBF_BUFFER_ANISOTROPY, World.CopyAnisotropy). The
 // mesh's unit sphere u maps to centre + sum_k a_k r_k u_k; its normals to sum_k a_k n_k / r_k
 // (the inverse transpose of that map), so the lighting follows the flattened surface.
+//
+// With _UseMaterials = 1 each particle takes its fluid material's colour instead of _Color:
+// _PbfMaterials holds the particles' material indices (PBF_BUFFER_MATERIALS, World.CopyMaterials:
+// one byte per particle, four to a uint, little-endian) and _PbfMaterialColors[k] the colour of
+// the material with index k (MaterialDesc.Color, from World.Materials).
 Shader "Pbf/Particles"
 {
     Properties
@@ -15,6 +20,7 @@ Shader "Pbf/Particles"
         _DenseColor ("Compressed colour", Color) = (0.9, 0.95, 1, 1)
         _Radius ("Particle radius", Float) = 0.025
         _UseAnisotropy ("Ellipsoids from _PbfAnisotropy (0 or 1)", Float) = 0
+        _UseMaterials ("Colours by material from _PbfMaterials (0 or 1)", Float) = 0
         _EllipsoidScale ("Ellipsoid radii times", Float) = 1.25
     }
     SubShader
@@ -30,10 +36,13 @@ Shader "Pbf/Particles"
 
             StructuredBuffer<float4> _PbfPositions;
             StructuredBuffer<float4> _PbfAnisotropy;
+            StructuredBuffer<uint> _PbfMaterials;
+            float4 _PbfMaterialColors[8];  // PBF_MAX_MATERIALS
             float4 _Color;
             float4 _DenseColor;
             float _Radius;
             float _UseAnisotropy;
+            float _UseMaterials;
             float _EllipsoidScale;
 
             struct appdata
@@ -68,7 +77,13 @@ Shader "Pbf/Particles"
                 o.pos = mul(UNITY_MATRIX_VP, float4(world, 1.0));
                 float light = 0.45 + 0.55 * saturate(dot(normal, normalize(float3(0.3, 1.0, 0.2))));
                 float compressed = saturate((particle.w - 1.0) * 20.0);
-                o.color = lerp(_Color.rgb, _DenseColor.rgb, compressed) * light;
+                float3 base = _Color.rgb;
+                if (_UseMaterials > 0.5)
+                {
+                    uint material = (_PbfMaterials[instanceID >> 2] >> (8 * (instanceID & 3))) & 0xFF;
+                    base = _PbfMaterialColors[min(material, 7u)].rgb;
+                }
+                o.color = lerp(base, _DenseColor.rgb, compressed) * light;
                 return o;
             }
 
