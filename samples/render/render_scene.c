@@ -220,20 +220,28 @@ static void scene_copy(pbf_egl* e, scene* s) {
 }
 
 void scene_step(pbf_egl* e, scene* s) {
+    uint64_t before = 0, after = 0;
     int k;
     ++s->frame;
     if (s->nozzle_on && s->frame > s->nozzle_frames) {
         CHECK(pbf_emitter_set_enabled(s->world, s->nozzle, 0));
         s->nozzle_on = 0;
     }
+    /* With colliders, the step uploads their poses and the engine reads forces back: counted
+     * apart from the render path's transfers (which must stay 0). */
+    if (s->body_count) CHECK(pbf_debug_get_transfer_count(&before, NULL));
     if (s->before_step) s->before_step(s);
     CHECK(pbf_world_step(s->world, s->dt));
     for (k = 0; k < s->body_count; ++k) { /* the step took each collider to its target */
         memcpy(s->bodies[k].position, s->bodies[k].target, sizeof s->bodies[k].position);
         memcpy(s->bodies[k].rotation, s->bodies[k].target_rotation, sizeof s->bodies[k].rotation);
     }
-    if (!s->zero_copy) scene_copy(e, s);
     if (s->after_step) s->after_step(s);
+    if (s->body_count) {
+        CHECK(pbf_debug_get_transfer_count(&after, NULL));
+        s->engine_transfers += after - before;
+    }
+    if (!s->zero_copy) scene_copy(e, s);
 }
 
 void scene_destroy(pbf_egl* e, scene* s) {

@@ -50,8 +50,8 @@ typedef struct scene_body {
     float color[4];
     GLuint vao, vbo, ibo;
     GLsizei index_count;
-    /* the engine's rigid body (floating boxes): mass (kg), half size (m), velocity, spin */
-    float mass, half, velocity[3], spin[3];
+    /* the engine's rigid body (floating boxes): mass (kg), half size (m), velocity */
+    float mass, half, velocity[3];
 } scene_body;
 
 /* Per material index (PBF_BUFFER_MATERIALS): Beer-Lambert absorption (1/m) and the colour deep
@@ -91,6 +91,7 @@ typedef struct scene {
     long frame, nozzle_frames;
     void* host; /* the copy path's staging memory */
     int draw_walls; /* 1: the domain's walls are the tank (edges drawn) */
+    uint64_t engine_transfers; /* host<->device copies of the steps and hooks of a scene with colliders */
     int body_count;
     scene_body bodies[SCENE_MAX_BODIES];
     scene_materials materials;

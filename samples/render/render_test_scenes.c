@@ -10,8 +10,8 @@
  *                  moved 20 particle radii and turned 30° per frame by the engine (the leak test);
  *   floating_boxes tests/coupling_scenes.h release_box() as samples/floating_box.c, twice: boxes
  *                  of 500 and 2000 kg/m³ released on a pool; this program plays the engine and
- *                  integrates both bodies (translation and rotation) from the force and torque
- *                  the water exerted (pbf_collider_get_force). */
+ *                  integrates both bodies (upright, vertical, as the test) from the force the
+ *                  water exerted (pbf_collider_get_force). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -112,47 +112,21 @@ static void container_populate(pbf_egl* e, scene* s) {
 }
 
 /* ---- floating boxes: the engine's rigid bodies ------------------------------------------------ */
-/* One step of a body from the water's force and torque: semi-implicit Euler for the centre and
- * the spin (a cube's inertia is isotropic, m s²/6, so no gyroscopic term), the quaternion by
- * q += ½ (ω, 0) q Δt, then the tank's floor and walls as the engine's contacts (the box's
- * extent along each axis at its orientation). */
+/* One step of a body from the water's force, as release_box() and samples/floating_box.c: upright,
+ * vertical motion only (semi-implicit Euler, v += (F/m - g) dt, y += v dt), the tank's floor as the
+ * engine's contact. */
 static void body_integrate(scene* s, scene_body* b) {
     pbf_collider_force f;
-    const float dt = s->dt, g = 9.81f, inertia = b->mass * 4.0f * b->half * b->half / 6.0f;
-    float p[3], q[4], w[3], r[9], n;
-    int a;
+    float p[3];
     CHECK(pbf_collider_get_force(s->world, b->id, &f));
     memcpy(p, b->target, sizeof p);
-    memcpy(q, b->target_rotation, sizeof q);
-    for (a = 0; a < 3; ++a) {
-        b->velocity[a] += (f.force[a] / b->mass - (a == 1 ? g : 0.0f)) * dt;
-        b->spin[a] += f.torque[a] / inertia * dt;
-        p[a] += b->velocity[a] * dt;
+    b->velocity[1] += (f.force[1] / b->mass - 9.81f) * s->dt;
+    p[1] += b->velocity[1] * s->dt;
+    if (p[1] - b->half < s->box_min[1]) {
+        p[1] = s->box_min[1] + b->half;
+        b->velocity[1] = 0.0f;
     }
-    memcpy(w, b->spin, sizeof w);
-    {
-        const float dq[4] = {0.5f * dt * (w[0] * q[3] + w[1] * q[2] - w[2] * q[1]),
-                             0.5f * dt * (w[1] * q[3] + w[2] * q[0] - w[0] * q[2]),
-                             0.5f * dt * (w[2] * q[3] + w[0] * q[1] - w[1] * q[0]),
-                             -0.5f * dt * (w[0] * q[0] + w[1] * q[1] + w[2] * q[2])};
-        for (a = 0; a < 4; ++a) q[a] += dq[a];
-    }
-    n = sqrtf(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-    for (a = 0; a < 4; ++a) q[a] /= n;
-    /* rotation matrix rows (world axis a: |r[3a]| + |r[3a+1]| + |r[3a+2]| half sizes of extent) */
-    r[0] = 1 - 2 * (q[1] * q[1] + q[2] * q[2]), r[1] = 2 * (q[0] * q[1] - q[2] * q[3]), r[2] = 2 * (q[0] * q[2] + q[1] * q[3]);
-    r[3] = 2 * (q[0] * q[1] + q[2] * q[3]), r[4] = 1 - 2 * (q[0] * q[0] + q[2] * q[2]), r[5] = 2 * (q[1] * q[2] - q[0] * q[3]);
-    r[6] = 2 * (q[0] * q[2] - q[1] * q[3]), r[7] = 2 * (q[1] * q[2] + q[0] * q[3]), r[8] = 1 - 2 * (q[0] * q[0] + q[1] * q[1]);
-    for (a = 0; a < 3; ++a) {
-        const float extent = b->half * (fabsf(r[3 * a]) + fabsf(r[3 * a + 1]) + fabsf(r[3 * a + 2]));
-        const float lo = s->box_min[a] + extent, hi = s->box_max[a] - extent;
-        if (p[a] < lo || p[a] > hi) {
-            p[a] = p[a] < lo ? lo : hi;
-            b->velocity[a] = 0.0f;
-            memset(b->spin, 0, sizeof b->spin); /* contact friction, crudely */
-        }
-    }
-    body_set_target(s, b, p, q);
+    body_set_target(s, b, p, kIdentity);
 }
 
 static void floating_after_step(scene* s) {
@@ -213,7 +187,7 @@ void test_scene_configure(scene* s, const scene_options* o, pbf_world_desc* d) {
     d->max_particles = 8192;
     switch (o->kind) {
     case SCENE_TWO_FLUIDS:
-        set3(hi, 0.48f, 0.8f, 0.32f), set3(eye, 0.62f, 0.62f, 1.45f), set3(at, 0.24f, 0.32f, 0.16f);
+        set3(hi, 0.48f, 0.8f, 0.32f), set3(eye, 0.64f, 0.62f, 1.62f), set3(at, 0.24f, 0.34f, 0.16f);
         d->solver.ldc_enabled = 1;
         break;
     case SCENE_DROPLET:
@@ -227,7 +201,7 @@ void test_scene_configure(scene* s, const scene_options* o, pbf_world_desc* d) {
         const float extent = container_path_radius() + 0.6f;
         set3(lo, kCircle[0] - extent, kCircle[1] - extent, -0.6f);
         set3(hi, kCircle[0] + extent, kCircle[1] + extent, 0.6f);
-        set3(eye, 0.0f, 1.3f, 2.9f), set3(at, 0.0f, 1.1f, 0.0f);
+        set3(eye, 0.0f, 1.25f, 3.7f), set3(at, 0.0f, 1.1f, 0.0f);
         d->solver.max_substeps = 64;
         s->draw_walls = 0;
         break;
