@@ -10,7 +10,8 @@
 # The scenes are small (the tests' sizes, at most ~5k particles): expected well under a minute on
 # an H100; the runs' time limits add up to under 4 minutes. The PNGs go into one tar,
 # $OUT/frames_issue13_16.tar, laid out as docs/render/<scene>/frame_NNNN.png (extract it at the
-# repository root), the logs beside it; a SUMMARY last.
+# repository root), the logs beside it; a SUMMARY last, with what each scene's test measures,
+# measured at the end of the drawn run ("measured:" lines).
 #
 #   OUT=/tmp/out bash tools/gpu_frames_issue13_16.sh                 # configures and builds build-gpu
 #   PBF_PREBUILT=.gpu-bin OUT=... bash tools/gpu_frames_issue13_16.sh  # binaries built elsewhere
@@ -64,8 +65,9 @@ run() {
   fi
   [ "$rc" = 0 ] || fail=1
   echo "== $name rc=$rc ($((SECONDS - t0)) s)"
-  grep -E "^($name|materials|frame loop|library host|GL buffers)" "$OUT/$name.log" | cut -c1-160 | sed 's/^/   /'
+  grep -E "^($name|materials|frame loop|library host|GL buffers|measured)" "$OUT/$name.log" | cut -c1-160 | sed 's/^/   /'
   results+=("$name rc=$rc $((SECONDS - t0))s $(find "$dir" -name '*.png' 2> /dev/null | wc -l) PNGs")
+  while IFS= read -r line; do results+=("  $line"); done < <(grep -E "^measured" "$OUT/$name.log")
 }
 
 run two_fluids 60 240 1,20,40,60,120,240

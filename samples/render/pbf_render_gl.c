@@ -312,6 +312,7 @@ int main(int argc, char** argv) {
         printf("interop: %u GL buffers, %llu copies, last copy batch %.4f ms GPU, %.4f ms host\n", info.gl_buffers,
                (unsigned long long)info.copies, info.last_copy_gpu_ms, info.last_copy_host_ms);
     }
+    test_scene_report(&s, &o.scene);
     scene_destroy(&e, &s);
     if (o.bench > 0) bench(&e, &t, &o);
 

@@ -104,6 +104,9 @@ typedef struct scene {
  * d before the world exists; then materials, colliders and particles. */
 void test_scene_configure(scene* s, const scene_options* o, pbf_world_desc* d);
 void test_scene_populate(pbf_egl* e, scene* s, const scene_options* o);
+/* What the test of the scene measures, at the end of the run, printed as a "measured:" line
+ * (render_test_checks.c; nothing for dam and pool). */
+void test_scene_report(scene* s, const scene_options* o);
 
 /* Colliders (render_bodies.c): creates the collider and its drawing mesh (vertices xyz in its
  * frame, counter-clockwise triangles seen from outside); returns the body. */
