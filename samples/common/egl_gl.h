@@ -93,7 +93,15 @@
     X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D)                   \
     X(PFNGLCLEARBUFFERFVPROC, ClearBufferfv)                                 \
     X(PFNGLBLENDFUNCPROC, BlendFunc)                                         \
-    X(PFNGLDEPTHMASKPROC, DepthMask)
+    X(PFNGLDEPTHMASKPROC, DepthMask)                                         \
+    X(PFNGLVERTEXATTRIBIPOINTERPROC, VertexAttribIPointer)                   \
+    X(PFNGLTEXBUFFERPROC, TexBuffer)                                         \
+    X(PFNGLDRAWELEMENTSPROC, DrawElements)                                   \
+    X(PFNGLDRAWBUFFERSPROC, DrawBuffers)                                     \
+    X(PFNGLCOLORMASKPROC, ColorMask)                                         \
+    X(PFNGLCULLFACEPROC, CullFace)                                           \
+    X(PFNGLUNIFORM3FVPROC, Uniform3fv)                                       \
+    X(PFNGLUNIFORM4FPROC, Uniform4f)
 
 typedef struct pbf_gl_functions {
 #define PBF_GL_DECLARE(type, name) type name;

@@ -85,6 +85,7 @@ void target_create(pbf_egl* e, target* t, int width, int height) {
     t->sphere_program = link_program(e, kSphereVertexShader, kSphereFragmentShader);
     t->line_program = link_program(e, kLineVertexShader, kLineFragmentShader);
     t->diffuse_program = diffuse_program_create(e);
+    t->body_program = bodies_program_create(e);
     e->gl.GenVertexArrays(1, &t->line_vao);
     e->gl.GenBuffers(1, &t->line_vbo);
     e->gl.BindVertexArray(t->line_vao);
@@ -105,6 +106,7 @@ void target_destroy(pbf_egl* e, target* t) {
     e->gl.DeleteProgram(t->sphere_program);
     e->gl.DeleteProgram(t->line_program);
     e->gl.DeleteProgram(t->diffuse_program);
+    e->gl.DeleteProgram(t->body_program);
     e->gl.DeleteVertexArrays(1, &t->line_vao);
     e->gl.DeleteVertexArrays(1, &t->empty_vao);
     e->gl.DeleteBuffers(1, &t->line_vbo);
@@ -151,7 +153,8 @@ void draw_spheres(pbf_egl* e, const target* t, const camera* c, const scene* s, 
     e->gl.Enable(GL_DEPTH_TEST);
     e->gl.DepthFunc(GL_LESS);
     e->gl.Enable(GL_PROGRAM_POINT_SIZE);
-    draw_tank(e, t, c, s);
+    if (s->draw_walls) draw_tank(e, t, c, s);
+    draw_bodies(e, t, c, s, BODIES_OPAQUE);
     e->gl.UseProgram(t->sphere_program);
     e->gl.UniformMatrix4fv(uniform(e, t->sphere_program, "u_view"), 1, GL_FALSE, c->view);
     e->gl.UniformMatrix4fv(uniform(e, t->sphere_program, "u_proj"), 1, GL_FALSE, c->proj);
@@ -164,5 +167,6 @@ void draw_spheres(pbf_egl* e, const target* t, const camera* c, const scene* s, 
     e->gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, s->streams[s->fluid_draw_args_stream].draw_args);
     e->gl.DrawArraysIndirect(GL_POINTS, (const void*)0);
     e->gl.BindVertexArray(0);
+    draw_bodies(e, t, c, s, BODIES_GLASS_FRONT);
     check_gl(e, "drawing spheres");
 }

@@ -51,29 +51,42 @@ static const char* kBackgroundFragmentShader =
 /* Ellipsoid splats: a point sprite over each particle's ellipsoid; the fragment shader hits the
  * ellipsoid with the pixel's ray. The anisotropy rows give the ellipsoid x^T M^-1 x = 1 with
  * M = sum r_k^2 a_k a_k^T, i.e. |T x| = 1 where T's rows are a_k / r_k (in eye space). */
-static const char* kSplatVertexShader =
+#define GLSL_SPLAT_VERTEX                                                                    \
+    "layout(location = 0) in vec4 a_center;  // smoothed position, density ratio\n"          \
+    "layout(location = 1) in vec4 a_axis0;   // unit axis, radius (m), longest first\n"      \
+    "layout(location = 2) in vec4 a_axis1;\n"                                                \
+    "layout(location = 3) in vec4 a_axis2;\n"                                                \
+    "uniform mat4 u_view;\n"                                                                 \
+    "uniform mat4 u_proj;\n"                                                                 \
+    "uniform float u_scale;\n"                                                               \
+    "uniform float u_min_radius;\n"                                                          \
+    "uniform float u_viewport_height;\n"                                                     \
+    "flat out vec3 v_center;\n"                                                              \
+    "flat out mat3 v_to_unit;\n"                                                             \
+    "void main() {\n"                                                                        \
+    "    mat3 v = mat3(u_view);\n"                                                           \
+    "    vec3 r = max(vec3(a_axis0.w, a_axis1.w, a_axis2.w) * u_scale, vec3(u_min_radius));\n" \
+    "    v_to_unit = transpose(mat3(v * a_axis0.xyz / r.x, v * a_axis1.xyz / r.y, v * a_axis2.xyz / r.z));\n" \
+    "    vec4 eye = u_view * vec4(a_center.xyz, 1.0);\n"                                     \
+    "    v_center = eye.xyz;\n"                                                              \
+    "    gl_Position = u_proj * eye;\n"                                                      \
+    "    // the bounding sphere's diameter in pixels, with a margin for the perspective\n"   \
+    "    gl_PointSize = 1.3 * u_viewport_height * u_proj[1][1] * max(r.x, max(r.y, r.z)) / gl_Position.w;\n"  \
+    "    SET_MATERIAL\n"                                                                    \
+    "}\n"
+static const char* kSplatVertexShader = "#version 430 core\n#define SET_MATERIAL\n" GLSL_SPLAT_VERTEX;
+/* The same splats with the particle's material (render_materials.c): its id (location 4) picks
+ * its material index in the table, which picks the material's optics. */
+static const char* kSplatMaterialVertexShader =
     "#version 430 core\n"
-    "layout(location = 0) in vec4 a_center;  // smoothed position, density ratio\n"
-    "layout(location = 1) in vec4 a_axis0;   // unit axis, radius (m), longest first\n"
-    "layout(location = 2) in vec4 a_axis1;\n"
-    "layout(location = 3) in vec4 a_axis2;\n"
-    "uniform mat4 u_view;\n"
-    "uniform mat4 u_proj;\n"
-    "uniform float u_scale;\n"
-    "uniform float u_min_radius;\n"
-    "uniform float u_viewport_height;\n"
-    "flat out vec3 v_center;\n"
-    "flat out mat3 v_to_unit;\n"
-    "void main() {\n"
-    "    mat3 v = mat3(u_view);\n"
-    "    vec3 r = max(vec3(a_axis0.w, a_axis1.w, a_axis2.w) * u_scale, vec3(u_min_radius));\n"
-    "    v_to_unit = transpose(mat3(v * a_axis0.xyz / r.x, v * a_axis1.xyz / r.y, v * a_axis2.xyz / r.z));\n"
-    "    vec4 eye = u_view * vec4(a_center.xyz, 1.0);\n"
-    "    v_center = eye.xyz;\n"
-    "    gl_Position = u_proj * eye;\n"
-    "    // the bounding sphere's diameter in pixels, with a margin for the perspective\n"
-    "    gl_PointSize = 1.3 * u_viewport_height * u_proj[1][1] * max(r.x, max(r.y, r.z)) / gl_Position.w;\n"
-    "}\n";
+    "layout(location = 4) in uint a_id;\n"
+    "uniform usamplerBuffer u_material_of_id;\n"
+    "uniform vec3 u_material_absorption[8];\n"
+    "uniform vec3 u_material_deep[8];\n"
+    "flat out vec3 v_absorption;\n"
+    "flat out vec3 v_deep;\n"
+    "#define SET_MATERIAL uint m = min(texelFetch(u_material_of_id, int(a_id)).r, 7u); "
+    "v_absorption = u_material_absorption[m]; v_deep = u_material_deep[m];\n" GLSL_SPLAT_VERTEX;
 
 /* The ray p = t d meets |T (p - c)| = 1 where A t^2 - 2 B t + C = 0. */
 #define GLSL_SPLAT_HIT                                                                       \
@@ -114,6 +127,23 @@ static const char* kSplatThicknessFragmentShader =
     "    float chord;\n"
     "    if (!hit(p, chord)) discard;\n"
     "    o_thickness = chord;\n"
+    "}\n";
+
+/* Several materials: each ellipsoid's chord times its material's absorption (the optical depth
+ * along the ray, summed) and times its deep colour (averaged by the composite over the
+ * thickness), additively blended into two targets. */
+static const char* kSplatMaterialFragmentShader =
+    "#version 430 core\n" GLSL_SPLAT_HIT
+    "flat in vec3 v_absorption;\n"
+    "flat in vec3 v_deep;\n"
+    "layout(location = 0) out vec4 o_optics;\n"
+    "layout(location = 1) out vec4 o_tint;\n"
+    "void main() {\n"
+    "    vec3 p;\n"
+    "    float chord;\n"
+    "    if (!hit(p, chord)) discard;\n"
+    "    o_optics = vec4(v_absorption * chord, chord);\n"
+    "    o_tint = vec4(v_deep * chord, chord);\n"
     "}\n";
 
 /* One direction of a separable bilateral filter of the depth (Gaussian in screen distance and
@@ -165,6 +195,9 @@ static const char* kCompositeFragmentShader =
     "uniform vec3 u_absorption;   // 1/m per channel\n"
     "uniform vec3 u_deep_color;\n"
     "uniform float u_refraction;  // screen offset per metre of thickness\n"
+    "uniform int u_materials;     // 1: absorption and deep colour per pixel from the material pass\n"
+    "uniform sampler2D u_optics;\n"
+    "uniform sampler2D u_tint;\n"
     "out vec4 o_color;\n" GLSL_PIXEL_RAY GLSL_ENVIRONMENT
     "vec3 eye_position(ivec2 px) {\n"
     "    float z = texelFetch(u_depth, px, 0).r;\n"
@@ -198,8 +231,13 @@ static const char* kCompositeFragmentShader =
     "    vec3 reflected = environment(u_eye, to_world * reflect(-v, n));\n"
     "    vec2 offset = n.xy * u_refraction * min(thickness, 0.3);\n"
     "    vec3 behind = texture(u_background, clamp(uv + offset, vec2(0.0), vec2(1.0))).rgb;\n"
-    "    vec3 transmitted = exp(-u_absorption * thickness);\n"
-    "    vec3 refracted = behind * transmitted + u_deep_color * (vec3(1.0) - transmitted);\n"
+    "    vec3 transmitted = exp(-u_absorption * thickness), deep = u_deep_color;\n"
+    "    if (u_materials != 0) {\n"
+    "        vec4 optics = texelFetch(u_optics, px, 0), tint = texelFetch(u_tint, px, 0);\n"
+    "        transmitted = exp(-optics.rgb);\n"
+    "        deep = tint.a > 0.0 ? tint.rgb / tint.a : u_deep_color;\n"
+    "    }\n"
+    "    vec3 refracted = behind * transmitted + deep * (vec3(1.0) - transmitted);\n"
     "    vec3 l = mat3(u_view) * normalize(vec3(0.4, 0.9, 0.3));\n"
     "    float highlight = pow(max(dot(n, normalize(l + v)), 0.0), 250.0) * 1.6;\n"
     "    o_color = vec4(mix(refracted, reflected, fresnel) + vec3(highlight), 1.0);\n"
