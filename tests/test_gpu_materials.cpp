@@ -23,6 +23,10 @@ TEST_CASE("materials on CUDA: honey piles up where water spreads", "[gpu][materi
     check_honey(PBF_BACKEND_CUDA);
 }
 
+TEST_CASE("materials on CUDA: a sliding plate carries honey along and leaves water behind", "[gpu][materials]") {
+    check_plate_drag(PBF_BACKEND_CUDA);
+}
+
 TEST_CASE("materials on CUDA: the material bytes are device memory and follow their particles", "[gpu][materials]") {
     pbf_world_desc d = box_world(PBF_BACKEND_CUDA, 0.8f, 0.8f, 0.8f, 9.81f);
     pbf_world_id w = scene::create(d);

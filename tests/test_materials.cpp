@@ -28,6 +28,10 @@ TEST_CASE("materials: viscosity dissipates the same energy at 2 and 8 substeps",
 
 TEST_CASE("materials: honey piles up where water spreads", "[materials]") { check_honey(PBF_BACKEND_CPU); }
 
+TEST_CASE("materials: a sliding plate carries honey along and leaves water behind", "[materials]") {
+    check_plate_drag(PBF_BACKEND_CPU);
+}
+
 // ---- API -----------------------------------------------------------------------------------------
 namespace {
 pbf_material_desc desc_of(pbf_world_id w, pbf_material_id m) {
