@@ -1,5 +1,4 @@
-// [gpu] twins of test_materials.cpp: the same scenes and bounds on the CUDA backend. Known
-// failures as in test_materials.cpp.
+// [gpu] twins of test_materials.cpp: the same scenes and bounds on the CUDA backend.
 #include "materials_scenes.h"
 
 using namespace materials;
@@ -20,8 +19,12 @@ TEST_CASE("materials on CUDA: viscosity dissipates the same energy at 2 and 8 su
     check_viscosity_substeps(PBF_BACKEND_CUDA);
 }
 
-TEST_CASE("materials on CUDA: honey piles up where water spreads", "[gpu][materials][!shouldfail]") {
+TEST_CASE("materials on CUDA: honey piles up where water spreads", "[gpu][materials]") {
     check_honey(PBF_BACKEND_CUDA);
+}
+
+TEST_CASE("materials on CUDA: a sliding plate carries honey along and leaves water behind", "[gpu][materials]") {
+    check_plate_drag(PBF_BACKEND_CUDA);
 }
 
 TEST_CASE("materials on CUDA: the material bytes are device memory and follow their particles", "[gpu][materials]") {

@@ -42,16 +42,17 @@ PBF_HD ColliderPose pose_between(const ColliderKey& k, float t) {
                         rotation_matrix(slerp(k.from_rotation, k.to_rotation, t))};
 }
 
-// Fills `rows` rows of `count` poses (row r at t = r / steps: the substeps' boundaries), one
+// Fills rows of `count` poses (row r at t = (first + r) / steps: the substeps' boundaries), one
 // thread per pose. Between steps: one row at t = 0 of keys whose start is their end.
 struct ColliderPoseOp {
     const ColliderKey* keys;
     ColliderPose* poses;
     uint32_t count;
     uint32_t steps;
+    uint32_t first = 0;
     PBF_HD void operator()(uint32_t i) const {
         const uint32_t r = i / count;
-        poses[i] = pose_between(keys[i - r * count], steps ? float(r) / float(steps) : 0.0f);
+        poses[i] = pose_between(keys[i - r * count], steps ? float(first + r) / float(steps) : 0.0f);
     }
 };
 

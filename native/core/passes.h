@@ -360,6 +360,7 @@ struct VorticityXsphOp {
         const Vec3 xi = xyz(positions[i]);
         const Vec3 vi = xyz(velocities[i]);
         Vec3 w{0.0f, 0.0f, 0.0f}, xsph{0.0f, 0.0f, 0.0f};
+        float weight = 0.0f;  // Σ_j V_j W_ij
         for_each_listed_neighbor(s.grid, cell_begin, masks, i, [&](uint32_t j) {
             if (j == i) return;
             const Vec4 pj = positions[j];
@@ -370,10 +371,19 @@ struct VorticityXsphOp {
             const Vec3 vij = xyz(velocities[j]) - vi;
             // ∇_j W(x_i - x_j) = -∇_i W(x_i - x_j)
             w += cross(vij, -spiky_gradient_r2(d, r2, s.h, s.spiky_coef)) * vol;
-            xsph += vij * (poly6(r2, s.h2, s.poly6_coef) * vol);
+            const float vw = poly6(r2, s.h2, s.poly6_coef) * vol;
+            xsph += vij * vw;
+            weight += vw;
         });
         omega[i] = make_vec4(w, length(w));
-        velocities_out[i] = make_vec4(vi + xsph * material_xsph_c(ctx, material_of(ctx, i)), 0.0f);
+        // The walls and colliders smooth too (no-slip for a viscous fluid: material_ops.h).
+        const float c = material_xsph_c(ctx, material_of(ctx, i));
+        Vec3 dv = xsph * c;
+        if (c > 0.0f) {
+            const ColliderView cv = colliders_for_mass(ctx.colliders, inverse_mass(s, ctx, i));
+            dv += boundary_viscosity(s, cv, ctx.inv_dt, c, c * weight, xi, vi);
+        }
+        velocities_out[i] = make_vec4(vi + dv, 0.0f);
     }
 };
 

@@ -31,13 +31,14 @@ struct DrainBox {
     Vec3 box_min, box_max;
 };
 
-// Substeps per step: the pose table holds kMaxSubsteps + 1 rows of the world's max_colliders.
+// Substeps per step.
 constexpr uint32_t kMaxSubsteps = 64;
 // The largest max_colliders a world may ask for. Each step uploads its colliders' shapes (76 B
 // each) and start and end poses (56 B each) through pinned staging slots of 256 KB without a
-// host wait: 2048 keep each upload within one slot. On the backend a world holds 65 pose rows
-// of 48 B per collider (6.4 MB at 2048), and every particle pass scans the bounds of all of
-// them (linear cost: a spatial index would be needed for many thousands).
+// host wait: 2048 keep each upload within one slot. On the backend a world holds 2 pose rows
+// of 48 B per collider (a substep's start and end, interpolated as the substeps run: 196 KB at
+// 2048), and every particle pass scans the bounds of all of them (linear cost: a spatial index
+// would be needed for many thousands).
 constexpr uint32_t kMaxColliderCapacity = 2048;
 
 // Everything one substep needs; built by the world on the host. The solver points

@@ -98,7 +98,7 @@ public:
         const size_t colliders = config.max_colliders;
         alloc(collider_shapes_, colliders);
         alloc(collider_keys_, colliders);
-        alloc(collider_poses_, colliders * (kMaxSubsteps + 1));
+        alloc(collider_poses_, colliders * 2);
         alloc(rest_poses_, colliders);
         alloc(collider_impulses_, colliders);
         alloc(collider_forces_, colliders);
@@ -168,11 +168,12 @@ public:
         exec_.timer_begin();
         exec_.profile_reset();
         // The step's colliders go up once, before its first kernel (shapes and where each starts
-        // and ends); the substeps' poses are interpolated here, on the backend.
+        // and ends); the substeps' poses are interpolated on the backend, each substep's end into
+        // one of two rows that alternate (row k % 2 holds the poses at t = k / substeps).
         if (count > 0) {
             exec_.upload(collider_shapes_, in.collider_shapes.data(), count * sizeof(Collider));
             exec_.upload(collider_keys_, in.collider_keys.data(), count * sizeof(ColliderKey));
-            exec_.for_each(count * (substeps + 1), ColliderPoseOp{collider_keys_, collider_poses_, count, substeps});
+            exec_.for_each(count, ColliderPoseOp{collider_keys_, collider_poses_, count, substeps, 0});
         }
         const bool dynamic = in.dynamic_count > 0;
         if (dynamic) exec_.zero(collider_impulses_, size_t(config_.max_colliders) * sizeof(ColliderForce));
@@ -180,7 +181,9 @@ public:
         for (uint32_t k = 0; k < substeps; ++k) {
             SubstepInput sub = in.substeps[k];
             ColliderView& view = sub.ctx.colliders;
-            view = ColliderView{collider_shapes_, collider_poses_ + k * count, collider_poses_ + (k + 1) * count, count};
+            ColliderPose* end = collider_poses_ + ((k + 1) % 2) * count;
+            if (count > 0) exec_.for_each(count, ColliderPoseOp{collider_keys_, end, count, substeps, k + 1});
+            view = ColliderView{collider_shapes_, collider_poses_ + (k % 2) * count, end, count};
             view.meshes = mesh_table_;
             if (dynamic) {
                 view.dynamic_count = in.dynamic_count;
@@ -192,8 +195,8 @@ public:
             substep(s, sub);
         }
         // Between steps the colliders stand at the step's end poses.
-        rest_colliders_ = ColliderView{collider_shapes_, collider_poses_ + substeps * count,
-                                       collider_poses_ + substeps * count, count};
+        rest_colliders_ = ColliderView{collider_shapes_, collider_poses_ + (substeps % 2) * count,
+                                       collider_poses_ + (substeps % 2) * count, count};
         rest_colliders_.meshes = mesh_table_;
         if (dynamic)
             exec_.for_each(count, ColliderForceOp{collider_shapes_, collider_impulses_, collider_forces_, 1.0f / in.step_dt});
@@ -648,7 +651,7 @@ private:
     DeviceCounters* counters_ = nullptr;
     Collider* collider_shapes_ = nullptr;    // max_colliders
     ColliderKey* collider_keys_ = nullptr;    // max_colliders: where each starts and ends the step
-    ColliderPose* collider_poses_ = nullptr;  // (kMaxSubsteps + 1) rows of the step's colliders
+    ColliderPose* collider_poses_ = nullptr;  // 2 rows of the step's colliders: a substep's start and end
     ColliderPose* rest_poses_ = nullptr;      // max_colliders, set between steps
     ColliderForce* collider_impulses_ = nullptr;  // max_colliders rows: the running step's impulses
     ColliderForce* collider_forces_ = nullptr;    // max_colliders rows: the last step's mean forces
