@@ -4,12 +4,14 @@
 // twins in test_gpu_coupling.cpp).
 //
 // Known failures, tagged [!shouldfail] (they pass while the bound fails; remove the tag when the
-// physics meets it). Measured on this branch, CPU backend, defaults (LDC on):
-// - Archimedes: 88.7 N for rho g V = 135.6 N (0.654). LDC's force is not momentum-conserving
+// physics meets it). Measured on this branch, CPU backend, defaults (LDC on), with a box's
+// boundary density from its slabs (collide.h box_boundary; before it: 0.654, 1.070, 0.642):
+// - Archimedes: 80.8 N for rho g V = 135.6 N (0.596). LDC's force is not momentum-conserving
 //   (a pair pushes both particles the same way), so in a hydrostatic density gradient it holds
-//   up part of the water's weight itself (about 20 % here) and the pressure on the box falls.
-//   Without LDC: 145.1 N (1.070); the water's support then balances exactly ("support" below).
-// - Floating at 500 kg/m3: submerged fraction 0.642 (LDC off: 0.449).
+//   up part of the water's weight itself and the pressure on the box falls; its reaction is not
+//   yet given to the colliders. Without LDC: 134.0 N (0.988); the water's support then balances
+//   exactly ("support" below).
+// - Floating at 500 kg/m3: submerged fraction 0.734.
 #include "coupling_scenes.h"
 
 using namespace coupling;

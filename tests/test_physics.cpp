@@ -305,6 +305,38 @@ TEST_CASE("collider friction is Coulomb: tangential motion removed up to mu time
     CHECK(free.x == Approx(1.0f * r).epsilon(1e-6));
 }
 
+TEST_CASE("boundary density: a box's share is the half-space's at a face, 1/4 at an edge, 1/8 at a corner", "[boundary]") {
+    Scene sc(0.04f);
+    sc.s.boundary_scale = 1.0f;
+    const float h = sc.s.h;
+    Collider c{};
+    c.shape = kShapeBox;
+    c.half_extents = Vec3{0.2f, 0.15f, 0.3f};
+    // Turned, so the slabs are taken in the body frame.
+    const ColliderPose pose{Vec3{0.5f, -0.2f, 0.1f}, rotation_matrix(Quat{0.0f, 0.38268343f, 0.0f, 0.92387953f})};
+    const auto at = [&](Vec3 local) { return pose.position + mul(pose.rotation, local); };
+    for (float y : {0.0f, 0.2f * h, 0.5f * h, 0.9f * h}) {  // above the top face's middle
+        const BoundarySample b = box_boundary(sc.s, c, pose, at(Vec3{0.03f, 0.15f + y, -0.05f}));
+        CHECK(b.density_ratio == Approx(boundary_phi(y / h)).margin(1e-5));
+    }
+    CHECK(box_boundary(sc.s, c, pose, at(Vec3{0.2f, 0.15f, 0.0f})).density_ratio == Approx(0.25f).margin(1e-5));
+    CHECK(box_boundary(sc.s, c, pose, at(Vec3{-0.2f, 0.15f, 0.3f})).density_ratio == Approx(0.125f).margin(1e-5));
+    // Beyond an edge, less than the closest point's half-space (which counts the whole plane).
+    const Vec3 beyond = at(Vec3{0.2f + 0.3f * h, 0.15f + 0.3f * h, 0.0f});
+    CHECK(box_boundary(sc.s, c, pose, beyond).density_ratio < 0.5f * boundary_phi(0.3f * std::sqrt(2.0f)));
+    // The gradient is the share's, by central differences in world space.
+    const Vec3 p = at(Vec3{0.2f + 0.2f * h, 0.1f, 0.3f + 0.1f * h});
+    const BoundarySample b = box_boundary(sc.s, c, pose, p);
+    const float e = 1e-4f;
+    const Vec3 axes[3] = {Vec3{e, 0, 0}, Vec3{0, e, 0}, Vec3{0, 0, e}};
+    const float grad[3] = {b.gradient.x, b.gradient.y, b.gradient.z};
+    for (int a = 0; a < 3; ++a) {
+        const float numeric = (box_boundary(sc.s, c, pose, p + axes[a]).density_ratio -
+                               box_boundary(sc.s, c, pose, p - axes[a]).density_ratio) / (2.0f * e);
+        CHECK(grad[a] == Approx(numeric).margin(0.05f / h));
+    }
+}
+
 TEST_CASE("boundary density: a rest lattice against a wall has rest density in its first layer", "[boundary]") {
     // γ is computed from the lattice; with it, Φ at one radius plus the layers present equals rest.
     const float spacing = 0.05f, h = 2.0f * spacing;

@@ -174,11 +174,41 @@ PBF_HD BoundarySample half_space(const WorldConstants& s, float y, Vec3 n) {
     return BoundarySample{s.boundary_scale * boundary_phi(t), n * (s.boundary_scale * boundary_phi_slope(t) / s.h)};
 }
 
+// The kernel mass within a half-space whose plane lies at signed depth u from the particle
+// (u > 0: the particle is inside it), and its derivative in u.
+PBF_HD float half_space_share(float u, float inv_h, float& slope) {
+    const float t = fabsf(u) * inv_h;
+    slope = -boundary_phi_slope(t) * inv_h;
+    return u >= 0.0f ? 1.0f - boundary_phi(t) : boundary_phi(t);
+}
+
+// A box's share: the product of its three slabs' shares, each exact (the kernel mass between two
+// parallel planes). The product is exact near a face (the half-space), at an edge (1/4) and a
+// corner (1/8), and elsewhere treats the kernel as separable (poly6 is not: an approximation
+// near edges and corners). The closest point's half-space, which the other analytic shapes use,
+// counts the whole tangent plane there: it packed too much boundary density around a box's
+// edges, pushed the water away from them and gave a submerged 0.24 m box 8 % more than ρgV.
+PBF_HD BoundarySample box_boundary(const WorldConstants& s, const Collider& c, const ColliderPose& pose, Vec3 p) {
+    const Vec3 q = mul_transpose(pose.rotation, p - pose.position);
+    const float inv_h = 1.0f / s.h;
+    const float qa[3] = {q.x, q.y, q.z}, ea[3] = {c.half_extents.x, c.half_extents.y, c.half_extents.z};
+    float share[3], slope[3];
+    for (int a = 0; a < 3; ++a) {
+        float below, above;  // d/du of the faces at -e (depth e + q) and +e (depth e - q)
+        share[a] = half_space_share(ea[a] + qa[a], inv_h, below) + half_space_share(ea[a] - qa[a], inv_h, above) - 1.0f;
+        slope[a] = below - above;
+    }
+    const Vec3 g{slope[0] * share[1] * share[2], share[0] * slope[1] * share[2], share[0] * share[1] * slope[2]};
+    return BoundarySample{s.boundary_scale * share[0] * share[1] * share[2], mul(pose.rotation, g) * s.boundary_scale};
+}
+
 // Collider c's share at p, which lies at distance d < h from it along normal n: a mesh's from
-// its precomputed field (exact at its edges, corners and curved parts: SdfBoundaryOp), the
-// analytic shapes' from the half-space at their closest point.
+// its precomputed field (exact at its edges, corners and curved parts: SdfBoundaryOp), a box's
+// from its slabs (box_boundary), the other analytic shapes' from the half-space at their
+// closest point.
 PBF_HD BoundarySample collider_boundary(const WorldConstants& s, const Collider& c, const ColliderPose& pose, Vec3 p,
                                         float d, Vec3 n, const MeshView* meshes) {
+    if (c.shape == kShapeBox) return box_boundary(s, c, pose, p);
     if (c.shape != kShapeMesh) return half_space(s, d, n);
     Vec3 g;
     const float share = mesh_boundary(meshes[c.mesh], mul_transpose(pose.rotation, p - pose.position), g);
