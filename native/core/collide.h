@@ -229,7 +229,7 @@ struct WallProduct {
 
 // The walls' and colliders' contribution at position p. n points from the boundary into the
 // fluid; the density falls along it. Colliders add to the walls (they rarely overlap them).
-PBF_HD BoundarySample boundary_at(const WorldConstants& s, const ColliderView& cv, Vec3 p) {
+PBF_HD BoundarySample walls_boundary(const WorldConstants& s, Vec3 p) {
     WallProduct w;
     const Vec3 lo = p - s.boundary_min, hi = s.boundary_max - p;
     if (lo.x < s.h) w.add(half_space(s, lo.x, Vec3{1.0f, 0.0f, 0.0f}));
@@ -238,7 +238,12 @@ PBF_HD BoundarySample boundary_at(const WorldConstants& s, const ColliderView& c
     if (hi.y < s.h) w.add(half_space(s, hi.y, Vec3{0.0f, -1.0f, 0.0f}));
     if (lo.z < s.h) w.add(half_space(s, lo.z, Vec3{0.0f, 0.0f, 1.0f}));
     if (hi.z < s.h) w.add(half_space(s, hi.z, Vec3{0.0f, 0.0f, -1.0f}));
-    BoundarySample b{1.0f - w.p, -w.grad};
+    return BoundarySample{1.0f - w.p, -w.grad};
+}
+
+// The walls' and the colliders' (at their current poses) share at p.
+PBF_HD BoundarySample boundary_at(const WorldConstants& s, const ColliderView& cv, Vec3 p) {
+    BoundarySample b = walls_boundary(s, p);
     const Vec3 reach{s.h, s.h, s.h};
     for (uint32_t k = 0; k < cv.count; ++k) {
         if (!overlaps(cv.shapes[k].bounds, p - reach, p + reach)) continue;

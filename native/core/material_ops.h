@@ -204,10 +204,10 @@ PBF_HD Vec3 point_at_start(const ColliderPose& prev, const ColliderPose& cur, Ve
 // neighbours. Returns the velocity change the boundary gives particle i at p with velocity v.
 PBF_HD Vec3 boundary_viscosity(const WorldConstants& s, const ColliderView& cv, float inv_dt, float c,
                                float fluid_weight, Vec3 p, Vec3 v) {
-    const float share = boundary_at(s, cv, p).density_ratio;  // walls and colliders: Σ_b V_b W_ib
-    if (share <= 0.0f) return Vec3{0.0f, 0.0f, 0.0f};
-    const float cb = fminf(c, fmaxf(1.0f - fluid_weight, 0.0f) / share);
-    Vec3 dv = v * (-cb * share);  // the walls stand still; the colliders add their own velocity
+    // One walk over the colliders sums what boundary_at would (Σ_b V_b W_ib) and the share-weighted
+    // boundary velocity; the walls stand still.
+    float share = walls_boundary(s, p).density_ratio;
+    Vec3 moving{0.0f, 0.0f, 0.0f};
     const Vec3 reach{s.h, s.h, s.h};
     for (uint32_t k = 0; k < cv.count; ++k) {
         const Collider& col = cv.shapes[k];
@@ -215,13 +215,27 @@ PBF_HD Vec3 boundary_viscosity(const WorldConstants& s, const ColliderView& cv, 
         Vec3 n;
         const float d = collider_distance(col, cv.cur[k], p, n, cv.meshes);
         if (d >= s.h) continue;
-        const float weight = cb * collider_boundary(s, col, cv.cur[k], p, d, n, cv.meshes).density_ratio;
-        const Vec3 vb = (p - point_at_start(cv.prev[k], cv.cur[k], p)) * inv_dt;
-        dv += vb * weight;
-        // A dynamic collider's part of dv as the displacement it would have made in the substep.
-        if (cv.impulses && (col.flags & kColliderDynamic)) record_push(cv, col, cv.cur[k], p, (vb - v) * (weight / inv_dt));
+        const float ck = collider_boundary(s, col, cv.cur[k], p, d, n, cv.meshes).density_ratio;
+        share += ck;
+        moving += (p - point_at_start(cv.prev[k], cv.cur[k], p)) * (inv_dt * ck);
     }
-    return dv;
+    if (share <= 0.0f) return Vec3{0.0f, 0.0f, 0.0f};
+    const float cb = fminf(c, fmaxf(1.0f - fluid_weight, 0.0f) / share);
+    // A dynamic collider's part of the change as the displacement it would have made in the
+    // substep (a second walk, over the dynamic colliders only, now that cb is known).
+    if (cv.impulses && cv.dynamic_count > 0) {
+        for (uint32_t k = 0; k < cv.count; ++k) {
+            const Collider& col = cv.shapes[k];
+            if (!(col.flags & kColliderDynamic) || !overlaps(col.bounds, p - reach, p + reach)) continue;
+            Vec3 n;
+            const float d = collider_distance(col, cv.cur[k], p, n, cv.meshes);
+            if (d >= s.h) continue;
+            const float weight = cb * collider_boundary(s, col, cv.cur[k], p, d, n, cv.meshes).density_ratio;
+            const Vec3 vb = (p - point_at_start(cv.prev[k], cv.cur[k], p)) * inv_dt;
+            record_push(cv, col, cv.cur[k], p, (vb - v) * (weight / inv_dt));
+        }
+    }
+    return (moving - v * share) * cb;
 }
 
 // The sort's gather puts the materials in a scratch buffer; this brings them home.
