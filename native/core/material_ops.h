@@ -84,7 +84,14 @@ PBF_HD float surface_substep_rate(const MaterialConstants& m) {
     return sqrtf(rate2);
 }
 
-// Pass 1 (only with kMaterialSurface): the surface normal of each particle (into the fluid) from
+// One neighbour's part of a surface normal, from ∇_i W_ij. ∇_i W points from i toward j: at a
+// surface n points into the fluid, as Akinci's normal does (the opposite sign, tried first, pumped
+// energy into a relaxing cube: 3 m/s at σ = 50). Each neighbour counts at the rest volume V, not
+// m_j/ρ_j: a stray particle of tiny ρ_j would otherwise get a huge normal and force.
+PBF_HD Vec3 surface_normal_term(const WorldConstants& s, Vec3 grad_w) { return grad_w * (s.mass * s.inv_rest_density); }
+
+// Pass 1 (only with kMaterialSurface, when the last substep's VorticityForcePass did not already
+// sum the normals at these positions): the surface normal of each particle (into the fluid) from
 // the neighbours of its own material.
 struct SurfaceNormalOp {
     WorldConstants s;
@@ -98,18 +105,13 @@ struct SurfaceNormalOp {
         const Vec3 xi = xyz(positions[i]);
         Vec3 n{0.0f, 0.0f, 0.0f};
         if (s.materials.surface_tension[m] > 0.0f) {
-            const float volume = s.mass * s.inv_rest_density;
             for_each_neighbor_of(s.grid, cell_begin, masks, i, xi, [&](uint32_t j) {
                 if (j == i || material_of(ctx, j) != m) return;
                 const Vec4 pj = positions[j];
                 const Vec3 d = xi - xyz(pj);
                 const float r2 = length_sq(d);
                 if (r2 >= s.h2) return;
-                // ∇_i W points from i toward j: at a surface n points into the fluid, as Akinci's
-                // normal does (the opposite sign, tried first, pumped energy into a relaxing cube:
-                // 3 m/s at σ = 50). Each neighbour counts at the rest volume V, not m_j/ρ_j: a
-                // stray particle of tiny ρ_j would otherwise get a huge normal and force.
-                n += spiky_gradient_r2(d, r2, s.h, s.spiky_coef) * volume;
+                n += surface_normal_term(s, spiky_gradient_r2(d, r2, s.h, s.spiky_coef));
             });
         }
         normals[i] = make_vec4(n * s.h, 0.0f);

@@ -390,8 +390,12 @@ struct VorticityXsphOp {
 // Pass 2: f_vort = ε (N × ω), N = η/|η|, η = ∇|ω| (Eq. 16), added to each particle's own
 // smoothed velocity in place (no thread reads another's velocity in this pass). The same walk
 // sums ρ at the final positions (a poly6 it computes anyway): the next step's LDC and the stats
-// read it, so no separate density pass runs at the end of a step.
-struct VorticityForceOp {
+// read it, so no separate density pass runs at the end of a step. In worlds with surface tension
+// (kSurfaceNormals) it also sums each particle's surface normal from the same gradients, as
+// SurfaceNormalOp does, into surface_normals: the next substep's surface forces then need no
+// normal pass of their own (its positions are these, unless something moved them in between).
+template <bool kSurfaceNormals>
+struct VorticityForcePass {
     WorldConstants s;
     StepContext ctx;
     const uint32_t* cell_begin;
@@ -400,10 +404,12 @@ struct VorticityForceOp {
     const Vec4* omega;
     Vec4* velocities;
     float* density;
+    Vec4* surface_normals = nullptr;  // only read with kSurfaceNormals; not aliasing the others
     PBF_HD void operator()(uint32_t i) const {
         const Vec3 xi = xyz(positions[i]);
         const float wi = omega[i].w;
-        Vec3 eta{0.0f, 0.0f, 0.0f};
+        const uint32_t mi = kSurfaceNormals ? material_of(ctx, i) : 0u;
+        Vec3 eta{0.0f, 0.0f, 0.0f}, normal{0.0f, 0.0f, 0.0f};
         float rho = 0.0f;
         for_each_listed_neighbor(s.grid, cell_begin, masks, i, [&](uint32_t j) {
             const Vec4 pj = positions[j];
@@ -413,8 +419,11 @@ struct VorticityForceOp {
             rho += poly6(r2, s.h2, s.poly6_coef);
             if (j == i) return;
             const float vol = fast_div(s.mass, fmaxf(pj.w, 1e-6f) * s.rest_density);
-            eta += spiky_gradient_r2(d, r2, s.h, s.spiky_coef) * ((omega[j].w - wi) * vol);
+            const Vec3 grad = spiky_gradient_r2(d, r2, s.h, s.spiky_coef);
+            eta += grad * ((omega[j].w - wi) * vol);
+            if (kSurfaceNormals && material_of(ctx, j) == mi) normal += surface_normal_term(s, grad);
         });
+        if (kSurfaceNormals) surface_normals[i] = make_vec4(normal * s.h, 0.0f);
         density[i] = rho * s.mass + boundary_at(s, ctx.colliders, xi).density_ratio * s.rest_density;
         Vec3 v = xyz(velocities[i]);
         const float eta_len = length(eta);
@@ -425,6 +434,8 @@ struct VorticityForceOp {
         velocities[i] = make_vec4(limit_speed(ctx, v), 0.0f);
     }
 };
+
+using VorticityForceOp = VorticityForcePass<false>;
 
 // ---- emission and drains -------------------------------------------------------------------
 // Fills slots count..count+n-1 (as far as capacity allows) with a lattice block.

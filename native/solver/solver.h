@@ -440,7 +440,7 @@ private:
                                            &counters_->drained});
         }
         if (!in.drains.empty()) exec_.for_each(1, CommitDrainOp{&counters_->drained, &counters_->drained_total});
-        if (!in.nozzles.empty() || !in.drains.empty()) grid_valid_ = density_valid_ = false;
+        if (!in.nozzles.empty() || !in.drains.empty()) grid_valid_ = density_valid_ = surface_normals_valid_ = false;
 
         // 1. LDC needs ρ at the current positions (grid of x).
         if (s.ldc_enabled) {
@@ -454,10 +454,17 @@ private:
         if (s.materials.flags & kMaterialSurface) {
             exec_.profile_mark(kStageMaterialForces);
             if (!grid_valid_) build_grid(s, false);
-            // pred_ and spare_ are free until the prediction: the normals live in spare_.
-            exec_.for_each(bound_, SurfaceNormalOp{s, ctx, cell_begin_, valid_masks(), pos_, spare_});
-            exec_.for_each(bound_, SurfaceForceOp{s, ctx, cell_begin_, valid_masks(), pos_, spare_, vel_});
+            // pred_ and spare_ are free until the prediction. The last substep's vorticity pass
+            // left the normals at these positions in pred_ unless something moved or reordered
+            // the particles since; otherwise they are summed here, into spare_.
+            const Vec4* normals = pred_;
+            if (!surface_normals_valid_) {
+                exec_.for_each(bound_, SurfaceNormalOp{s, ctx, cell_begin_, valid_masks(), pos_, spare_});
+                normals = spare_;
+            }
+            exec_.for_each(bound_, SurfaceForceOp{s, ctx, cell_begin_, valid_masks(), pos_, normals, vel_});
         }
+        surface_normals_valid_ = false;  // pred_ is overwritten next
         exec_.profile_mark(kStageForcesPredict);
         // 2. forces (gravity + LDC), predict x*.
         exec_.for_each(bound_, PredictOp{s, ctx, cell_begin_, density_, pos_, vel_, pred_, valid_masks()});
@@ -496,7 +503,15 @@ private:
             exec_.profile_mark(kStageVorticity);
             exec_.for_each(bound_, VorticityXsphOp{s, ctx, cell_begin_, masks, pos_, vel_, omega, pred_});
             exec_.profile_mark(kStageVorticityXsph);
-            exec_.for_each(bound_, VorticityForceOp{s, ctx, cell_begin_, masks, pos_, omega, pred_, density_});
+            // The old velocities (vel_) are dead now: with surface tension the pass sums the
+            // surface normals there, which the swap leaves in pred_ for the next substep.
+            if (s.materials.flags & kMaterialSurface) {
+                exec_.for_each(bound_, VorticityForcePass<true>{s, ctx, cell_begin_, masks, pos_, omega, pred_,
+                                                                density_, vel_});
+                surface_normals_valid_ = true;
+            } else {
+                exec_.for_each(bound_, VorticityForceOp{s, ctx, cell_begin_, masks, pos_, omega, pred_, density_});
+            }
             std::swap(vel_, pred_);
             density_valid_ = true;  // that pass also summed ρ at the final positions
         } else {
@@ -565,6 +580,7 @@ private:
         // The sort's other key buffer is free until the next build: λ's denominators live there.
         denominator_ = reinterpret_cast<float*>(keys_[1 - key_sel]);
         masks_valid_ = false;
+        surface_normals_valid_ = false;  // they were in the old order (and pred_ is rewritten)
         // Gather x into spare_ and the second stream (v; or x* when binning x*, as v is dead
         // then until the velocity update) into the array free besides: x* when binning x, v when
         // binning x*. The ids go to the sort's free value buffer.
@@ -592,7 +608,7 @@ private:
     void commit_emission(uint32_t requested) {
         exec_.for_each(1, CommitEmissionOp{&counters_->count, &counters_->next_id, &counters_->emitted_total,
                                            config_.capacity, requested});
-        grid_valid_ = density_valid_ = false;
+        grid_valid_ = density_valid_ = surface_normals_valid_ = false;
     }
 
     Status read_count(uint32_t* count) {
@@ -677,6 +693,7 @@ private:
     bool grid_valid_ = true;
     bool density_valid_ = false;
     bool masks_valid_ = false;
+    bool surface_normals_valid_ = false;  // pred_ holds the normals at pos_ (VorticityForcePass<true>)
     bool materials_moved_ = false;  // a particle of another material than the default was emitted
 };
 
