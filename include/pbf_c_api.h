@@ -295,6 +295,9 @@ typedef struct pbf_world_desc {
                                    where float spacing reaches h/64 (README, Physics). The
                                    neighbour grid is then hashed: its memory follows max_particles,
                                    not the level's extent (pbf_world_info.grid_bytes). */
+    uint32_t hashed_grid;       /* 0 (default): a dense grid over the walls' box while it has at
+                                   most 4 cells per key of the hashed grid, else hashed. 1: always
+                                   hashed (a sparse fluid in a big box; benchmarks). */
 } pbf_world_desc;
 
 PBF_API pbf_result PBF_CALL pbf_world_desc_init(pbf_world_desc* desc, uint32_t struct_size,

@@ -47,11 +47,12 @@ inline void add_box_planes(pbf_world_id w, const float o[3]) {
 }
 
 // The puddle after `steps` steps of 1/60 s: in a walled 2 m box at the origin (open = false) or
-// in an open level, the box's planes at `origin`.
-inline Puddle puddle(pbf_backend backend, bool open, int steps) {
+// in an open level, the box's planes at `origin`; hashed_grid as pbf_world_desc.hashed_grid.
+inline Puddle puddle(pbf_backend backend, bool open, int steps, uint32_t hashed_grid = 0) {
     const float o[3] = {open ? 300.0f : 0.0f, open ? -200.0f : 0.0f, open ? 450.0f : 0.0f};
     pbf_world_desc d = scene::tank(backend, kR, kBox, kBox, kBox, 8192);
     d.walls = open ? 0u : 1u;
+    d.hashed_grid = hashed_grid;
     const pbf_world_id w = scene::create(d);
     if (open) add_box_planes(w, o);
     // A 1.6 m x 0.8 m x 1.6 m block (4000 particles) 0.16 m above the floor: a puddle ~0.5 m deep.
@@ -102,6 +103,22 @@ inline void check_puddle_open_like_box(pbf_backend backend) {
     const double weight = box.count * 1000.0 * std::pow(spacing, 3) * 9.81;  // N
     CHECK(box.stats.kinetic_energy < 1e-3 * weight);
     CHECK(open.stats.kinetic_energy < 1e-3 * weight);
+}
+
+// The same walled puddle on the dense and on the hashed grid: the same neighbours, so the same
+// flow up to the order of float sums (the sorted order differs).
+inline void check_dense_like_hashed(pbf_backend backend) {
+    const int steps = 60;
+    const Puddle dense = puddle(backend, false, steps, 0), hashed = puddle(backend, false, steps, 1);
+    INFO("dense: err " << dense.stats.density_error_mean << " mean y " << dense.mean[1] << " spread " << dense.spread);
+    INFO("hashed: err " << hashed.stats.density_error_mean << " mean y " << hashed.mean[1] << " spread "
+                        << hashed.spread);
+    REQUIRE(hashed.count == dense.count);
+    const double spacing = 2.0 * kR;
+    CHECK(std::fabs(hashed.mean[1] - dense.mean[1]) < 0.02 * spacing);
+    CHECK(std::fabs(hashed.spread - dense.spread) < 0.05 * spacing);
+    CHECK(std::fabs(hashed.stats.density_error_mean - dense.stats.density_error_mean) <
+          0.05 * dense.stats.density_error_mean + 1e-5);
 }
 
 // Without walls nothing stops a falling block but a collider: free fall (no floor at the old

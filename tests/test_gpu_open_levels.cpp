@@ -8,6 +8,10 @@ TEST_CASE("open level on CUDA: a puddle 1 km out, held by planes, settles as in 
     check_puddle_open_like_box(PBF_BACKEND_CUDA);
 }
 
+TEST_CASE("open level on CUDA: a walled puddle flows the same on the dense and the hashed grid", "[gpu][open]") {
+    check_dense_like_hashed(PBF_BACKEND_CUDA);
+}
+
 TEST_CASE("open level on CUDA: without walls a block falls freely until a collider catches it", "[gpu][open]") {
     check_free_fall(PBF_BACKEND_CUDA);
 }

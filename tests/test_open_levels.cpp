@@ -10,6 +10,10 @@ TEST_CASE("open level: a puddle 1 km out, held by planes, settles as in a walled
     check_puddle_open_like_box(PBF_BACKEND_CPU);
 }
 
+TEST_CASE("open level: a walled puddle flows the same on the dense and the hashed grid", "[open]") {
+    check_dense_like_hashed(PBF_BACKEND_CPU);
+}
+
 TEST_CASE("open level: without walls a block falls freely until a collider catches it", "[open]") {
     check_free_fall(PBF_BACKEND_CPU);
 }
@@ -46,6 +50,14 @@ TEST_CASE("open level: walls is validated, and an open level ignores its domain"
     pbf_world_id w{0, 0};
     d.walls = 2;
     CHECK_FAILS(pbf_world_create(&d, &w), PBF_ERROR_INVALID_ARGUMENT, "walls must be 0");
+    d.walls = 1;
+    d.hashed_grid = 2;
+    CHECK_FAILS(pbf_world_create(&d, &w), PBF_ERROR_INVALID_ARGUMENT, "hashed_grid must be 0");
+    d.hashed_grid = 1;
+    w = scene::create(d);
+    CHECK(scene::world_info(w).grid_hashed == 1u);
+    REQUIRE_PBF(pbf_world_destroy(w));
+    d.hashed_grid = 0;
     d.walls = 0;
     set3(d.domain_min, kNaN, 0, 0);
     set3(d.domain_max, -1, -1, -1);

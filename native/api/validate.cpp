@@ -89,6 +89,7 @@ Verdict validate_world_desc(const pbf_world_desc& d) {
     V(std::isfinite(d.rest_density) && d.rest_density > 0.0f, WORLD_REST_DENSITY);
     V(finite3(d.gravity), WORLD_GRAVITY);
     V(d.walls == 0 || d.walls == 1, WORLD_WALLS);
+    V(d.hashed_grid == 0 || d.hashed_grid == 1, WORLD_HASHED_GRID);
     if (d.walls) {  // an open level has no box: its domain fields are ignored
         V(finite3(d.domain_min) && finite3(d.domain_max), WORLD_DOMAIN_FINITE);
         for (int a = 0; a < 3; ++a)

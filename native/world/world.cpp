@@ -34,7 +34,7 @@ float open_limit(float h) { return std::ldexp(h, 17); }
 
 // Dense over the domain box while its cells are at most 4 per key of the hashed grid the
 // capacity would get (at most 16 B of cell table per particle) and at most 2^30; hashed
-// otherwise (a level-sized box), and always without walls (grid.h).
+// otherwise (a level-sized box), and always without walls or when the desc asks (grid.h).
 GridDims choose_grid(const pbf_world_desc& desc, float h) {
     const uint32_t bits = hashed_grid_bits(desc.max_particles);
     const float inv_cell = 1.0f / h;
@@ -44,7 +44,7 @@ GridDims choose_grid(const pbf_world_desc& desc, float h) {
                              std::max(1.0, double(std::ceil((desc.domain_max[2] - desc.domain_min[2]) / h)))};
     const Vec3 origin = to_vec3(desc.domain_min);
     const double dense_limit = std::min(4.0 * double(uint64_t(1) << bits), double(1u << 30));
-    if (cells[0] * cells[1] * cells[2] > dense_limit) return hashed_grid(origin, inv_cell, bits);
+    if (desc.hashed_grid || cells[0] * cells[1] * cells[2] > dense_limit) return hashed_grid(origin, inv_cell, bits);
     return dense_grid(origin, inv_cell, int32_t(cells[0]), int32_t(cells[1]), int32_t(cells[2]));
 }
 
