@@ -3,6 +3,8 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <array>
+#include <map>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -246,6 +248,26 @@ TEST_CASE("hashed grid: two far-apart fluids whose cells share keys are not neig
     for (uint32_t i = 0; i < pair.n(); ++i)
         if (pair.pos[i].x < 10.0f) sizes_near.insert(pair.recorded(i).size());
     CHECK(sizes_near == sizes_alone);
+    // The density sums (Σ (h² - r²)³ over the walked candidates within h) of the near fluid's
+    // particles, matched by position: the far fluid adds nothing to any of them.
+    auto density = [](const SortedCloud& c, uint32_t i) {
+        double rho = 0.0;
+        for_each_neighbor(c.g, c.cell_begin.data(), xyz(c.pos[i]), [&](uint32_t j) {
+            const double r2 = length_sq(xyz(c.pos[i]) - xyz(c.pos[j])), d = double(c.h) * c.h - r2;
+            if (d > 0.0) rho += d * d * d;
+        });
+        return rho;
+    };
+    std::map<std::array<float, 3>, double> alone_rho;
+    for (uint32_t i = 0; i < alone.n(); ++i) alone_rho[{alone.pos[i].x, alone.pos[i].y, alone.pos[i].z}] = density(alone, i);
+    size_t matched = 0;
+    for (uint32_t i = 0; i < pair.n(); ++i) {
+        const auto it = alone_rho.find({pair.pos[i].x, pair.pos[i].y, pair.pos[i].z});
+        if (it == alone_rho.end()) continue;
+        ++matched;
+        REQUIRE(density(pair, i) == Approx(it->second).epsilon(1e-12));
+    }
+    CHECK(matched == alone.n());
 }
 
 TEST_CASE("grid cells of non-finite and far positions are clamped, never converted out of range", "[grid]") {
