@@ -279,7 +279,7 @@ typedef struct pbf_world_desc {
     float rest_density;         /* kg/m³ (default 1000) */
     float gravity[3];           /* m/s² (default 0, -9.81, 0) */
     float domain_min[3];        /* the walls: an axis-aligned box that contains all particles */
-    float domain_max[3];        /* (default -1,0,-1 .. 1,2,1) */
+    float domain_max[3];        /* (default -1,0,-1 .. 1,2,1); within 2^17·h of the origin */
     pbf_solver_params solver;
     pbf_render_params render;   /* render data (default: none) */
     uint32_t max_colliders;     /* collider capacity, 1..2048, allocated up front (default 256).
