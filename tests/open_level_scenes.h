@@ -21,29 +21,37 @@ struct Puddle {
     bool finite = false;
 };
 
-// A plane collider through p whose solid lies against the normal rotation·(0, 1, 0) = n.
-inline void add_plane(pbf_world_id w, const float p[3], const float q[4]) {
+// A plane collider through p whose solid lies against the normal rotation·(0, 1, 0) = n;
+// dynamic: the library records the fluid's force on it.
+inline pbf_collider_id add_plane(pbf_world_id w, const float p[3], const float q[4], bool dynamic = false) {
     pbf_collider_desc c = pbf_collider_desc_default();
     c.shape = PBF_SHAPE_PLANE;
+    c.dynamic = dynamic ? 1u : 0u;
     std::memcpy(c.position, p, sizeof c.position);
     std::memcpy(c.rotation, q, sizeof c.rotation);
     pbf_collider_id id;
     REQUIRE_PBF(pbf_world_create_collider(w, &c, &id));
+    return id;
 }
 
-// The floor and four sides of the box [o, o + kBox] as planes (the lid open).
-inline void add_box_planes(pbf_world_id w, const float o[3]) {
-    const float s = 0.70710678f, e = kBox;
+// The floor and four sides of the box [o, o + e] as planes (the lid open), floor first.
+struct BoxPlanes {
+    pbf_collider_id id[5];
+};
+inline BoxPlanes add_box_planes(pbf_world_id w, const float o[3], const float e[3], bool dynamic = false) {
+    const float s = 0.70710678f;
     const float floor_p[3] = {o[0], o[1], o[2]}, floor_q[4] = {0, 0, 0, 1};
     const float lx_p[3] = {o[0], o[1], o[2]}, lx_q[4] = {0, 0, -s, s};          // normal +x
-    const float hx_p[3] = {o[0] + e, o[1], o[2]}, hx_q[4] = {0, 0, s, s};       // normal -x
+    const float hx_p[3] = {o[0] + e[0], o[1], o[2]}, hx_q[4] = {0, 0, s, s};    // normal -x
     const float lz_p[3] = {o[0], o[1], o[2]}, lz_q[4] = {s, 0, 0, s};           // normal +z
-    const float hz_p[3] = {o[0], o[1], o[2] + e}, hz_q[4] = {-s, 0, 0, s};      // normal -z
-    add_plane(w, floor_p, floor_q);
-    add_plane(w, lx_p, lx_q);
-    add_plane(w, hx_p, hx_q);
-    add_plane(w, lz_p, lz_q);
-    add_plane(w, hz_p, hz_q);
+    const float hz_p[3] = {o[0], o[1], o[2] + e[2]}, hz_q[4] = {-s, 0, 0, s};   // normal -z
+    return BoxPlanes{{add_plane(w, floor_p, floor_q, dynamic), add_plane(w, lx_p, lx_q, dynamic),
+                      add_plane(w, hx_p, hx_q, dynamic), add_plane(w, lz_p, lz_q, dynamic),
+                      add_plane(w, hz_p, hz_q, dynamic)}};
+}
+inline BoxPlanes add_box_planes(pbf_world_id w, const float o[3]) {
+    const float e[3] = {kBox, kBox, kBox};
+    return add_box_planes(w, o, e);
 }
 
 // The puddle after `steps` steps of 1/60 s: in a walled 2 m box at the origin (open = false) or

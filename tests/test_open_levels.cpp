@@ -2,7 +2,7 @@
 // memory, far and non-finite positions, emitters and drains far from the origin. The scenes
 // shared with the [gpu] twin live in open_level_scenes.h; the grid itself is tested white-box in
 // test_neighbors.cpp.
-#include "open_level_scenes.h"
+#include "open_level_features.h"
 
 using namespace open_level;
 
@@ -116,4 +116,22 @@ TEST_CASE("open level: a nozzle and a drain 700 m from the origin work", "[open]
     REQUIRE(scene::all_finite(p));
     for (uint32_t i = 0; i < p.count; ++i) CHECK(p.pos[4 * i + 1] > 97.0f);  // nothing got past it
     REQUIRE_PBF(pbf_world_destroy(w));
+}
+
+// ---- the features that read the walls or the grid, in an open level (open_level_features.h) -----
+TEST_CASE("open level: every push comes from colliders (five dynamic planes carry all the weight)", "[open]") {
+    check_planes_carry_all(PBF_BACKEND_CPU);
+}
+
+TEST_CASE("open level: sticky honey where the walls would be falls freely (no adhesion, no boundary friction)",
+          "[open]") {
+    check_honey_falls_freely(PBF_BACKEND_CPU);
+}
+
+TEST_CASE("open level: diffuse particles and render data 400 m out, as in the walls", "[open]") {
+    check_splash_far_out(PBF_BACKEND_CPU);
+}
+
+TEST_CASE("open level: a mesh container 1 km out holds water as the walls do", "[open]") {
+    check_mesh_container_far_out(PBF_BACKEND_CPU);
 }
