@@ -279,7 +279,7 @@ typedef struct pbf_world_desc {
     float rest_density;         /* kg/m³ (default 1000) */
     float gravity[3];           /* m/s² (default 0, -9.81, 0) */
     float domain_min[3];        /* the walls: an axis-aligned box that contains all particles */
-    float domain_max[3];        /* (default -1,0,-1 .. 1,2,1) */
+    float domain_max[3];        /* (default -1,0,-1 .. 1,2,1); within 2^17·h of the origin */
     pbf_solver_params solver;
     pbf_render_params render;   /* render data (default: none) */
     uint32_t max_colliders;     /* collider capacity, 1..2048, allocated up front (default 256).
@@ -287,6 +287,17 @@ typedef struct pbf_world_desc {
                                    for up to 64 substeps); every particle scans the colliders'
                                    bounding boxes, so the cost grows linearly with the count. */
     pbf_diffuse_params diffuse; /* diffuse particles (default: none) */
+    uint32_t walls;             /* 1 (default): the six walls of domain_min..domain_max hold the
+                                   fluid and add boundary density. 0: an open level: no walls and
+                                   no box (domain_min/max are ignored); the fluid stops only at
+                                   colliders. Particle centres are still held within |x| <=
+                                   2^17·h on each axis (h = 4·radius: 5.2 km at radius 0.01 m),
+                                   where float spacing reaches h/64 (README, Physics). The
+                                   neighbour grid is then hashed: its memory follows max_particles,
+                                   not the level's extent (pbf_world_info.grid_bytes). */
+    uint32_t hashed_grid;       /* 0 (default): a dense grid over the walls' box while it has at
+                                   most 4 cells per key of the hashed grid, else hashed. 1: always
+                                   hashed (a sparse fluid in a big box; benchmarks). */
 } pbf_world_desc;
 
 PBF_API pbf_result PBF_CALL pbf_world_desc_init(pbf_world_desc* desc, uint32_t struct_size,
@@ -339,7 +350,8 @@ typedef struct pbf_world_info {
     float rest_spacing;         /* 2·radius */
     float kernel_radius;        /* h */
     float particle_mass;        /* calibrated so a rest lattice has rest_density */
-    uint32_t grid_cells;        /* uniform grid cells over the domain (cell size h) */
+    uint32_t grid_cells;        /* keys of the neighbour grid (cell size h): the cells of the
+                                   domain box (dense), or of the hashed grid (see grid_hashed) */
     uint64_t device_bytes;      /* memory the world allocated on its backend */
     char device_name[128];      /* e.g. "NVIDIA H100 80GB HBM3" or "CPU (8 threads)" */
     uint32_t render_flags;      /* PBF_RENDER_* the world computes (desc.render.flags) */
@@ -351,6 +363,12 @@ typedef struct pbf_world_info {
     uint32_t reserved1;
     uint64_t diffuse_bytes;     /* part of device_bytes the diffuse particles take (0 when off) */
     uint64_t diffuse_updates;   /* diffuse passes run so far: one per step when on, 0 when off */
+    uint32_t grid_hashed;       /* 0: a dense grid over the domain box; 1: a hashed grid of
+                                   grid_cells = the power of two >= max_particles (at least 4096)
+                                   keys, used without walls and for boxes of more than 4 cells
+                                   per hashed key (README, Performance) */
+    uint32_t reserved2;
+    uint64_t grid_bytes;        /* part of device_bytes the grid's cell table takes (4 B a key) */
 } pbf_world_info;
 PBF_API pbf_result PBF_CALL pbf_world_get_info(pbf_world_id world, pbf_world_info* out_info);
 

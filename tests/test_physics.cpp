@@ -47,7 +47,7 @@ struct Scene {
         ctx.lambda_epsilon = s.relaxation * s.rest_gradient_norm2;
         ctx.speed_limit = s.max_speed;
         ctx.clamped = &clamped;
-        s.grid = GridDims{Vec3{-100, -100, -100}, 1.0f / 200.0f, 1, 1, 1, 1};
+        s.grid = dense_grid(Vec3{-100, -100, -100}, 1.0f / 200.0f, 1, 1, 1);
     }
     void add(Vec3 p) { pos.push_back(make_vec4(p, 1.0f)); }
     uint32_t n() const { return uint32_t(pos.size()); }

@@ -59,6 +59,7 @@ PBF_API pbf_result PBF_CALL pbf_world_desc_init(pbf_world_desc* d, uint32_t stru
     std::memcpy(d->domain_min, lo, sizeof lo);
     std::memcpy(d->domain_max, hi, sizeof hi);
     d->max_colliders = 256;
+    d->walls = 1;
     d->solver.struct_size = sizeof d->solver;
     if (pbf_result r = pbf_solver_params_init(&d->solver, d->solver.struct_size); r != PBF_OK) return r;
     d->render.struct_size = sizeof d->render;

@@ -88,8 +88,19 @@ Verdict validate_world_desc(const pbf_world_desc& d) {
     V(std::isfinite(d.particle_radius) && d.particle_radius > 0.0f, WORLD_PARTICLE_RADIUS);
     V(std::isfinite(d.rest_density) && d.rest_density > 0.0f, WORLD_REST_DENSITY);
     V(finite3(d.gravity), WORLD_GRAVITY);
-    V(finite3(d.domain_min) && finite3(d.domain_max), WORLD_DOMAIN_FINITE);
-    for (int a = 0; a < 3; ++a) V(d.domain_max[a] - d.domain_min[a] >= 4.0f * d.particle_radius, WORLD_DOMAIN_SIZE);
+    V(d.walls == 0 || d.walls == 1, WORLD_WALLS);
+    V(d.hashed_grid == 0 || d.hashed_grid == 1, WORLD_HASHED_GRID);
+    if (d.walls) {  // an open level has no box: its domain fields are ignored
+        V(finite3(d.domain_min) && finite3(d.domain_max), WORLD_DOMAIN_FINITE);
+        for (int a = 0; a < 3; ++a)
+            V(d.domain_max[a] - d.domain_min[a] >= 4.0f * d.particle_radius, WORLD_DOMAIN_SIZE);
+        // The box's grid may be hashed (any extent costs the same memory), but float must still
+        // resolve h within it: the open limit box (world.cpp) bounds the walls too.
+        const double limit = std::ldexp(double(d.particle_radius), 19);
+        for (int a = 0; a < 3; ++a)
+            V(std::fabs(double(d.domain_min[a])) <= limit && std::fabs(double(d.domain_max[a])) <= limit,
+              WORLD_DOMAIN_EXTENT);
+    }
     if (d.max_colliders < 1 || d.max_colliders > kMaxColliderCapacity)
         return Verdict{Check::WORLD_MAX_COLLIDERS, kMaxColliderCapacity};
     return {};

@@ -65,7 +65,12 @@ inline uint32_t element_alignment(pbf_buffer source) {
     X(WORLD_DOMAIN_FINITE, PBF_ERROR_INVALID_ARGUMENT, "domain bounds must be finite")                               \
     X(WORLD_DOMAIN_SIZE, PBF_ERROR_INVALID_ARGUMENT,                                                                 \
       "domain_max must exceed domain_min by at least 2 particle diameters on every axis")                            \
+    X(WORLD_DOMAIN_EXTENT, PBF_ERROR_INVALID_ARGUMENT,                                                               \
+      "domain_min and domain_max must lie within 2^17 h = 2^19 particle_radius of the origin on every axis (float "  \
+      "spacing there reaches h/64; the same limit holds particles in an open level)")                               \
     X(WORLD_MAX_COLLIDERS, PBF_ERROR_INVALID_ARGUMENT, "max_colliders must be 1..{a}")                               \
+    X(WORLD_WALLS, PBF_ERROR_INVALID_ARGUMENT, "walls must be 0 (an open level) or 1 (the domain box's walls)")       \
+    X(WORLD_HASHED_GRID, PBF_ERROR_INVALID_ARGUMENT, "hashed_grid must be 0 (automatic) or 1 (always hashed)")        \
     /* render data (pbf_render_params, inside pbf_world_desc) */                                                   \
     X(RENDER_FLAGS, PBF_ERROR_INVALID_ARGUMENT,                                                                      \
       "render.flags must combine PBF_RENDER_SMOOTHED_POSITIONS and PBF_RENDER_ANISOTROPY only")                     \

@@ -16,11 +16,19 @@ PBF_HD uint32_t particle_id(uint32_t next_id, uint64_t k) {
     return static_cast<uint32_t>((uint64_t(next_id) + k) % uint64_t(kDeadId));
 }
 
+// The neighbour grid (grid.h): cells of size h; a cell's key is
+// (cx + stride_y·cy + stride_z·cz) & key_mask. Dense: the cells of the domain box, x fastest
+// (stride_y = nx, stride_z = nx·ny, key_mask all ones). Hashed (open levels, huge boxes): the
+// same linear form modulo num_cells, a power of two sized from the capacity (grid.h says why).
 struct GridDims {
     Vec3 origin;      // lower corner of cell (0,0,0)
     float inv_cell;   // 1 / cell size (cell size = h)
-    int32_t nx, ny, nz;
-    uint32_t num_cells;  // nx·ny·nz; also the key of dead particles
+    int32_t lo_x, lo_y, lo_z;  // binning clamps cell coordinates to [lo, hi]
+    int32_t hi_x, hi_y, hi_z;
+    uint32_t stride_y, stride_z;
+    uint32_t key_mask;
+    uint32_t num_cells;  // keys are 0..num_cells-1; num_cells is also the key of dead particles
+    uint32_t hashed;     // 1: keys wrap modulo num_cells and neighbour rows are never clipped
 };
 
 enum ColliderShape : uint32_t { kShapePlane = 1, kShapeSphere = 2, kShapeCapsule = 3, kShapeBox = 4, kShapeMesh = 5 };
@@ -121,7 +129,10 @@ struct WorldConstants {
     float adaptive_target;
     Vec3 gravity;
     // walls: particle centres stay within [wall_min, wall_max]; the solid begins at the domain
-    // box [boundary_min, boundary_max] one radius further out
+    // box [boundary_min, boundary_max] one radius further out. An open level (desc.walls 0) has
+    // no solid: boundary_* lie at ±FLT_MAX, so no particle is ever within h of them (no wall
+    // density, push or adhesion), and wall_* is the open limit box (world.cpp) that only keeps
+    // coordinates where float still resolves the kernel.
     Vec3 wall_min, wall_max;
     Vec3 boundary_min, boundary_max;
     float boundary_scale;  // γ: the half-space density integral scaled to the rest lattice

@@ -540,7 +540,8 @@ struct CommitDrainOp {
 // ---- step feedback (read by the host, without waiting, to choose the next step's substeps) ------
 // Heights along -g are measured from the wall box's corner lowest along -g, so every particle's
 // lies in [0, extent] and the float bits of these non-negative values order like the values
-// (the executors reduce them with integer max).
+// (the executors reduce them with integer max). The box of particle centres (wall_*), which an
+// open level also has (its limit box), where boundary_* lies at ±FLT_MAX.
 struct HeightFrame {
     Vec3 up;       // -g / |g|; zero without gravity (every height is then 0)
     float base;    // up · (the box corner lowest along up)
@@ -551,7 +552,7 @@ PBF_HD HeightFrame height_frame(const WorldConstants& s) {
     const float g = length(s.gravity);
     if (!(g > 0.0f)) return f;
     f.up = s.gravity * (-1.0f / g);
-    const Vec3 lo = s.boundary_min, hi = s.boundary_max;
+    const Vec3 lo = s.wall_min, hi = s.wall_max;
     const Vec3 corner{f.up.x >= 0.0f ? lo.x : hi.x, f.up.y >= 0.0f ? lo.y : hi.y, f.up.z >= 0.0f ? lo.z : hi.z};
     f.base = dot(f.up, corner);
     f.extent = fabsf(f.up.x) * (hi.x - lo.x) + fabsf(f.up.y) * (hi.y - lo.y) + fabsf(f.up.z) * (hi.z - lo.z);

@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "../core/collide.h"
+#include "../core/grid.h"
 #include "../core/material_ops.h"
 #include "../core/sph.h"
 
@@ -26,6 +27,26 @@ Vec3 to_vec3(const float v[3]) { return Vec3{v[0], v[1], v[2]}; }
 Eigen::Quaternionf to_quat(const float q[4]) { return Eigen::Quaternionf(q[3], q[0], q[1], q[2]).normalized(); }
 
 Quat quat_of(const float q[4]) { return Quat{q[0], q[1], q[2], q[3]}; }
+
+// Open levels hold particle centres within |x| <= 2^17·h per axis: there float spacing is h/64,
+// still fine against the kernel (a particle reaching it stops as at a wall without density).
+float open_limit(float h) { return std::ldexp(h, 17); }
+
+// Dense over the domain box while its cells are at most 4 per key of the hashed grid the
+// capacity would get (at most 16 B of cell table per particle) and at most 2^30; hashed
+// otherwise (a level-sized box), and always without walls or when the desc asks (grid.h).
+GridDims choose_grid(const pbf_world_desc& desc, float h) {
+    const uint32_t bits = hashed_grid_bits(desc.max_particles);
+    const float inv_cell = 1.0f / h;
+    if (!desc.walls) return hashed_grid(Vec3{0.0f, 0.0f, 0.0f}, inv_cell, bits);
+    const double cells[3] = {std::max(1.0, double(std::ceil((desc.domain_max[0] - desc.domain_min[0]) / h))),
+                             std::max(1.0, double(std::ceil((desc.domain_max[1] - desc.domain_min[1]) / h))),
+                             std::max(1.0, double(std::ceil((desc.domain_max[2] - desc.domain_min[2]) / h)))};
+    const Vec3 origin = to_vec3(desc.domain_min);
+    const double dense_limit = std::min(4.0 * double(uint64_t(1) << bits), double(1u << 30));
+    if (desc.hashed_grid || cells[0] * cells[1] * cells[2] > dense_limit) return hashed_grid(origin, inv_cell, bits);
+    return dense_grid(origin, inv_cell, int32_t(cells[0]), int32_t(cells[1]), int32_t(cells[2]));
+}
 
 }  // namespace
 
@@ -129,27 +150,8 @@ std::unique_ptr<World> World::create(const pbf_world_desc& desc, Status* status)
         }
     }
 
-    GridDims& g = w->grid_;
-    g.origin = to_vec3(desc.domain_min);
-    g.inv_cell = 1.0f / w->h_;
-    const double cells[3] = {std::ceil((desc.domain_max[0] - desc.domain_min[0]) / w->h_),
-                             std::ceil((desc.domain_max[1] - desc.domain_min[1]) / w->h_),
-                             std::ceil((desc.domain_max[2] - desc.domain_min[2]) / w->h_)};
-    const double total = std::max(1.0, cells[0]) * std::max(1.0, cells[1]) * std::max(1.0, cells[2]);
-    if (total > double(1u << 30)) {
-        // total may exceed any integer type (a tiny radius in a large domain): format it as a double.
-        char cells_text[32];
-        std::snprintf(cells_text, sizeof cells_text, total < 1e15 ? "%.0f" : "%.3g", total);
-        *status = Status::error(PBF_ERROR_INVALID_ARGUMENT,
-                                std::string("domain spans ") + cells_text +
-                                    " grid cells of size h = 4 * particle_radius; at most 2^30 are supported");
-        return nullptr;
-    }
-    g.nx = static_cast<int32_t>(std::max(1.0, cells[0]));
-    g.ny = static_cast<int32_t>(std::max(1.0, cells[1]));
-    g.nz = static_cast<int32_t>(std::max(1.0, cells[2]));
-    g.num_cells = static_cast<uint32_t>(total);
-
+    w->grid_ = choose_grid(desc, w->h_);
+    const GridDims& g = w->grid_;
     BackendConfig config{desc.max_particles, desc.max_colliders, g, desc.cuda_device,
                          render_constants(desc.render, desc.particle_radius, w->h_), diffuse_constants(desc.diffuse)};
     pbf_backend kind = desc.backend;
@@ -187,10 +189,19 @@ void World::update_constants() {
     s.adaptive_target = params_.adaptive_error_target;
     s.gravity = gravity_;
     const Vec3 r{s.radius, s.radius, s.radius};
-    s.boundary_min = to_vec3(desc_.domain_min);
-    s.boundary_max = to_vec3(desc_.domain_max);
-    s.wall_min = s.boundary_min + r;
-    s.wall_max = s.boundary_max - r;
+    if (desc_.walls) {
+        s.boundary_min = to_vec3(desc_.domain_min);
+        s.boundary_max = to_vec3(desc_.domain_max);
+        s.wall_min = s.boundary_min + r;
+        s.wall_max = s.boundary_max - r;
+    } else {
+        // An open level: no solid anywhere near a particle, only the open limit box.
+        const float limit = open_limit(h_);
+        s.boundary_min = Vec3{-FLT_MAX, -FLT_MAX, -FLT_MAX};
+        s.boundary_max = Vec3{FLT_MAX, FLT_MAX, FLT_MAX};
+        s.wall_min = Vec3{-limit, -limit, -limit};
+        s.wall_max = Vec3{limit, limit, limit};
+    }
     s.boundary_scale = boundary_scale_;
     s.grid = grid_;
     s.capacity = desc_.max_particles;
@@ -372,6 +383,9 @@ void World::get_info(pbf_world_info* info) const {
     info->reserved1 = 0;
     info->diffuse_bytes = backend_->diffuse_bytes();
     info->diffuse_updates = backend_->diffuse_updates();
+    info->grid_hashed = grid_.hashed;
+    info->reserved2 = 0;
+    info->grid_bytes = (uint64_t(grid_.num_cells) + 1) * sizeof(uint32_t);  // the solver's cell_begin
 }
 
 Status World::get_stats(pbf_step_stats* out) {
@@ -433,7 +447,8 @@ Status World::emit_block(const pbf_block_desc& d, uint32_t* emitted) {
         if (!(k0 <= k1)) {
             return Status::error(PBF_ERROR_INVALID_ARGUMENT,
                                  "the block lies outside the walls (particle centres stay one particle_radius "
-                                 "inside domain_min..domain_max); nothing was emitted");
+                                 "inside domain_min..domain_max; without walls, within 2^17 h of the origin on each "
+                                 "axis); nothing was emitted");
         }
         origin[axis] = x0 + k0 * s;
         count[axis] = static_cast<uint32_t>(std::min(k1 - k0 + 1.0, double(desc_.max_particles)));
@@ -476,7 +491,8 @@ Status World::check_nozzle(const pbf_emitter_desc& d, Vec3 position) const {
         position.z > hi.z)
         return Status::error(PBF_ERROR_INVALID_ARGUMENT,
                              "the nozzle's position lies outside the walls (particle centres stay one "
-                             "particle_radius inside domain_min..domain_max)");
+                             "particle_radius inside domain_min..domain_max; without walls, within 2^17 h of the "
+                             "origin on each axis)");
     const double s = rest_spacing();
     const double disc_points = std::max(1.0, kPi * double(d.radius) * d.radius / (s * s));
     const double carried = disc_points * d.speed / s;

@@ -1,13 +1,22 @@
 // pbf_bench: time full solver steps on either backend, for docs/perf.md.
 //
-//   pbf_bench [--backend cpu|cuda|both] [--scene dam,tank] [--particles 65536,262144,1000000]
+//   pbf_bench [--backend cpu|cuda|both] [--scene dam,tank,puddle] [--particles 65536,262144,1000000]
 //             [--iterations 1,2,4] [--ldc 0,1] [--render 0,1] [--diffuse 0,1000000] [--steps 100] [--warmup 20] [--stages]
-//             [--collider none,box,mesh] [--mesh-triangles 100000]
+//             [--collider none,box,mesh] [--mesh-triangles 100000] [--level-size 0,1000] [--grid auto,hashed]
 //             [--csv FILE]      (--help lists the options with their defaults)
 //
 // --collider adds one static collider to the scene: an analytic box, or the same box as a
 // triangle mesh with each face subdivided (about --mesh-triangles triangles); the mesh's
 // creation (its distance field's build, which the call waits for) is timed as "build ms".
+//
+// --level-size L > 0 puts the scene in an open level (pbf_world_desc.walls = 0, a hashed grid):
+// the same fluid 0.3 L, -0.2 L, 0.45 L from the origin, held by five static plane colliders
+// where the box's floor and sides were (so the step also pays for five colliders); 0 keeps the
+// walled box (a dense grid where it is small enough). The "grid" column gives the grid's kind
+// and cell table (pbf_world_info.grid_bytes). The puddle scene is a 2a x 0.2a x 2a layer in a
+// 2a box: 100k particles of radius 0.01 m there are the "100k puddle in a 2 m box".
+// --grid hashed hashes the grid of a walled box too (pbf_world_desc.hashed_grid): the same scene
+// on both grids, without the planes.
 //
 // One "step" is one solver step (pbf_world_step with substeps = 1): LDC when on, prediction,
 // grid build on x*, the constraint iterations with collisions, velocity update, vorticity
@@ -43,6 +52,8 @@ struct Config {
     float surface_tension = 0, cohesion = 0;
     std::string collider = "none";  // none, box or mesh
     uint32_t mesh_triangles = 0;
+    float level_size = 0;  // > 0: an open level (no walls) of this extent
+    uint32_t hashed_grid = 0;  // 1: pbf_world_desc.hashed_grid
 };
 
 struct Result {
@@ -55,6 +66,8 @@ struct Result {
     double stage_ms[PBF_PROFILE_MAX_STAGES] = {};  // per step, averaged
     double build_ms = 0;  // the mesh's creation (its field's build)
     uint32_t triangles = 0;
+    uint32_t grid_hashed = 0;
+    uint64_t grid_bytes = 0;
 };
 
 // The solver's stages, as the library names them (pbf_profile_stage_name).
@@ -97,11 +110,31 @@ void subdivided_box(float e, int n, std::vector<float>* v, std::vector<uint32_t>
     }
 }
 
+// A static plane through p whose solid lies below rotation q's +y.
+bool add_plane(pbf_world_id w, float x, float y, float z, const float q[4]) {
+    pbf_collider_desc d = pbf_collider_desc_default();
+    d.shape = PBF_SHAPE_PLANE;
+    set3(d.position, x, y, z);
+    std::memcpy(d.rotation, q, sizeof d.rotation);
+    pbf_collider_id id;
+    return pbf_world_create_collider(w, &d, &id) == PBF_OK;
+}
+
+// The floor and four sides of the box [o, o + size] as planes (an open level's container).
+bool add_box_planes(pbf_world_id w, const float o[3], const float size[3]) {
+    const float s = 0.70710678f;
+    const float up[4] = {0, 0, 0, 1}, px[4] = {0, 0, -s, s}, nx[4] = {0, 0, s, s}, pz[4] = {s, 0, 0, s},
+                nz[4] = {-s, 0, 0, s};
+    return add_plane(w, o[0], o[1], o[2], up) && add_plane(w, o[0], o[1], o[2], px) &&
+           add_plane(w, o[0] + size[0], o[1], o[2], nx) && add_plane(w, o[0], o[1], o[2], pz) &&
+           add_plane(w, o[0], o[1], o[2] + size[2], nz);
+}
+
 // The scene's collider (none, box or mesh): a box of half size a/4 in the middle of the fluid.
-bool add_collider(pbf_world_id w, const Config& c, float a, Result* r) {
+bool add_collider(pbf_world_id w, const Config& c, float a, const float o[3], Result* r) {
     if (c.collider == "none") return true;
     pbf_collider_desc d = pbf_collider_desc_default();
-    set3(d.position, a, 0.5f * a, 0.5f * a);
+    set3(d.position, o[0] + a, o[1] + 0.5f * a, o[2] + 0.5f * a);
     const float e = 0.25f * a;
     if (c.collider == "box") {
         d.shape = PBF_SHAPE_BOX;
@@ -128,12 +161,18 @@ bool add_collider(pbf_world_id w, const Config& c, float a, Result* r) {
 Result run(const Config& c, int warmup, int steps, bool stages) {
     Result r;
     // Dam: column a x 2a x a/2 in a 4a x 2.5a x a/2 tank. Tank: fluid 2a x a x a in 2a x 2a x a.
-    const bool dam = c.scene == "dam";
+    // Puddle: fluid 2a x 0.2a x 2a in 2a x 2a x 2a.
+    const bool dam = c.scene == "dam", puddle = c.scene == "puddle";
     const float a = 1.0f;
-    const float fluid_volume = dam ? a * 2 * a * 0.5f * a : 2 * a * a * a;
+    const float box[3] = {dam ? 4 * a : 2 * a, dam ? 2.5f * a : 2 * a, dam ? 0.5f * a : puddle ? 2 * a : a};
+    const float fluid[3] = {dam ? a : 2 * a, dam ? 2 * a : puddle ? 0.2f * a : a, dam ? 0.5f * a : puddle ? 2 * a : a};
+    const float fluid_volume = fluid[0] * fluid[1] * fluid[2];
     const float spacing = std::cbrt(fluid_volume / float(c.particles));
     const float h = 2.0f * spacing;
-    const float depth = dam ? 2.0f * a : a;
+    const float depth = fluid[1];
+    const bool open = c.level_size > 0.0f;
+    const float o[3] = {open ? 0.3f * c.level_size : 0.0f, open ? -0.2f * c.level_size : 0.0f,
+                        open ? 0.45f * c.level_size : 0.0f};
     const float dt = std::min(1.0f / 60.0f, 0.4f * h / std::sqrt(2.0f * 9.81f * depth));
     r.dt = dt;
 
@@ -142,8 +181,9 @@ Result run(const Config& c, int warmup, int steps, bool stages) {
     d.max_particles = c.particles + c.particles / 8 + 1024;
     d.particle_radius = 0.5f * spacing;
     set3(d.domain_min, 0, 0, 0);
-    if (dam) set3(d.domain_max, 4 * a, 2.5f * a, 0.5f * a);
-    else set3(d.domain_max, 2 * a, 2 * a, a);
+    set3(d.domain_max, box[0], box[1], box[2]);
+    d.walls = open ? 0u : 1u;
+    d.hashed_grid = c.hashed_grid;
     d.solver.iterations = c.iterations;
     d.solver.substeps = 1;  // one step = one substep, whatever the automatic rule would pick
     d.solver.ldc_enabled = c.ldc;
@@ -158,10 +198,14 @@ Result run(const Config& c, int warmup, int steps, bool stages) {
     tool::read_info(w, &info);
     r.device = info.device_name;
     r.bytes_per_particle = double(info.device_bytes) / d.max_particles;
+    r.grid_hashed = info.grid_hashed;
+    r.grid_bytes = info.grid_bytes;
 
     pbf_block_desc b = pbf_block_desc_default();
-    if (dam) set3(b.box_max, a, 2 * a, 0.5f * a);
-    else set3(b.box_max, 2 * a, a, a);
+    set3(b.box_min, o[0], o[1], o[2]);
+    // A hair of slack: far from the origin the float box may hold a hair less than n spacings.
+    const float slack = open ? 0.01f * spacing : 0.0f;
+    set3(b.box_max, o[0] + fluid[0] + slack, o[1] + fluid[1] + slack, o[2] + fluid[2] + slack);
     uint32_t emitted = 0, second = 0;
     bool ok = true;
     if (c.materials == 2) {
@@ -188,7 +232,7 @@ Result run(const Config& c, int warmup, int steps, bool stages) {
         return r;
     }
     r.count = emitted + second;
-    if (!add_collider(w, c, a, &r)) {
+    if (!add_collider(w, c, a, o, &r) || (open && !add_box_planes(w, o, box))) {
         r.error = pbf_last_error_message();
         pbf_world_destroy(w);
         return r;
@@ -233,7 +277,7 @@ Result run(const Config& c, int warmup, int steps, bool stages) {
 
 int main(int argc, char** argv) {
     std::string backends = "both", scenes = "dam,tank", particles = "65536,262144,1000000", iterations = "4",
-                ldcs = "0,1", renders = "0", diffuses = "0", colliders = "none", csv_path;
+                ldcs = "0,1", renders = "0", diffuses = "0", colliders = "none", levels = "0", grids = "auto", csv_path;
     int steps = 100, warmup = 20;
     uint32_t mesh_triangles = 100000;
     bool stages = false;
@@ -245,7 +289,13 @@ int main(int argc, char** argv) {
                  "pbf_bench"};
     app.option_defaults()->always_capture_default()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     app.add_option("--backend", backends, "backends: cpu, cuda or both (comma-separated)");
-    app.add_option("--scene", scenes, "scenes: dam (a x 2a x a/2 column in a 4a tank), tank (resting layer)");
+    app.add_option("--scene", scenes,
+                   "scenes: dam (a x 2a x a/2 column in a 4a tank), tank (resting layer), puddle (2a x 0.2a x 2a "
+                   "layer in a 2a box)");
+    app.add_option("--level-size", levels,
+                   "0: the scene's walled box; L > 0: an open level (no walls, hashed grid), the fluid 0.3 L to "
+                   "0.45 L from the origin in five plane colliders (comma-separated)");
+    app.add_option("--grid", grids, "auto: the library's choice; hashed: always the hashed grid (comma-separated)");
     app.add_option("--particles", particles, "particle counts (comma-separated)");
     app.add_option("--iterations", iterations, "constraint iterations per step (comma-separated)");
     app.add_option("--ldc", ldcs, "Local Density Calibration off/on: 0, 1 (comma-separated)");
@@ -282,13 +332,13 @@ int main(int argc, char** argv) {
     if (csv) {
         std::fprintf(csv, "scene,particles,iterations,ldc,render,backend,device,ms_median,ms_min,ms_max,particle_steps_per_s,"
                           "bytes_per_particle,density_error_mean,density_error_max,dt,diffuse,diffuse_count,collider,triangles,"
-                          "build_ms");
+                          "build_ms,level_size,grid_hashed,grid_bytes");
         for (uint32_t k = 0; k < stage_count(); ++k) std::fprintf(csv, ",stage_%s_ms", pbf_profile_stage_name(k));
         std::fprintf(csv, "\n");
     }
     std::printf("| scene | particles | iter | LDC | render | diffuse cap/live | backend | device | ms median | min | max | "
-                "particle-steps/s | B/particle | density err mean | max | collider | triangles | build ms |\n"
-                "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+                "particle-steps/s | B/particle | density err mean | max | collider | triangles | build ms | level | grid |\n"
+                "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     int failures = 0;
     std::vector<std::pair<Config, Result>> staged;
     for (pbf_backend backend : backend_list)
@@ -299,11 +349,14 @@ int main(int argc, char** argv) {
                         for (const std::string& rd : split_list(renders))
                         for (const std::string& df : split_list(diffuses))
                             for (const std::string& mt : split_list(materials))
-                            for (const std::string& col : split_list(colliders)) {
+                            for (const std::string& col : split_list(colliders))
+                            for (const std::string& lv : split_list(levels))
+                            for (const std::string& gr : split_list(grids)) {
                         const Config c{scene, uint32_t(std::strtoul(n.c_str(), nullptr, 10)),
                                        uint32_t(std::atoi(it.c_str())), uint32_t(std::atoi(l.c_str())), backend,
                                        uint32_t(std::atoi(rd.c_str())), uint32_t(std::strtoul(df.c_str(), nullptr, 10)),
-                                       uint32_t(std::atoi(mt.c_str())), surface_tension, cohesion, col, mesh_triangles};
+                                       uint32_t(std::atoi(mt.c_str())), surface_tension, cohesion, col, mesh_triangles,
+                                       std::strtof(lv.c_str(), nullptr), gr == "hashed" ? 1u : 0u};
                         const Result r = run(c, warmup, steps, stages);
                         const char* bname = c.materials == 2 ? (backend == PBF_BACKEND_CUDA ? "cuda 2-mat" : "cpu 2-mat")
                                                              : (backend == PBF_BACKEND_CUDA ? "cuda" : "cpu");
@@ -315,17 +368,20 @@ int main(int argc, char** argv) {
                         }
                         const double rate = r.count / (r.ms_median / 1000.0);
                         std::printf("| %s | %u | %u | %u | %u | %u/%u | %s | %s | %.3f | %.3f | %.3f | %.3g | %.1f | %.5f | %.4f "
-                                    "| %s | %u | %.1f |\n",
+                                    "| %s | %u | %.1f | %s | %s %.1f KB |\n",
                                     scene.c_str(), r.count, c.iterations, c.ldc, c.render, c.diffuse, r.diffuse_count, bname,
                                     r.device.c_str(), r.ms_median, r.ms_min, r.ms_max, rate, r.bytes_per_particle,
-                                    r.error_mean, r.error_max, c.collider.c_str(), r.triangles, r.build_ms);
+                                    r.error_mean, r.error_max, c.collider.c_str(), r.triangles, r.build_ms,
+                                    c.level_size > 0 ? lv.c_str() : "box", r.grid_hashed ? "hashed" : "dense",
+                                    r.grid_bytes / 1024.0);
                         std::fflush(stdout);
                         if (csv) {
                             std::fprintf(csv, "%s,%u,%u,%u,%u,%s,%s,%.4f,%.4f,%.4f,%.6g,%.2f,%.6f,%.6f,%.6f",
                                          scene.c_str(), r.count, c.iterations, c.ldc, c.render, bname, r.device.c_str(), r.ms_median, r.ms_min,
                                          r.ms_max, rate, r.bytes_per_particle, r.error_mean, r.error_max, r.dt);
-                            std::fprintf(csv, ",%u,%u,%s,%u,%.3f", c.diffuse, r.diffuse_count, c.collider.c_str(),
-                                         r.triangles, r.build_ms);
+                            std::fprintf(csv, ",%u,%u,%s,%u,%.3f,%g,%u,%llu", c.diffuse, r.diffuse_count,
+                                         c.collider.c_str(), r.triangles, r.build_ms, c.level_size, r.grid_hashed,
+                                         (unsigned long long)r.grid_bytes);
                             for (uint32_t k = 0; k < stage_count(); ++k) std::fprintf(csv, ",%.4f", r.stage_ms[k]);
                             std::fprintf(csv, "\n");
                         }

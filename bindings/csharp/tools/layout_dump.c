@@ -184,6 +184,8 @@ int main(void) {
     FIELD(pbf_world_desc, render);
     FIELD(pbf_world_desc, max_colliders);
     FIELD(pbf_world_desc, diffuse);
+    FIELD(pbf_world_desc, walls);
+    FIELD(pbf_world_desc, hashed_grid);
     STRUCT(pbf_diffuse_params);
     FIELD(pbf_diffuse_params, struct_size);
     FIELD(pbf_diffuse_params, max_diffuse);
@@ -221,6 +223,9 @@ int main(void) {
     FIELD(pbf_world_info, reserved1);
     FIELD(pbf_world_info, diffuse_bytes);
     FIELD(pbf_world_info, diffuse_updates);
+    FIELD(pbf_world_info, grid_hashed);
+    FIELD(pbf_world_info, reserved2);
+    FIELD(pbf_world_info, grid_bytes);
 
     STRUCT(pbf_step_stats);
     FIELD(pbf_step_stats, struct_size);

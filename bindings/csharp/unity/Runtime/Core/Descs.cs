@@ -245,6 +245,13 @@ namespace Pbf
         public ref RenderParams Render { get { return ref _render; } }
         /// <summary>Diffuse particles, editable in place: desc.Diffuse.MaxDiffuse = 100000.</summary>
         public ref DiffuseParams Diffuse { get { return ref _diffuse; } }
+        /// <summary>true (default): the six walls of DomainMin..DomainMax hold the fluid. false: an
+        /// open level without walls or box (DomainMin/Max ignored, a hashed grid whose memory follows
+        /// MaxParticles); particle centres stay within 2^17·h of the origin on each axis.</summary>
+        public bool Walls { get { return _raw.walls != 0; } set { _raw.walls = value ? 1u : 0u; } }
+        /// <summary>false (default): a dense grid over the walls' box while it has at most 4 cells per
+        /// key of the hashed grid, else hashed. true: always hashed.</summary>
+        public bool HashedGrid { get { return _raw.hashed_grid != 0; } set { _raw.hashed_grid = value ? 1u : 0u; } }
     }
 
     /// <summary>A one-shot fill of an axis-aligned box on a cubic lattice at rest spacing (pbf_block_desc).</summary>
@@ -559,8 +566,12 @@ namespace Pbf
         public float KernelRadius { get { return _raw.kernel_radius; } }
         /// <summary>Calibrated so a rest lattice has the rest density.</summary>
         public float ParticleMass { get { return _raw.particle_mass; } }
-        /// <summary>Uniform grid cells over the domain (cell size h).</summary>
+        /// <summary>Keys of the neighbour grid (cell size h): the domain's cells, or the hashed grid's.</summary>
         public long GridCells { get { return _raw.grid_cells; } }
+        /// <summary>true: the hashed grid (open levels, big boxes); false: dense over the domain.</summary>
+        public bool GridHashed { get { return _raw.grid_hashed != 0; } }
+        /// <summary>Part of <see cref="DeviceBytes"/> the grid's cell table takes (4 B a key).</summary>
+        public long GridBytes { get { return (long)_raw.grid_bytes; } }
         /// <summary>Memory the world allocated on its backend.</summary>
         public long DeviceBytes { get { return (long)_raw.device_bytes; } }
         /// <summary>e.g. "NVIDIA H100 80GB HBM3" or "CPU (8 threads)".</summary>

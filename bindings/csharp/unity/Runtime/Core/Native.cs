@@ -337,6 +337,8 @@ namespace Pbf.Interop
         public pbf_render_params render;
         public uint max_colliders;
         public pbf_diffuse_params diffuse;
+        public uint walls;
+        public uint hashed_grid;
     }
 
     [StructLayout(LayoutKind.Sequential)]
@@ -360,6 +362,9 @@ namespace Pbf.Interop
         public uint reserved1;
         public ulong diffuse_bytes;
         public ulong diffuse_updates;
+        public uint grid_hashed;
+        public uint reserved2;
+        public ulong grid_bytes;
     }
 
     [StructLayout(LayoutKind.Sequential)]
