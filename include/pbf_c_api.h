@@ -283,8 +283,8 @@ typedef struct pbf_world_desc {
     pbf_solver_params solver;
     pbf_render_params render;   /* render data (default: none) */
     uint32_t max_colliders;     /* collider capacity, 1..2048, allocated up front (default 256).
-                                   Each collider costs about 3.3 KB of backend memory (its poses
-                                   for up to 64 substeps); every particle scans the colliders'
+                                   Each collider costs about 0.3 KB of backend memory (shape,
+                                   start/end keys, two pose rows, force rows); every particle scans the colliders'
                                    bounding boxes, so the cost grows linearly with the count. */
     pbf_diffuse_params diffuse; /* diffuse particles (default: none) */
     uint32_t walls;             /* 1 (default): the six walls of domain_min..domain_max hold the

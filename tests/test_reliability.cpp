@@ -117,7 +117,7 @@ TEST_CASE("fuzz: emission far outside the grid is refused or clipped to the wall
         OwnedWorld w(d);
         pbf_block_desc b = pbf_block_desc_default();
         std::memcpy(b.box_min, p, sizeof b.box_min);
-        for (int a = 0; a < 3; ++a) b.box_max[a] = std::fabs(p[a]) > 1.0f ? std::nextafter(p[a], 4e38f) : p[a] + 0.1f;
+        for (int a = 0; a < 3; ++a) b.box_max[a] = std::fabs(p[a]) > 1.0f ? std::nextafter(p[a], std::numeric_limits<float>::infinity()) : p[a] + 0.1f;
         uint32_t n = 7;
         CHECK(pbf_world_emit_block(w.id, &b, &n) == PBF_ERROR_INVALID_ARGUMENT);
         CHECK(n == 0u);
