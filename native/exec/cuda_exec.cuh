@@ -73,6 +73,13 @@ public:
 
     void sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
                     int* value_sel);
+    // The same sort and scan for builds outside a step (a mesh's field), of any length, with
+    // temporary storage the caller allocates (alloc) of the size these return.
+    size_t sort_temp_bytes(uint32_t n, uint32_t max_key);
+    size_t scan_temp_bytes(uint32_t n);
+    void sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
+                    int* value_sel, void* temp, size_t temp_bytes);
+    void exclusive_scan(const uint32_t* in, uint32_t* out, uint32_t n, void* temp, size_t temp_bytes);
     // out[i] = Σ_{k<i} in[k] on the stream (CUB); reserve_scan allocates the temporary storage
     // of the longest scan once, at world creation.
     Status reserve_scan(uint32_t max_n);
