@@ -65,6 +65,24 @@ inline float particle_mass(pbf_world_id w) {
     return info.particle_mass;
 }
 
+// A dynamic plane collider through the origin facing up (a floor that measures its load).
+inline pbf_collider_id add_dynamic_floor(pbf_world_id w) {
+    pbf_collider_desc c = pbf_collider_desc_default();
+    c.shape = PBF_SHAPE_PLANE;
+    c.dynamic = 1;
+    pbf_collider_id floor;
+    REQUIRE_PBF(pbf_world_create_collider(w, &c, &floor));
+    return floor;
+}
+
+// The weight of the world's water (N); *count = its particles.
+inline double water_weight(pbf_world_id w, uint32_t* count = nullptr) {
+    uint32_t n = 0;
+    REQUIRE_PBF(pbf_world_get_particle_count(w, &n));
+    if (count) *count = n;
+    return n * particle_mass(w) * kG;
+}
+
 // The free surface away from a box: the mean over lattice columns farther than `margin` from
 // its footprint of the highest particle centre, plus one radius (a rest lattice filled to
 // depth d has its top centres at d - r).
@@ -134,14 +152,8 @@ inline double support_over_weight(pbf_backend backend, bool ldc) {
     scene::fill(w, 0.24f, 0.16f, 0, 0.48f, 0.40f, 0.24f);
     scene::fill(w, 0.24f, 0.16f, 0.48f, 0.48f, 0.40f, 0.72f);
     const pbf_collider_id box = add_box(w, b, PBF_MOTION_STATIC);
-    pbf_collider_desc c = pbf_collider_desc_default();
-    c.shape = PBF_SHAPE_PLANE;
-    c.dynamic = 1;
-    pbf_collider_id floor;
-    REQUIRE_PBF(pbf_world_create_collider(w, &c, &floor));
-    uint32_t n = 0;
-    REQUIRE_PBF(pbf_world_get_particle_count(w, &n));
-    const double weight = n * particle_mass(w) * kG;
+    const pbf_collider_id floor = add_dynamic_floor(w);
+    const double weight = water_weight(w);
     double sum = 0;
     int k = 0;
     for (int step = 0; step < 180; ++step) {
@@ -283,15 +295,10 @@ inline ManyBoxes many_boxes(pbf_backend backend) {
                 at.push_back({(x + 0.5f) * s, (y + 0.5f) * s, (z + 0.5f) * s});
             }
     REQUIRE(boxes.size() == size_t(kPer * kLayers * kPer));
-    pbf_collider_desc c = pbf_collider_desc_default();
-    c.shape = PBF_SHAPE_PLANE;
-    c.dynamic = 1;
-    pbf_collider_id floor;
-    REQUIRE_PBF(pbf_world_create_collider(w, &c, &floor));
+    const pbf_collider_id floor = add_dynamic_floor(w);
     uint32_t n = 0;
-    REQUIRE_PBF(pbf_world_get_particle_count(w, &n));
+    const double weight = water_weight(w, &n);
     REQUIRE(n == uint32_t(kSites * kSites * kDepth) - uint32_t(boxes.size()));
-    const double weight = n * particle_mass(w) * kG;
     ManyBoxes r;
     r.box_up.assign(boxes.size(), 0.0);
     r.buoyancy = kRho * kG * s * s * s;
