@@ -24,6 +24,12 @@ public:
     T* alloc(size_t count) {
         return static_cast<T*>(alloc_bytes(count * sizeof(T)));
     }
+    // An allocation the caller may refuse (a mesh's build); as alloc here: a failure never
+    // stops the world.
+    template <class T>
+    T* try_alloc(size_t count) {
+        return alloc<T>(count);
+    }
     void release(void* p);
     void zero(void* p, size_t bytes);
     void download(void* dst, const void* src, size_t bytes);

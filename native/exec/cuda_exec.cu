@@ -101,6 +101,18 @@ void* CudaExec::alloc_bytes(size_t bytes) {
     return p;
 }
 
+void* CudaExec::try_alloc_bytes(size_t bytes) {
+    void* p = nullptr;
+    const cudaError_t e = cudaMalloc(&p, bytes == 0 ? 16 : bytes);
+    if (e != cudaSuccess) {
+        (void)cudaGetLastError();
+        refused_alloc_ = e;
+        return nullptr;
+    }
+    bytes_ += bytes;
+    return p;
+}
+
 void* CudaExec::alloc_host_bytes(size_t bytes) {
     void* p = nullptr;
     const cudaError_t e = cudaHostAlloc(&p, bytes == 0 ? 16 : bytes, cudaHostAllocMapped);

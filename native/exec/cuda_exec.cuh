@@ -31,12 +31,20 @@ public:
     Status init(uint32_t capacity, uint32_t num_cells);
     void activate() { record(cudaSetDevice(device_)); }
     std::string device_name() const { return name_; }
-    std::string last_error_text() const { return cudaGetErrorString(first_error_); }
+    std::string last_error_text() const {
+        return cudaGetErrorString(first_error_ != cudaSuccess ? first_error_ : refused_alloc_);
+    }
     uint64_t allocated_bytes() const { return bytes_; }
 
     template <class T>
     T* alloc(size_t count) {
         return static_cast<T*>(alloc_bytes(count * sizeof(T)));
+    }
+    // An allocation the caller may refuse without harm (a mesh's build): a failure returns null
+    // and, unlike alloc, is not recorded as the world's error, so the world steps on.
+    template <class T>
+    T* try_alloc(size_t count) {
+        return static_cast<T*>(try_alloc_bytes(count * sizeof(T)));
     }
     void release(void* p);
     void zero(void* p, size_t bytes) { record(cudaMemsetAsync(p, 0, bytes, stream_)); }
@@ -113,6 +121,8 @@ private:
     static constexpr int kStagingSlots = 8;
     static constexpr size_t kStagingBytes = 256 * 1024;
     void* alloc_bytes(size_t bytes);
+    void* try_alloc_bytes(size_t bytes);
+    cudaError_t refused_alloc_ = cudaSuccess;  // the last try_alloc failure
     void* alloc_host_bytes(size_t bytes);
     void* staging_[kStagingSlots] = {};
     cudaEvent_t staging_event_[kStagingSlots] = {};

@@ -12,7 +12,8 @@
 
 namespace pbf {
 
-// The build's backend allocations, freed together (the field itself is handed over).
+// The build's backend allocations, freed together (the field itself is handed over). A failed
+// one refuses the mesh and leaves the world as it was (try_alloc).
 template <class Exec>
 class BuildMemory {
 public:
@@ -24,7 +25,7 @@ public:
     BuildMemory& operator=(const BuildMemory&) = delete;
     template <class T>
     T* alloc(size_t count) {
-        T* p = exec_.template alloc<T>(count > 0 ? count : 1);
+        T* p = exec_.template try_alloc<T>(count > 0 ? count : 1);
         if (!p) failed_ = true;
         else held_[used_++] = p;
         return p;
@@ -51,11 +52,12 @@ Status build_mesh_field(Exec& exec, const MeshBuild& b, float** out_values) {
     const SdfBricks bricks{b.grid, b.bricks[0], b.bricks[1], b.bricks[2], b.margin};
     const uint32_t brick_total = brick_count(bricks);
     const uint32_t triangles = uint32_t(b.indices.size() / 3);
-    if (b.listing_bound >= 0xffffffffull)
+    // Offsets are 32-bit and the sort and scan count items in an int.
+    if (b.listing_bound > 0x7fffffffull)
         return Status::error(PBF_ERROR_OUT_OF_MEMORY,
                              "a mesh's triangles would be listed in its field's bricks up to " +
                                  std::to_string(b.listing_bound) +
-                                 " times (32-bit offsets): use fewer or smaller triangles, or a coarser cell_size");
+                                 " times (over 2^31): use fewer or smaller triangles, or a coarser cell_size");
     const uint32_t chunks = sdf_winding_chunks(brick_total, triangles);
     BuildMemory<Exec> mem(exec);
     Vec3* vertices = mem.template alloc<Vec3>(b.vertices.size());
@@ -68,7 +70,7 @@ Status build_mesh_field(Exec& exec, const MeshBuild& b, float** out_values) {
     uint32_t* begin = mem.template alloc<uint32_t>(size_t(brick_total) + 1);
     float* parts = mem.template alloc<float>(size_t(brick_total) * chunks);
     float* winding = mem.template alloc<float>(2 * size_t(brick_total));
-    float* values = exec.template alloc<float>(2 * voxels);  // distances, then the boundary shares
+    float* values = exec.template try_alloc<float>(2 * voxels);  // distances, then the boundary shares
     if (mem.failed() || !values) {
         exec.release(values);
         return mesh_memory_error(exec, "a mesh's distance field of " + std::to_string(voxels) + " voxels");

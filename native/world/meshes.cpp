@@ -65,7 +65,7 @@ MeshBuild prepare_mesh(const pbf_mesh_desc& d, const MeshLayout& l, float* reach
     }
     *reach += l.half_thickness;
     // The brick lists' length is known on the backend only; this bound (the bricks of each
-    // triangle's grown bounds) lets the build refuse lists beyond 32-bit offsets up front.
+    // triangle's grown bounds) lets the build refuse lists beyond 2^31 entries up front.
     const SdfBricks bricks{l.grid, l.bricks[0], l.bricks[1], l.bricks[2], l.margin};
     b.indices.reserve(size_t(d.triangle_count) * 3);
     for (uint32_t t = 0; t < d.triangle_count; ++t) {
