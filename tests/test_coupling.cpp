@@ -72,3 +72,8 @@ TEST_CASE("coupling: force calls refuse what they cannot answer", "[coupling][ap
     m.struct_size = 3;
     CHECK_FAILS(pbf_world_map_collider_forces(w, &m), PBF_ERROR_STRUCT_SIZE, "pbf_mapped_buffer");
 }
+
+TEST_CASE("coupling: 256 dynamic kinematic boxes each record their own push, and with the floor carry the water",
+          "[coupling][colliders]") {
+    check_many_boxes(PBF_BACKEND_CPU);
+}

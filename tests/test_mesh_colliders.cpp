@@ -119,6 +119,17 @@ TEST_CASE("mesh: refused descs name their check and change nothing", "[mesh][api
     d.cell_size = 0.0005f;
     refused(d, PBF_ERROR_CAPACITY, "voxels");
     CHECK_THAT(last_message(), Catch::Contains("cell_size"));
+    // Triangles listed in the field's bricks over 2^31 times (6000 copies of a triangle spanning
+    // a 29M-voxel field: 439k bricks each): refused before the build allocates anything.
+    Mesh crowded;
+    crowded.add_vertex(0, 0, 0);
+    crowded.add_vertex(1, 1, 0);
+    crowded.add_vertex(0, 1, 1);
+    for (int k = 0; k < 6000; ++k) crowded.add_triangle(0, 1, 2);
+    d = crowded.desc(false);
+    d.cell_size = 0.0042f;
+    refused(d, PBF_ERROR_OUT_OF_MEMORY, "2^31");
+    CHECK_THAT(last_message(), Catch::Contains("cell_size"));
     // A collider desc naming the mesh shape wrongly: unknown shapes are still refused.
     pbf_collider_desc c = collider_desc(PBF_SHAPE_MESH);
     c.shape = pbf_collider_shape(6);

@@ -88,17 +88,31 @@ void CpuExec::download(void* dst, const void* src, size_t bytes) {
     if (bytes) std::memcpy(dst, src, bytes);
 }
 
-void CpuExec::sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
-                         int* value_sel) {
-    std::fill(histogram_.begin(), histogram_.end(), 0u);
-    for (uint32_t i = 0; i < n; ++i) ++histogram_[keys[0][i] + 1];
-    for (size_t c = 1; c < histogram_.size(); ++c) histogram_[c] += histogram_[c - 1];
-    (void)max_key;
+namespace {
+// Stable counting sort into buffers [1] with histogram (max key + 2 counters).
+void counting_sort(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t* histogram, size_t counters) {
+    std::fill(histogram, histogram + counters, 0u);
+    for (uint32_t i = 0; i < n; ++i) ++histogram[keys[0][i] + 1];
+    for (size_t c = 1; c < counters; ++c) histogram[c] += histogram[c - 1];
     for (uint32_t i = 0; i < n; ++i) {
-        const uint32_t dst = histogram_[keys[0][i]]++;
+        const uint32_t dst = histogram[keys[0][i]]++;
         keys[1][dst] = keys[0][i];
         values[1][dst] = values[0][i];
     }
+}
+}  // namespace
+
+void CpuExec::sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
+                         int* value_sel) {
+    (void)max_key;
+    counting_sort(keys, values, n, histogram_.data(), histogram_.size());
+    *key_sel = *value_sel = 1;
+}
+
+void CpuExec::sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
+                         int* value_sel, void* temp, size_t temp_bytes) {
+    (void)temp_bytes;
+    counting_sort(keys, values, n, static_cast<uint32_t*>(temp), size_t(max_key) + 2);
     *key_sel = *value_sel = 1;
 }
 

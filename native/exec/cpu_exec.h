@@ -24,6 +24,12 @@ public:
     T* alloc(size_t count) {
         return static_cast<T*>(alloc_bytes(count * sizeof(T)));
     }
+    // An allocation the caller may refuse (a mesh's build); as alloc here: a failure never
+    // stops the world.
+    template <class T>
+    T* try_alloc(size_t count) {
+        return alloc<T>(count);
+    }
     void release(void* p);
     void zero(void* p, size_t bytes);
     void download(void* dst, const void* src, size_t bytes);
@@ -55,6 +61,13 @@ public:
     // Stable counting sort of (key, value) pairs, keys in 0..max_key; result in buffers [1].
     void sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
                     int* value_sel);
+    // The same sort and scan for builds outside a step (a mesh's field), of any length, with
+    // temporary storage the caller allocates (alloc) of the size these return.
+    size_t sort_temp_bytes(uint32_t, uint32_t max_key) const { return (size_t(max_key) + 2) * sizeof(uint32_t); }
+    size_t scan_temp_bytes(uint32_t) const { return 16; }
+    void sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
+                    int* value_sel, void* temp, size_t temp_bytes);
+    void exclusive_scan(const uint32_t* in, uint32_t* out, uint32_t n, void*, size_t) { exclusive_scan(in, out, n); }
     // out[i] = Σ_{k<i} in[k] (sequential: the same result every run). reserve_scan sizes the
     // temporary storage of the longest scan up front (none needed here).
     Status reserve_scan(uint32_t) { return Status{}; }

@@ -101,6 +101,18 @@ void* CudaExec::alloc_bytes(size_t bytes) {
     return p;
 }
 
+void* CudaExec::try_alloc_bytes(size_t bytes) {
+    void* p = nullptr;
+    const cudaError_t e = cudaMalloc(&p, bytes == 0 ? 16 : bytes);
+    if (e != cudaSuccess) {
+        (void)cudaGetLastError();
+        refused_alloc_ = e;
+        return nullptr;
+    }
+    bytes_ += bytes;
+    return p;
+}
+
 void* CudaExec::alloc_host_bytes(size_t bytes) {
     void* p = nullptr;
     const cudaError_t e = cudaHostAlloc(&p, bytes == 0 ? 16 : bytes, cudaHostAllocMapped);
@@ -160,8 +172,18 @@ Status CudaExec::reserve_scan(uint32_t max_n) {
 }
 
 void CudaExec::exclusive_scan(const uint32_t* in, uint32_t* out, uint32_t n) {
-    size_t bytes = scan_temp_bytes_;
-    record(cub::DeviceScan::ExclusiveSum(scan_temp_, bytes, in, out, int(n), stream_));
+    exclusive_scan(in, out, n, scan_temp_, scan_temp_bytes_);
+}
+
+size_t CudaExec::scan_temp_bytes(uint32_t n) {
+    size_t bytes = 0;
+    record(cub::DeviceScan::ExclusiveSum(nullptr, bytes, static_cast<const uint32_t*>(nullptr),
+                                         static_cast<uint32_t*>(nullptr), int(n), stream_));
+    return bytes + 16;
+}
+
+void CudaExec::exclusive_scan(const uint32_t* in, uint32_t* out, uint32_t n, void* temp, size_t temp_bytes) {
+    record(cub::DeviceScan::ExclusiveSum(temp, temp_bytes, in, out, int(n), stream_));
 }
 
 static int bits_for(uint32_t max_key) {
@@ -172,11 +194,20 @@ static int bits_for(uint32_t max_key) {
 
 void CudaExec::sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
                           int* value_sel) {
+    sort_pairs(keys, values, n, max_key, key_sel, value_sel, sort_temp_, sort_temp_bytes_);
+}
+
+size_t CudaExec::sort_temp_bytes(uint32_t n, uint32_t max_key) {
+    size_t bytes = 0;
+    cub::DoubleBuffer<uint32_t> k(nullptr, nullptr), v(nullptr, nullptr);
+    record(cub::DeviceRadixSort::SortPairs(nullptr, bytes, k, v, int(n), 0, bits_for(max_key), stream_));
+    return bytes + 16;
+}
+
+void CudaExec::sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
+                          int* value_sel, void* temp, size_t temp_bytes) {
     cub::DoubleBuffer<uint32_t> k(keys[0], keys[1]), v(values[0], values[1]);
-    if (n > 0) {
-        size_t bytes = sort_temp_bytes_;
-        record(cub::DeviceRadixSort::SortPairs(sort_temp_, bytes, k, v, int(n), 0, bits_for(max_key), stream_));
-    }
+    if (n > 0) record(cub::DeviceRadixSort::SortPairs(temp, temp_bytes, k, v, int(n), 0, bits_for(max_key), stream_));
     *key_sel = k.selector;
     *value_sel = v.selector;
 }

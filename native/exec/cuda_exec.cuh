@@ -31,12 +31,20 @@ public:
     Status init(uint32_t capacity, uint32_t num_cells);
     void activate() { record(cudaSetDevice(device_)); }
     std::string device_name() const { return name_; }
-    std::string last_error_text() const { return cudaGetErrorString(first_error_); }
+    std::string last_error_text() const {
+        return cudaGetErrorString(first_error_ != cudaSuccess ? first_error_ : refused_alloc_);
+    }
     uint64_t allocated_bytes() const { return bytes_; }
 
     template <class T>
     T* alloc(size_t count) {
         return static_cast<T*>(alloc_bytes(count * sizeof(T)));
+    }
+    // An allocation the caller may refuse without harm (a mesh's build): a failure returns null
+    // and, unlike alloc, is not recorded as the world's error, so the world steps on.
+    template <class T>
+    T* try_alloc(size_t count) {
+        return static_cast<T*>(try_alloc_bytes(count * sizeof(T)));
     }
     void release(void* p);
     void zero(void* p, size_t bytes) { record(cudaMemsetAsync(p, 0, bytes, stream_)); }
@@ -73,6 +81,13 @@ public:
 
     void sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
                     int* value_sel);
+    // The same sort and scan for builds outside a step (a mesh's field), of any length, with
+    // temporary storage the caller allocates (alloc) of the size these return.
+    size_t sort_temp_bytes(uint32_t n, uint32_t max_key);
+    size_t scan_temp_bytes(uint32_t n);
+    void sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
+                    int* value_sel, void* temp, size_t temp_bytes);
+    void exclusive_scan(const uint32_t* in, uint32_t* out, uint32_t n, void* temp, size_t temp_bytes);
     // out[i] = Σ_{k<i} in[k] on the stream (CUB); reserve_scan allocates the temporary storage
     // of the longest scan once, at world creation.
     Status reserve_scan(uint32_t max_n);
@@ -106,6 +121,8 @@ private:
     static constexpr int kStagingSlots = 8;
     static constexpr size_t kStagingBytes = 256 * 1024;
     void* alloc_bytes(size_t bytes);
+    void* try_alloc_bytes(size_t bytes);
+    cudaError_t refused_alloc_ = cudaSuccess;  // the last try_alloc failure
     void* alloc_host_bytes(size_t bytes);
     void* staging_[kStagingSlots] = {};
     cudaEvent_t staging_event_[kStagingSlots] = {};

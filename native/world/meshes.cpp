@@ -1,5 +1,6 @@
 // Meshes of a world (issue 13): the layout of a mesh's distance field, the host's part of its
-// build (the triangles binned to the field's bricks), and the mesh table's slots.
+// build (bounds, the non-degenerate triangles; the backend bins and builds), and the mesh
+// table's slots.
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -24,7 +25,8 @@ MeshLayout mesh_layout(const pbf_mesh_desc& d, float r, float h) {
     // particle within h samples free of clamped corners.
     const float band = h + 2.0f * cell;
     const float pad = band + l.half_thickness + 2.0f * cell;
-    // Far triangles are summed per brick (SdfBrickWindingOp): 2 bricks keep their error small.
+    // Distances need the triangles within the band; the margin is wider because far triangles
+    // are summed per brick (SdfBrickWindingOp): 2 bricks keep their error small.
     l.margin = std::max(band + l.half_thickness, 2.0f * float(kSdfBrick) * cell);
     double voxels = 1.0;
     int32_t n[3];
@@ -47,48 +49,11 @@ MeshLayout mesh_layout(const pbf_mesh_desc& d, float r, float h) {
     return l;
 }
 
-namespace {
-
-// Per brick, the triangles whose bounds grown by the margin meet it (compressed rows).
-void bin_triangles(const MeshLayout& l, const std::vector<Vec3>& v, const std::vector<uint32_t>& tri, MeshBuild* b) {
-    const uint32_t bricks = uint32_t(l.bricks[0] * l.bricks[1] * l.bricks[2]);
-    const uint32_t count = uint32_t(tri.size() / 3);
-    // The brick range of each triangle, by the grid points its grown bounds cover.
-    auto range = [&](uint32_t t, int32_t first[3], int32_t last[3]) {
-        const Vec3 a = v[tri[3 * t]], bb = v[tri[3 * t + 1]], c = v[tri[3 * t + 2]];
-        const Vec3 m{l.margin, l.margin, l.margin};
-        const Vec3 lo = (min3(a, min3(bb, c)) - m - l.grid.origin) * l.grid.inv_cell;
-        const Vec3 hi = (max3(a, max3(bb, c)) + m - l.grid.origin) * l.grid.inv_cell;
-        const float lo_a[3] = {lo.x, lo.y, lo.z}, hi_a[3] = {hi.x, hi.y, hi.z};
-        for (int k = 0; k < 3; ++k) {
-            first[k] = std::clamp(int32_t(std::floor(lo_a[k])) / kSdfBrick, 0, l.bricks[k] - 1);
-            last[k] = std::clamp(int32_t(std::ceil(hi_a[k])) / kSdfBrick, 0, l.bricks[k] - 1);
-        }
-    };
-    auto visit = [&](auto&& f) {
-        for (uint32_t t = 0; t < count; ++t) {
-            int32_t first[3], last[3];
-            range(t, first, last);
-            for (int32_t z = first[2]; z <= last[2]; ++z)
-                for (int32_t y = first[1]; y <= last[1]; ++y)
-                    for (int32_t x = first[0]; x <= last[0]; ++x)
-                        f(uint32_t(x + l.bricks[0] * (y + l.bricks[1] * z)), t);
-        }
-    };
-    b->brick_begin.assign(bricks + 1, 0);
-    visit([&](uint32_t brick, uint32_t) { ++b->brick_begin[brick + 1]; });
-    for (uint32_t k = 0; k < bricks; ++k) b->brick_begin[k + 1] += b->brick_begin[k];
-    b->brick_triangles.resize(b->brick_begin[bricks]);
-    std::vector<uint32_t> fill(b->brick_begin.begin(), b->brick_begin.end() - 1);
-    visit([&](uint32_t brick, uint32_t t) { b->brick_triangles[fill[brick]++] = t; });
-}
-
-}  // namespace
-
 MeshBuild prepare_mesh(const pbf_mesh_desc& d, const MeshLayout& l, float* reach) {
     MeshBuild b;
     b.grid = l.grid;
     std::copy(l.bricks, l.bricks + 3, b.bricks);
+    b.margin = l.margin;
     b.closed = d.closed;
     b.half_thickness = l.half_thickness;
     b.kernel_radius = l.kernel_radius;
@@ -99,12 +64,20 @@ MeshBuild prepare_mesh(const pbf_mesh_desc& d, const MeshLayout& l, float* reach
         *reach = std::max(*reach, length(b.vertices[k]));
     }
     *reach += l.half_thickness;
+    // The brick lists' length is known on the backend only; this bound (the bricks of each
+    // triangle's grown bounds) lets the build refuse lists beyond 2^31 entries up front.
+    const SdfBricks bricks{l.grid, l.bricks[0], l.bricks[1], l.bricks[2], l.margin};
+    b.indices.reserve(size_t(d.triangle_count) * 3);
     for (uint32_t t = 0; t < d.triangle_count; ++t) {
         const uint32_t* i = d.indices + 3 * t;
-        if (triangle_degenerate(b.vertices[i[0]], b.vertices[i[1]], b.vertices[i[2]])) continue;
+        const Vec3 v0 = b.vertices[i[0]], v1 = b.vertices[i[1]], v2 = b.vertices[i[2]];
+        if (triangle_degenerate(v0, v1, v2)) continue;
         b.indices.insert(b.indices.end(), i, i + 3);
+        int32_t first[3], last[3];
+        if (brick_range(bricks, v0, v1, v2, first, last))
+            b.listing_bound += uint64_t(last[0] - first[0] + 1) * uint64_t(last[1] - first[1] + 1) *
+                               uint64_t(last[2] - first[2] + 1);
     }
-    bin_triangles(l, b.vertices, b.indices, &b);
     return b;
 }
 

@@ -33,7 +33,7 @@ struct MeshLayout {
 };
 // The layout of desc's field in a world of particle radius r and kernel radius h.
 MeshLayout mesh_layout(const pbf_mesh_desc& desc, float r, float h);
-// The host's part of the build: vertices, the non-degenerate triangles binned to bricks; *reach
+// The host's part of the build: vertices, the non-degenerate triangles (the backend bins them); *reach
 // = the farthest point of the solid from the mesh's origin.
 MeshBuild prepare_mesh(const pbf_mesh_desc& desc, const MeshLayout& layout, float* reach);
 

@@ -2,12 +2,20 @@
 //
 //   pbf_bench [--backend cpu|cuda|both] [--scene dam,tank,puddle] [--particles 65536,262144,1000000]
 //             [--iterations 1,2,4] [--ldc 0,1] [--render 0,1] [--diffuse 0,1000000] [--steps 100] [--warmup 20] [--stages]
-//             [--collider none,box,mesh] [--mesh-triangles 100000] [--level-size 0,1000] [--grid auto,hashed]
-//             [--csv FILE]      (--help lists the options with their defaults)
+//             [--collider none,box,mesh] [--mesh-triangles 100000] [--mesh-builds 3] [--level-size 0,1000]
+//             [--grid auto,hashed] [--dynamic-colliders 0,256] [--csv FILE]   (--help lists the options with their defaults)
 //
 // --collider adds one static collider to the scene: an analytic box, or the same box as a
-// triangle mesh with each face subdivided (about --mesh-triangles triangles); the mesh's
-// creation (its distance field's build, which the call waits for) is timed as "build ms".
+// triangle mesh with each face subdivided (about --mesh-triangles triangles). The mesh's
+// creation (its distance field's build, which pbf_world_create_mesh waits for) is timed with a
+// host clock around the call: once untimed (the first build also loads the build's kernels),
+// then --mesh-builds times; "build ms" is their median ("first build ms" in the CSV).
+//
+// --dynamic-colliders N spreads N small boxes through the fluid, dynamic (force and torque
+// recorded) and kinematic: every frame sets each box's target pose (a small bob and turn),
+// steps, and reads every box's force back with pbf_collider_get_force (which waits for the
+// step). "frame ms" is the host-clock median of that whole frame (poses, step, read-back,
+// pbf_world_get_stats), the figure to compare across N; "ms median" stays the backend's step.
 //
 // --level-size L > 0 puts the scene in an open level (pbf_world_desc.walls = 0, a hashed grid):
 // the same fluid 0.3 L, -0.2 L, 0.45 L from the origin, held by five static plane colliders
@@ -24,6 +32,7 @@
 // physical at every resolution. GPU times come from CUDA events recorded on the world's stream
 // around each step (the backend's own step timer), CPU times from a steady clock.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -54,6 +63,8 @@ struct Config {
     uint32_t mesh_triangles = 0;
     float level_size = 0;  // > 0: an open level (no walls) of this extent
     uint32_t hashed_grid = 0;  // 1: pbf_world_desc.hashed_grid
+    uint32_t mesh_builds = 3;        // timed builds of the mesh (after one untimed)
+    uint32_t dynamic_colliders = 0;  // small dynamic kinematic boxes in the fluid, forces read each frame
 };
 
 struct Result {
@@ -64,10 +75,11 @@ struct Result {
     uint32_t diffuse_count = 0;  // live diffuse particles after the last step
     float dt = 0;
     double stage_ms[PBF_PROFILE_MAX_STAGES] = {};  // per step, averaged
-    double build_ms = 0;  // the mesh's creation (its field's build)
+    double build_ms = 0, first_build_ms = 0;  // the mesh's creation (its field's build): median, first
     uint32_t triangles = 0;
     uint32_t grid_hashed = 0;
     uint64_t grid_bytes = 0;
+    double frame_ms = 0;  // host clock: target poses, step, force read-back, stats (median)
 };
 
 // The solver's stages, as the library names them (pbf_profile_stage_name).
@@ -149,13 +161,77 @@ bool add_collider(pbf_world_id w, const Config& c, float a, const float o[3], Re
         m.indices = tri.data();
         m.triangle_count = uint32_t(tri.size() / 3);
         r->triangles = m.triangle_count;
-        const auto t0 = std::chrono::steady_clock::now();
-        if (pbf_world_create_mesh(w, &m, &d.mesh) != PBF_OK) return false;
-        r->build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        std::vector<double> builds;
+        for (uint32_t k = 0; k <= c.mesh_builds; ++k) {
+            if (k > 0 && pbf_world_destroy_mesh(w, d.mesh) != PBF_OK) return false;
+            const auto t0 = std::chrono::steady_clock::now();
+            if (pbf_world_create_mesh(w, &m, &d.mesh) != PBF_OK) return false;
+            const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+            if (k == 0) r->first_build_ms = ms;
+            else builds.push_back(ms);
+        }
+        std::sort(builds.begin(), builds.end());
+        r->build_ms = builds.empty() ? r->first_build_ms : builds[builds.size() / 2];
         d.shape = PBF_SHAPE_MESH;
     }
     pbf_collider_id id;
     return pbf_world_create_collider(w, &d, &id) == PBF_OK;
+}
+
+// N small boxes on a lattice through the fluid (the tank's 2a x a x a or the dam's column),
+// dynamic and kinematic.
+struct DynamicBoxes {
+    std::vector<pbf_collider_id> ids;
+    std::vector<std::array<float, 3>> home;
+    float half = 0;
+};
+
+bool add_dynamic_boxes(pbf_world_id w, uint32_t n, const float o[3], const float fluid_max[3], DynamicBoxes* out) {
+    if (n == 0) return true;
+    // A lattice of nx x ny x nz >= n sites in proportion to the fluid's sides.
+    const float volume = fluid_max[0] * fluid_max[1] * fluid_max[2];
+    const float site = std::cbrt(volume / float(n));
+    int cells[3];
+    for (int a = 0; a < 3; ++a) cells[a] = std::max(1, int(std::lround(fluid_max[a] / site)));
+    while (uint32_t(cells[0] * cells[1] * cells[2]) < n) ++cells[0];
+    out->half = 0.2f * site;  // boxes of 0.4 of the lattice spacing: fluid flows between them
+    for (uint32_t k = 0; k < n; ++k) {
+        const int i = int(k) % cells[0], j = (int(k) / cells[0]) % cells[1], l = int(k) / (cells[0] * cells[1]);
+        pbf_collider_desc d = pbf_collider_desc_default();
+        d.shape = PBF_SHAPE_BOX;
+        d.motion = PBF_MOTION_KINEMATIC;
+        d.dynamic = 1;
+        set3(d.half_extents, out->half, out->half, out->half);
+        set3(d.position, o[0] + fluid_max[0] * (i + 0.5f) / cells[0], o[1] + fluid_max[1] * (j + 0.5f) / cells[1],
+             o[2] + fluid_max[2] * (l + 0.5f) / cells[2]);
+        pbf_collider_id id;
+        if (pbf_world_create_collider(w, &d, &id) != PBF_OK) return false;
+        out->ids.push_back(id);
+        out->home.push_back({d.position[0], d.position[1], d.position[2]});
+    }
+    return true;
+}
+
+// Frame k's target poses (each box bobs by a quarter of its size and turns about y, out of
+// phase with its neighbours), then after the step every box's force and torque read back.
+bool move_dynamic_boxes(pbf_world_id w, const DynamicBoxes& b, int frame, float dt) {
+    for (size_t k = 0; k < b.ids.size(); ++k) {
+        const float phase = 6.2831853f * (float(frame) * dt + 0.1f * float(k));
+        const float p[3] = {b.home[k][0], b.home[k][1] + 0.25f * b.half * std::sin(phase), b.home[k][2]};
+        const float angle = 0.2f * std::sin(phase);
+        const float q[4] = {0.0f, std::sin(0.5f * angle), 0.0f, std::cos(0.5f * angle)};
+        if (pbf_collider_set_target_pose(w, b.ids[k], p, q) != PBF_OK) return false;
+    }
+    return true;
+}
+
+bool read_dynamic_forces(pbf_world_id w, const DynamicBoxes& b, double* checksum) {
+    for (const pbf_collider_id& id : b.ids) {
+        pbf_collider_force f;
+        if (pbf_collider_get_force(w, id, &f) != PBF_OK) return false;
+        *checksum += f.force[1];
+    }
+    return true;
 }
 
 Result run(const Config& c, int warmup, int steps, bool stages) {
@@ -189,6 +265,7 @@ Result run(const Config& c, int warmup, int steps, bool stages) {
     d.solver.ldc_enabled = c.ldc;
     d.render.flags = c.render ? PBF_RENDER_SMOOTHED_POSITIONS | PBF_RENDER_ANISOTROPY : 0u;
     d.diffuse.max_diffuse = c.diffuse;
+    d.max_colliders = std::max(d.max_colliders, c.dynamic_colliders + 6);  // + the --collider one and an open level's 5 planes
     pbf_world_id w;
     if (pbf_world_create(&d, &w) != PBF_OK) {
         r.error = pbf_last_error_message();
@@ -219,7 +296,7 @@ Result run(const Config& c, int warmup, int steps, bool stages) {
         ok = ok && pbf_world_set_material(w, ids[0], &m) == PBF_OK;
         m.rest_density *= 0.5f;
         ok = ok && pbf_world_create_material(w, &m, &b.material) == PBF_OK;
-        const float half = 0.5f * b.box_max[0];
+        const float half = 0.5f * (b.box_min[0] + b.box_max[0]);
         pbf_block_desc first = b;
         first.material = pbf_material_id{0, 0};
         first.box_max[0] = half;
@@ -232,7 +309,9 @@ Result run(const Config& c, int warmup, int steps, bool stages) {
         return r;
     }
     r.count = emitted + second;
-    if (!add_collider(w, c, a, o, &r) || (open && !add_box_planes(w, o, box))) {
+    DynamicBoxes boxes;
+    if (!add_collider(w, c, a, o, &r) || (open && !add_box_planes(w, o, box)) ||
+        !add_dynamic_boxes(w, c.dynamic_colliders, o, fluid, &boxes)) {
         r.error = pbf_last_error_message();
         pbf_world_destroy(w);
         return r;
@@ -242,15 +321,20 @@ Result run(const Config& c, int warmup, int steps, bool stages) {
     pbf_step_stats s;
     std::memset(&s, 0, sizeof s);
     s.struct_size = sizeof s;
-    std::vector<double> times;
+    std::vector<double> times, frames;
+    double force_checksum = 0;
     for (int k = 0; k < warmup + steps; ++k) {
-        if (pbf_world_step(w, dt) != PBF_OK || pbf_world_get_stats(w, &s) != PBF_OK) {
+        const auto t0 = std::chrono::steady_clock::now();
+        if (!move_dynamic_boxes(w, boxes, k, dt) || pbf_world_step(w, dt) != PBF_OK ||
+            !read_dynamic_forces(w, boxes, &force_checksum) || pbf_world_get_stats(w, &s) != PBF_OK) {
             r.error = pbf_last_error_message();
             pbf_world_destroy(w);
             return r;
         }
+        const double frame = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         if (k < warmup) continue;
         times.push_back(s.step_time_ms);
+        frames.push_back(frame);
         r.error_mean += s.density_error_mean;
         r.error_max = std::max<double>(r.error_max, s.density_error_max);
         if (stages) {
@@ -267,7 +351,9 @@ Result run(const Config& c, int warmup, int steps, bool stages) {
     r.ms_median = times[times.size() / 2];
     r.ms_min = times.front();
     r.ms_max = times.back();
-    r.ok = std::isfinite(s.kinetic_energy);
+    std::sort(frames.begin(), frames.end());
+    r.frame_ms = frames[frames.size() / 2];
+    r.ok = std::isfinite(s.kinetic_energy) && std::isfinite(force_checksum);
     if (!r.ok) r.error = "simulation diverged";
     pbf_world_destroy(w);
     return r;
@@ -279,7 +365,8 @@ int main(int argc, char** argv) {
     std::string backends = "both", scenes = "dam,tank", particles = "65536,262144,1000000", iterations = "4",
                 ldcs = "0,1", renders = "0", diffuses = "0", colliders = "none", levels = "0", grids = "auto", csv_path;
     int steps = 100, warmup = 20;
-    uint32_t mesh_triangles = 100000;
+    uint32_t mesh_triangles = 100000, mesh_builds = 3;
+    std::string dynamics = "0";
     bool stages = false;
     std::string materials = "1";
     float surface_tension = 100.0f, cohesion = 100.0f;
@@ -314,6 +401,11 @@ int main(int argc, char** argv) {
                                             "box as a subdivided triangle mesh) (comma-separated)");
     app.add_option("--mesh-triangles", mesh_triangles, "about how many triangles the mesh box has")
         ->check(CLI::Range(12, 1 << 22));
+    app.add_option("--mesh-builds", mesh_builds, "timed builds of the mesh after one untimed (median reported)")
+        ->check(CLI::Range(1, 100));
+    app.add_option("--dynamic-colliders", dynamics,
+                   "small dynamic kinematic boxes spread through the fluid, posed every frame and their forces "
+                   "read back every frame (comma-separated counts, e.g. 0,256)");
     app.add_flag("--stages", stages, "per-stage times (profiled run; stage marks add a little overhead)");
     app.add_option("--csv", csv_path, "also write the results, with per-stage columns, to this CSV file");
     try {
@@ -332,13 +424,13 @@ int main(int argc, char** argv) {
     if (csv) {
         std::fprintf(csv, "scene,particles,iterations,ldc,render,backend,device,ms_median,ms_min,ms_max,particle_steps_per_s,"
                           "bytes_per_particle,density_error_mean,density_error_max,dt,diffuse,diffuse_count,collider,triangles,"
-                          "build_ms,level_size,grid_hashed,grid_bytes");
+                          "build_ms,level_size,grid_hashed,grid_bytes,first_build_ms,dynamic_colliders,frame_ms");
         for (uint32_t k = 0; k < stage_count(); ++k) std::fprintf(csv, ",stage_%s_ms", pbf_profile_stage_name(k));
         std::fprintf(csv, "\n");
     }
     std::printf("| scene | particles | iter | LDC | render | diffuse cap/live | backend | device | ms median | min | max | "
-                "particle-steps/s | B/particle | density err mean | max | collider | triangles | build ms | level | grid |\n"
-                "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+                "particle-steps/s | B/particle | density err mean | max | collider | triangles | build ms | level | grid | dynamic | frame ms |\n"
+                "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     int failures = 0;
     std::vector<std::pair<Config, Result>> staged;
     for (pbf_backend backend : backend_list)
@@ -351,12 +443,14 @@ int main(int argc, char** argv) {
                             for (const std::string& mt : split_list(materials))
                             for (const std::string& col : split_list(colliders))
                             for (const std::string& lv : split_list(levels))
-                            for (const std::string& gr : split_list(grids)) {
+                            for (const std::string& gr : split_list(grids))
+                            for (const std::string& dyn : split_list(dynamics)) {
                         const Config c{scene, uint32_t(std::strtoul(n.c_str(), nullptr, 10)),
                                        uint32_t(std::atoi(it.c_str())), uint32_t(std::atoi(l.c_str())), backend,
                                        uint32_t(std::atoi(rd.c_str())), uint32_t(std::strtoul(df.c_str(), nullptr, 10)),
                                        uint32_t(std::atoi(mt.c_str())), surface_tension, cohesion, col, mesh_triangles,
-                                       std::strtof(lv.c_str(), nullptr), gr == "hashed" ? 1u : 0u};
+                                       std::strtof(lv.c_str(), nullptr), gr == "hashed" ? 1u : 0u, mesh_builds,
+                                       uint32_t(std::strtoul(dyn.c_str(), nullptr, 10))};
                         const Result r = run(c, warmup, steps, stages);
                         const char* bname = c.materials == 2 ? (backend == PBF_BACKEND_CUDA ? "cuda 2-mat" : "cpu 2-mat")
                                                              : (backend == PBF_BACKEND_CUDA ? "cuda" : "cpu");
@@ -368,20 +462,20 @@ int main(int argc, char** argv) {
                         }
                         const double rate = r.count / (r.ms_median / 1000.0);
                         std::printf("| %s | %u | %u | %u | %u | %u/%u | %s | %s | %.3f | %.3f | %.3f | %.3g | %.1f | %.5f | %.4f "
-                                    "| %s | %u | %.1f | %s | %s %.1f KB |\n",
+                                    "| %s | %u | %.1f | %s | %s %.1f KB | %u | %.3f |\n",
                                     scene.c_str(), r.count, c.iterations, c.ldc, c.render, c.diffuse, r.diffuse_count, bname,
                                     r.device.c_str(), r.ms_median, r.ms_min, r.ms_max, rate, r.bytes_per_particle,
                                     r.error_mean, r.error_max, c.collider.c_str(), r.triangles, r.build_ms,
                                     c.level_size > 0 ? lv.c_str() : "box", r.grid_hashed ? "hashed" : "dense",
-                                    r.grid_bytes / 1024.0);
+                                    r.grid_bytes / 1024.0, c.dynamic_colliders, r.frame_ms);
                         std::fflush(stdout);
                         if (csv) {
                             std::fprintf(csv, "%s,%u,%u,%u,%u,%s,%s,%.4f,%.4f,%.4f,%.6g,%.2f,%.6f,%.6f,%.6f",
                                          scene.c_str(), r.count, c.iterations, c.ldc, c.render, bname, r.device.c_str(), r.ms_median, r.ms_min,
                                          r.ms_max, rate, r.bytes_per_particle, r.error_mean, r.error_max, r.dt);
-                            std::fprintf(csv, ",%u,%u,%s,%u,%.3f,%g,%u,%llu", c.diffuse, r.diffuse_count,
+                            std::fprintf(csv, ",%u,%u,%s,%u,%.3f,%g,%u,%llu,%.3f,%u,%.4f", c.diffuse, r.diffuse_count,
                                          c.collider.c_str(), r.triangles, r.build_ms, c.level_size, r.grid_hashed,
-                                         (unsigned long long)r.grid_bytes);
+                                         (unsigned long long)r.grid_bytes, r.first_build_ms, c.dynamic_colliders, r.frame_ms);
                             for (uint32_t k = 0; k < stage_count(); ++k) std::fprintf(csv, ",%.4f", r.stage_ms[k]);
                             std::fprintf(csv, "\n");
                         }
