@@ -310,10 +310,16 @@ struct DeltaOp {
         Vec3 c = xi;
         if (!(control && control->converged)) {  // converged: x* carries over unchanged
             Vec3 dp{0.0f, 0.0f, 0.0f};
-            // s_corr answers an arrangement (clumping) that the substep started with: it relaxes
-            // with the error damping, like any old error, so a tiny Δt does not turn its fixed
-            // push into a large velocity.
-            const float scorr_k = s.scorr_k / (1.0f + ctx.error_damping);
+            // s_corr answers an arrangement (clumping) that persists: unlike an old error it does
+            // not go away once pushed, so every substep pushes again and the velocity update
+            // turns each push into velocity. A push of k/(1 + γ) (γ = τ/Δt) per substep gave an
+            // acceleration of about k/(τ Δt), unbounded as Δt → 0 (a block's surface reached
+            // 12 m/s within 2 ms at Δt = 1e-5 s). k/(1 + γ)² makes the push an acceleration of
+            // at most about k/τ², as a force would be, and leaves it k at long substeps.
+            const float relax = 1.0f / (1.0f + ctx.error_damping);
+            const float scorr_k = s.scorr_k * relax * relax;
+            const bool multiphase = s.materials.flags & kMaterialMultiphase;
+            const float w_i = inverse_mass(s, ctx, i);
             for_each_listed_neighbor(s.grid, cell_begin, masks, i, [&](uint32_t j) {
                 if (j == i) return;
                 const Vec4 pj = predicted[j];
@@ -321,15 +327,20 @@ struct DeltaOp {
                 const float r2 = length_sq(d);
                 if (r2 >= s.h2) return;
                 const float ratio = poly6(r2, s.h2, s.poly6_coef) * s.scorr_inv_w_dq;
-                const float scorr = -scorr_k * scorr_power(ratio, s.scorr_n);
+                float scorr = -scorr_k * scorr_power(ratio, s.scorr_n);
+                // Multiphase: the λs carry 1/w already (their denominators are mass weighted),
+                // s_corr does not; times w_i below, the pair shares it as 2 w_i / (w_i + w_j):
+                // a material's s_corr does not grow with its lightness (a fluid of 100 kg/m³ in
+                // a 1000 kg/m³ world pushed its surface 10 times as hard: 21 m/s in a dam), and
+                // the pair's momentum is conserved.
+                if (multiphase) scorr *= 2.0f / (w_i + inverse_mass(s, ctx, j));
                 dp += pair_gradient(d, r2, s.h, s.spiky_coef, i, j) * (lambda_i + pj.w + scorr);
             });
             // The boundary's share of ∇C_i, weighted by λ_i alone (the boundary has no λ).
             dp = dp * (s.mass * s.inv_rest_density) + boundary_at(s, ctx.colliders, xi).gradient * lambda_i;
             // Multiphase: Δx_i = w_i ∇_i C λ, and the colliders feel particle i's own mass.
-            const float w_i = inverse_mass(s, ctx, i);
             const ColliderView cv = colliders_for_mass(ctx.colliders, w_i);
-            if (s.materials.flags & kMaterialMultiphase) dp = dp * w_i;
+            if (multiphase) dp = dp * w_i;
             record_boundary_push(s, cv, xi, lambda_i);
             c = collide(s, cv, xi + dp, xyz(positions[i]));
         }
