@@ -327,13 +327,7 @@ struct DeltaOp {
                 const float r2 = length_sq(d);
                 if (r2 >= s.h2) return;
                 const float ratio = poly6(r2, s.h2, s.poly6_coef) * s.scorr_inv_w_dq;
-                float scorr = -scorr_k * scorr_power(ratio, s.scorr_n);
-                // Multiphase: the λs carry 1/w already (their denominators are mass weighted),
-                // s_corr does not; times w_i below, the pair shares it as 2 w_i / (w_i + w_j):
-                // a material's s_corr does not grow with its lightness (a fluid of 100 kg/m³ in
-                // a 1000 kg/m³ world pushed its surface 10 times as hard: 21 m/s in a dam), and
-                // the pair's momentum is conserved.
-                if (multiphase) scorr *= 2.0f / (w_i + inverse_mass(s, ctx, j));
+                const float scorr = -scorr_k * scorr_power(ratio, s.scorr_n);
                 dp += pair_gradient(d, r2, s.h, s.spiky_coef, i, j) * (lambda_i + pj.w + scorr);
             });
             // The boundary's share of ∇C_i, weighted by λ_i alone (the boundary has no λ).
