@@ -27,6 +27,18 @@ PoolState measure(pbf_world_id w) {
     return s;
 }
 
+// Runs scene(world, ldc) in a 0.6 x 0.6 x 0.15 m tank at 12.5 mm radius, with LDC on, then off.
+template <class Scene>
+void with_and_without_ldc(Scene&& scene) {
+    pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.0125f, 0.6f, 0.6f, 0.15f, 8192);
+    for (uint32_t ldc : {1u, 0u}) {
+        d.solver.ldc_enabled = ldc;
+        pbf_world_id w = create(d);
+        scene(w, ldc);
+        REQUIRE_PBF(pbf_world_destroy(w));
+    }
+}
+
 }  // namespace
 
 // The issue's goal is "at rest" (top speed < 0.5 m/s, KE < 1e-3 M g depth) after one step of
@@ -37,10 +49,7 @@ PoolState measure(pbf_world_id w) {
 // must keep: no shared positions, nothing lost, no particle faster than 1 m/s.
 TEST_CASE("a settled pool stays calm after one step of any dt from 1e-5 to 1/30 s", "[realtime]") {
     // 0.6 x 0.3 x 0.15 m of water at the default particle radius's half (12.5 mm).
-    pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.0125f, 0.6f, 0.6f, 0.15f, 8192);
-    for (uint32_t ldc : {1u, 0u}) {
-        d.solver.ldc_enabled = ldc;
-        pbf_world_id w = create(d);
+    with_and_without_ldc([](pbf_world_id w, uint32_t ldc) {
         const uint32_t n = fill(w, 0, 0, 0, 0.6f, 0.3f, 0.15f);
         pbf_world_info info{};
         info.struct_size = sizeof info;
@@ -61,8 +70,7 @@ TEST_CASE("a settled pool stays calm after one step of any dt from 1e-5 to 1/30 
             }
             for (int k = 0; k < 30; ++k) REQUIRE_PBF(pbf_world_step(w, kDt));  // settle again
         }
-        REQUIRE_PBF(pbf_world_destroy(w));
-    }
+    });
 }
 
 // A block emitted into a tank and stepped at 1e-5 s: its lattice's small compression (ρ/ρ0 up
@@ -71,10 +79,7 @@ TEST_CASE("a settled pool stays calm after one step of any dt from 1e-5 to 1/30 
 // k/(1 + γ) was an acceleration ~ k/(τ Δt), and with LDC off the emitted particles' error
 // counted as new and went in one substep: 12.7 m/s (LDC) and 33 m/s (no LDC) within 2 ms.
 TEST_CASE("a freshly emitted block stays calm through 200 steps of 1e-5 s", "[realtime]") {
-    pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.0125f, 0.6f, 0.6f, 0.15f, 8192);
-    for (uint32_t ldc : {1u, 0u}) {
-        d.solver.ldc_enabled = ldc;
-        pbf_world_id w = create(d);
+    with_and_without_ldc([](pbf_world_id w, uint32_t ldc) {
         const uint32_t n = fill(w, 0, 0, 0, 0.3f, 0.3f, 0.15f);
         double top = 0.0;
         for (int k = 0; k < 200; ++k) {
@@ -86,8 +91,7 @@ TEST_CASE("a freshly emitted block stays calm through 200 steps of 1e-5 s", "[re
         CHECK(p.count == n);
         CHECK(all_finite(p));
         CHECK(top < 0.5);  // the issue's "at rest" bound
-        REQUIRE_PBF(pbf_world_destroy(w));
-    }
+    });
 }
 
 TEST_CASE("variable frame times (1e-5 .. 1/30 s, mixed) keep a dam break finite and inside", "[realtime]") {
