@@ -310,16 +310,11 @@ struct DeltaOp {
         Vec3 c = xi;
         if (!(control && control->converged)) {  // converged: x* carries over unchanged
             Vec3 dp{0.0f, 0.0f, 0.0f};
-            // s_corr answers an arrangement (clumping) that persists: unlike an old error it does
-            // not go away once pushed, so every substep pushes again and the velocity update
-            // turns each push into velocity. A push of k/(1 + γ) (γ = τ/Δt) per substep gave an
-            // acceleration of about k/(τ Δt), unbounded as Δt → 0 (a block's surface reached
-            // 12 m/s within 2 ms at Δt = 1e-5 s). k/(1 + γ)² makes the push an acceleration of
-            // at most about k/τ², as a force would be, and leaves it k at long substeps.
-            const float relax = 1.0f / (1.0f + ctx.error_damping);
-            const float scorr_k = s.scorr_k * relax * relax;
-            const bool multiphase = s.materials.flags & kMaterialMultiphase;
-            const float w_i = inverse_mass(s, ctx, i);
+            // s_corr answers an arrangement (clumping) that the substep started with: it relaxes
+            // with the error damping, like any old error, so a tiny Δt does not turn its fixed
+            // push into a large velocity. Approximation (README, Physics): repeated every
+            // substep, the push is an acceleration of about k/(τ Δt), unbounded as Δt → 0.
+            const float scorr_k = s.scorr_k / (1.0f + ctx.error_damping);
             for_each_listed_neighbor(s.grid, cell_begin, masks, i, [&](uint32_t j) {
                 if (j == i) return;
                 const Vec4 pj = predicted[j];
@@ -333,8 +328,9 @@ struct DeltaOp {
             // The boundary's share of ∇C_i, weighted by λ_i alone (the boundary has no λ).
             dp = dp * (s.mass * s.inv_rest_density) + boundary_at(s, ctx.colliders, xi).gradient * lambda_i;
             // Multiphase: Δx_i = w_i ∇_i C λ, and the colliders feel particle i's own mass.
+            const float w_i = inverse_mass(s, ctx, i);
             const ColliderView cv = colliders_for_mass(ctx.colliders, w_i);
-            if (multiphase) dp = dp * w_i;
+            if (s.materials.flags & kMaterialMultiphase) dp = dp * w_i;
             record_boundary_push(s, cv, xi, lambda_i);
             c = collide(s, cv, xi + dp, xyz(positions[i]));
         }
