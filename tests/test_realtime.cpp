@@ -27,6 +27,20 @@ PoolState measure(pbf_world_id w) {
     return s;
 }
 
+// Runs scene(world, ldc) in a 0.6 x 0.6 x 0.15 m tank at 12.5 mm radius, with LDC on, then off
+// (and s_corr's k as given).
+template <class Scene>
+void with_and_without_ldc(Scene&& scene, float scorr_k = pbf_solver_params_default().scorr_k) {
+    pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.0125f, 0.6f, 0.6f, 0.15f, 8192);
+    d.solver.scorr_k = scorr_k;
+    for (uint32_t ldc : {1u, 0u}) {
+        d.solver.ldc_enabled = ldc;
+        pbf_world_id w = create(d);
+        scene(w, ldc);
+        REQUIRE_PBF(pbf_world_destroy(w));
+    }
+}
+
 }  // namespace
 
 // The issue's goal is "at rest" (top speed < 0.5 m/s, KE < 1e-3 M g depth) after one step of
@@ -37,10 +51,7 @@ PoolState measure(pbf_world_id w) {
 // must keep: no shared positions, nothing lost, no particle faster than 1 m/s.
 TEST_CASE("a settled pool stays calm after one step of any dt from 1e-5 to 1/30 s", "[realtime]") {
     // 0.6 x 0.3 x 0.15 m of water at the default particle radius's half (12.5 mm).
-    pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.0125f, 0.6f, 0.6f, 0.15f, 8192);
-    for (uint32_t ldc : {1u, 0u}) {
-        d.solver.ldc_enabled = ldc;
-        pbf_world_id w = create(d);
+    with_and_without_ldc([](pbf_world_id w, uint32_t ldc) {
         const uint32_t n = fill(w, 0, 0, 0, 0.6f, 0.3f, 0.15f);
         pbf_world_info info{};
         info.struct_size = sizeof info;
@@ -61,8 +72,28 @@ TEST_CASE("a settled pool stays calm after one step of any dt from 1e-5 to 1/30 
             }
             for (int k = 0; k < 30; ++k) REQUIRE_PBF(pbf_world_step(w, kDt));  // settle again
         }
-        REQUIRE_PBF(pbf_world_destroy(w));
-    }
+    });
+}
+
+// A block emitted into a tank and stepped at 1e-5 s: its lattice's small compression (ρ/ρ0 up
+// to 1.0065 at the walls) relaxes at about error · sound_speed, the same 0.25 m/s one step of
+// 1/60 s gives it. Measured: 0.27 m/s with LDC on and off. Before, with LDC off the emitted
+// particles' error counted as new and went in one substep: 16.9 m/s within 2 ms. Without s_corr:
+// with it (k = 0.1) the block still reaches 12.7 m/s, an open approximation (README, Physics).
+TEST_CASE("a freshly emitted block without s_corr stays calm through 200 steps of 1e-5 s", "[realtime]") {
+    with_and_without_ldc([](pbf_world_id w, uint32_t ldc) {
+        const uint32_t n = fill(w, 0, 0, 0, 0.3f, 0.3f, 0.15f);
+        double top = 0.0;
+        for (int k = 0; k < 200; ++k) {
+            REQUIRE_PBF(pbf_world_step(w, 1e-5f));
+            top = std::max(top, measure(w).top_speed);
+        }
+        const Particles p = read(w);
+        INFO("LDC " << ldc << ": fastest particle " << top << " m/s within 2 ms (gravity alone: 0.02 m/s)");
+        CHECK(p.count == n);
+        CHECK(all_finite(p));
+        CHECK(top < 0.5);  // the issue's "at rest" bound
+    }, 0.0f);
 }
 
 TEST_CASE("variable frame times (1e-5 .. 1/30 s, mixed) keep a dam break finite and inside", "[realtime]") {

@@ -312,7 +312,8 @@ struct DeltaOp {
             Vec3 dp{0.0f, 0.0f, 0.0f};
             // s_corr answers an arrangement (clumping) that the substep started with: it relaxes
             // with the error damping, like any old error, so a tiny Δt does not turn its fixed
-            // push into a large velocity.
+            // push into a large velocity. Approximation (README, Physics): repeated every
+            // substep, the push is an acceleration of about k/(τ Δt), unbounded as Δt → 0.
             const float scorr_k = s.scorr_k / (1.0f + ctx.error_damping);
             for_each_listed_neighbor(s.grid, cell_begin, masks, i, [&](uint32_t j) {
                 if (j == i) return;

@@ -355,6 +355,7 @@ public:
         if (!density_valid_) {  // the grid is valid between API calls: one density pass suffices
             exec_.for_each(bound_, DensityOp{s, rest_colliders_, cell_begin_, pos_, density_, valid_masks()});
             density_valid_ = true;
+            emitted_since_density_ = false;
         }
         DeviceCounters c{};
         exec_.download(&c, counters_, sizeof c);
@@ -442,13 +443,18 @@ private:
         if (!in.drains.empty()) exec_.for_each(1, CommitDrainOp{&counters_->drained, &counters_->drained_total});
         if (!in.nozzles.empty() || !in.drains.empty()) grid_valid_ = density_valid_ = surface_normals_valid_ = false;
 
-        // 1. LDC needs ρ at the current positions (grid of x).
-        if (s.ldc_enabled) {
+        // 1. ρ at the current positions (grid of x): LDC needs it, and so does the λ pass's error
+        // damping for particles emitted since the last density pass. Their positions.w, the error
+        // C₀ a particle starts the substep with, is still the emission's 1: the compression they
+        // were emitted into would count as new and go in one substep, at a tiny Δt a velocity
+        // of error · spacing / Δt (16 m/s for a block at 1e-5 s with LDC off).
+        if (s.ldc_enabled || emitted_since_density_) {
             exec_.profile_mark(kStageGridX);
             if (!grid_valid_) build_grid(s, false);
             exec_.profile_mark(kStageDensityX);
             if (!density_valid_)
                 exec_.for_each(bound_, DensityOp{s, ctx.colliders, cell_begin_, pos_, density_, valid_masks()});
+            emitted_since_density_ = false;
         }
         // 1b. surface tension, cohesion and adhesion (material_ops.h) at the current positions.
         if (s.materials.flags & kMaterialSurface) {
@@ -609,6 +615,7 @@ private:
         exec_.for_each(1, CommitEmissionOp{&counters_->count, &counters_->next_id, &counters_->emitted_total,
                                            config_.capacity, requested});
         grid_valid_ = density_valid_ = surface_normals_valid_ = false;
+        emitted_since_density_ = true;
     }
 
     Status read_count(uint32_t* count) {
@@ -692,6 +699,7 @@ private:
     uint32_t bound_ = 0;  // upper bound of the live count known on the host (launch size)
     bool grid_valid_ = true;
     bool density_valid_ = false;
+    bool emitted_since_density_ = false;  // positions.w of some particles is the emission's 1, not ρ/ρ0
     bool masks_valid_ = false;
     bool surface_normals_valid_ = false;  // pred_ holds the normals at pos_ (VorticityForcePass<true>)
     bool materials_moved_ = false;  // a particle of another material than the default was emitted
