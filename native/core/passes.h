@@ -153,9 +153,8 @@ PBF_HD Vec3 ldc_force(const WorldConstants& s, float k, const uint32_t* cell_beg
         const float inv_r = inv_sqrt(r2);
         const float rho_ij = (fmaxf(density[j], s.rest_density) - rho_i) * s.inv_rest_density;
         // ρ_ij h (1 - r/h) n_ij with n_ij = d / r:  ρ_ij (h/r - 1) d
-        const Vec3 w = d * (s.h * inv_r - 1.0f);
-        f += w * rho_ij;
-        deficit += w;
+        f += d * (rho_ij * (s.h * inv_r - 1.0f));
+        if (own_part) deficit += d * (s.h * inv_r - 1.0f);
     });
     if (own_part) *own_part = deficit * (2.0f * k * (rho_i - s.rest_density) * s.inv_rest_density);
     return f * -k;
