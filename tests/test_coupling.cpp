@@ -6,10 +6,10 @@
 // Known failures, tagged [!shouldfail] (they pass while the bound fails; remove the tag when the
 // physics meets it). Measured on this branch, CPU backend, defaults (LDC on, its boundary part's
 // reaction given to the colliders: passes.h record_ldc_reaction):
-// - Archimedes: 138.6 N for rho g V = 135.6 N (1.022, within 5 %), but the largest |torque| over
-//   the last second is 0.32 N m for a bound of 0.163 (LDC off: 1.017 and 0.37 N m). Before the
+// - Archimedes: 139.2 N for rho g V = 135.6 N (1.026, within 5 %), but the largest |torque| over
+//   the last second is 0.37 N m for a bound of 0.163 (LDC off: 1.017 and 0.37 N m). Before the
 //   reaction: 81.7 N (0.60).
-// - Floating at 500 kg/m3: submerged fraction 0.466 (LDC off: 0.465; before the reaction 0.687).
+// - Floating at 500 kg/m3: submerged fraction 0.469 (LDC off: 0.465; before the reaction 0.687).
 //   At rest the box takes 68 N = m g: 65.4 N on its bottom (head 0.116 m for a geometric depth
 //   of 0.112 m: the water column is 1.2 % denser than its emission lattice, PBF's residual
 //   compression) and 2.7 N upward on its sides near the bottom edges (the slabs' gradient there;
