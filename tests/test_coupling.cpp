@@ -4,14 +4,16 @@
 // twins in test_gpu_coupling.cpp).
 //
 // Known failures, tagged [!shouldfail] (they pass while the bound fails; remove the tag when the
-// physics meets it). Measured on this branch, CPU backend, defaults (LDC on), with a box's
-// boundary density from its slabs (collide.h box_boundary; before it: 0.654, 1.070, 0.642):
-// - Archimedes: 80.8 N for rho g V = 135.6 N (0.596). LDC's force is not momentum-conserving
-//   (a pair pushes both particles the same way), so in a hydrostatic density gradient it holds
-//   up part of the water's weight itself and the pressure on the box falls; its reaction is not
-//   yet given to the colliders. Without LDC: 134.0 N (0.988); the water's support then balances
-//   exactly ("support" below).
-// - Floating at 500 kg/m3: submerged fraction 0.734.
+// physics meets it). Measured on this branch, CPU backend, defaults (LDC on, its boundary part's
+// reaction given to the colliders: passes.h record_ldc_reaction):
+// - Archimedes: 139.2 N for rho g V = 135.6 N (1.026, within 5 %), but the largest |torque| over
+//   the last second is 0.37 N m for a bound of 0.163 (LDC off: 1.017 and 0.37 N m). Before the
+//   reaction: 81.7 N (0.60).
+// - Floating at 500 kg/m3: submerged fraction 0.469 (LDC off: 0.465; before the reaction 0.687).
+//   At rest the box takes 68 N = m g: 65.4 N on its bottom (head 0.116 m for a geometric depth
+//   of 0.112 m: the water column is 1.2 % denser than its emission lattice, PBF's residual
+//   compression) and 2.7 N upward on its sides near the bottom edges (the slabs' gradient there;
+//   a submerged box has the opposite push at its top edges).
 #include "coupling_scenes.h"
 
 using namespace coupling;

@@ -132,14 +132,20 @@ struct DensityOp {
 // less dense neighbours and away from denser ones. With n_ij pointing from i to j, the minus
 // sign does exactly that (a denser j, ρ_ij > 0, pushes i along -n_ij, away from j). The unit
 // test "LDC force points from denser toward less dense" pins this reading.
+// A pair pushes both of its particles the same way, so LDC alone does not conserve momentum:
+// with P = ρ̃ - ρ0 (ρ̃ as below) and w_ij = h (1 - r/h) n_ij, f_i splits exactly into pair forces
+// -K (P_i + P_j)/ρ0 w_ij, equal and opposite (a pressure), and a part of particle i alone,
+// 2K P_i/ρ0 Σ_j w_ij, zero in a full neighbourhood. *own_part receives that part (null: not
+// wanted): record_ldc_reaction gives the colliders its reaction.
 PBF_HD Vec3 ldc_force(const WorldConstants& s, float k, const uint32_t* cell_begin, const Vec4* pos,
-                      const float* density, uint32_t i, const NeighborMasks& masks = NeighborMasks{}) {
+                      const float* density, uint32_t i, const NeighborMasks& masks = NeighborMasks{},
+                      Vec3* own_part = nullptr) {
     const Vec3 xi = xyz(pos[i]);
     // Densities below ρ0 count as ρ0: LDC smooths compression only. Read literally, Eq. 1 also
     // evens out the density deficit of free-surface and wall particles (too few neighbours, not
     // real expansion), pushing the fluid outward and boiling a resting tank.
     const float rho_i = fmaxf(density[i], s.rest_density);
-    Vec3 f{0.0f, 0.0f, 0.0f};
+    Vec3 f{0.0f, 0.0f, 0.0f}, deficit{0.0f, 0.0f, 0.0f};
     for_each_neighbor_of(s.grid, cell_begin, masks, i, xi, [&](uint32_t j) {
         const Vec3 d = xyz(pos[j]) - xi;  // from i to j
         const float r2 = length_sq(d);
@@ -148,8 +154,33 @@ PBF_HD Vec3 ldc_force(const WorldConstants& s, float k, const uint32_t* cell_beg
         const float rho_ij = (fmaxf(density[j], s.rest_density) - rho_i) * s.inv_rest_density;
         // ρ_ij h (1 - r/h) n_ij with n_ij = d / r:  ρ_ij (h/r - 1) d
         f += d * (rho_ij * (s.h * inv_r - 1.0f));
+        if (own_part) deficit += d * (s.h * inv_r - 1.0f);
     });
+    if (own_part) *own_part = deficit * (2.0f * k * (rho_i - s.rest_density) * s.inv_rest_density);
     return f * -k;
+}
+
+// LDC's reaction on dynamic colliders. Next to a wall or collider, ldc_force's own part is the
+// push of the missing neighbours: the boundary acts as neighbours b that mirror the particle's
+// pressure (as Akinci et al. 2012's boundary particles do; P_b = P_i adds nothing to f_i), whose
+// pair forces -2K P_i/ρ0 Σ_b w_ib on the particle the boundary feels back. At a free surface the
+// missing neighbours are air, with nothing to push back on: reacting the whole part (an earlier
+// attempt) also pushed a floating box up by the compression at its waterline. So the colliders
+// take the part's component against the boundaries' density gradient G = Σ_k G_k (boundary_at;
+// it points into the boundary), shared as -G_k: part·G/|G|² G_k each. Approximation: the
+// boundary's push on a particle lies along G (exact at a flat boundary; edges, corners and air
+// beside a boundary are split by direction); a part pointing into a boundary is not reacted.
+// x is where the substep starts, with the colliders at their start poses; displacement_per_accel
+// turns the acceleration into the substep's displacement (w_i Δt²).
+PBF_HD void record_ldc_reaction(const WorldConstants& s, const ColliderView& cv, Vec3 x, Vec3 own_part,
+                                float displacement_per_accel) {
+    if (!cv.impulses || cv.dynamic_count == 0 || length_sq(own_part) == 0.0f) return;
+    ColliderView start = cv;
+    start.cur = cv.prev;
+    const Vec3 g = boundary_at(s, start, x).gradient;
+    const float g2 = length_sq(g), along = -dot(own_part, g);
+    if (!(g2 > 0.0f) || !(along > 0.0f)) return;
+    record_boundary_push(s, start, x, -(along / g2) * displacement_per_accel);
 }
 
 // Limits |v| to max_speed, and never returns Inf or NaN, whatever it is given: every velocity
@@ -191,13 +222,19 @@ struct PredictOp {
     PBF_HD void operator()(uint32_t i) const {
         Vec3 accel = s.gravity;
         const uint32_t m = material_of(ctx, i);
-        // LDC's push is a force per particle: a multiphase world divides it by the particle's mass.
-        if (s.ldc_enabled)
-            accel += ldc_force(s, material_ldc_k(ctx, m), cell_begin, positions, density, i, masks) * inverse_mass(s, ctx, i);
+        const float w_i = inverse_mass(s, ctx, i);
+        const ColliderView cv = colliders_for_mass(ctx.colliders, w_i);
         const Vec3 x = xyz(positions[i]);
+        // LDC's push is a force per particle: a multiphase world divides it by the particle's mass.
+        if (s.ldc_enabled) {
+            const float k = material_ldc_k(ctx, m);
+            const bool react = cv.impulses && cv.dynamic_count > 0;
+            Vec3 own_part;
+            accel += ldc_force(s, k, cell_begin, positions, density, i, masks, react ? &own_part : nullptr) * w_i;
+            if (react) record_ldc_reaction(s, cv, x, own_part, w_i * ctx.dt * ctx.dt);
+        }
         const Vec3 v = limit_speed(ctx, xyz(velocities[i]) + accel * ctx.dt);
         velocities[i] = make_vec4(v, 0.0f);
-        const ColliderView cv = colliders_for_mass(ctx.colliders, inverse_mass(s, ctx, i));
         predicted[i] = make_vec4(collide(s, cv, x + v * ctx.dt, x), 0.0f);
     }
 };
