@@ -80,36 +80,37 @@ Status CudaExec::init(uint32_t capacity, uint32_t num_cells) {
         staging_[k] = alloc_host_bytes(kStagingBytes);
     }
     // Temporary storage for the largest sort this world can run, allocated once.
-    cub::DoubleBuffer<uint32_t> k(nullptr, nullptr), v(nullptr, nullptr);
-    record(cub::DeviceRadixSort::SortPairs(nullptr, sort_temp_bytes_, k, v, int(capacity), 0, 32, stream_));
-    sort_temp_ = alloc_bytes(sort_temp_bytes_ + 16);
+    sort_temp_bytes_ = sort_temp_bytes(capacity, UINT32_MAX);
+    sort_temp_ = alloc_bytes(sort_temp_bytes_);
     reduce_out_ = static_cast<double*>(alloc_bytes(3 * sizeof(double)));
     (void)num_cells;
     return check("CUDA initialisation");
 }
 
-void* CudaExec::alloc_bytes(size_t bytes) {
+// cudaMalloc, counted; a failure is cleared so the context stays usable, and returned in *error.
+void* CudaExec::malloc_counted(size_t bytes, cudaError_t* error) {
     void* p = nullptr;
-    const cudaError_t e = cudaMalloc(&p, bytes == 0 ? 16 : bytes);
-    if (e != cudaSuccess) {
-        // Out of memory is reported by the caller; clear it so the context stays usable.
+    *error = cudaMalloc(&p, bytes == 0 ? 16 : bytes);
+    if (*error != cudaSuccess) {
         (void)cudaGetLastError();
-        if (first_error_ == cudaSuccess) first_error_ = e;
         return nullptr;
     }
     bytes_ += bytes;
     return p;
 }
 
+void* CudaExec::alloc_bytes(size_t bytes) {
+    cudaError_t e;
+    void* p = malloc_counted(bytes, &e);
+    // Out of memory is reported by the caller, and poisons the world (first_error_).
+    if (!p && first_error_ == cudaSuccess) first_error_ = e;
+    return p;
+}
+
 void* CudaExec::try_alloc_bytes(size_t bytes) {
-    void* p = nullptr;
-    const cudaError_t e = cudaMalloc(&p, bytes == 0 ? 16 : bytes);
-    if (e != cudaSuccess) {
-        (void)cudaGetLastError();
-        refused_alloc_ = e;
-        return nullptr;
-    }
-    bytes_ += bytes;
+    cudaError_t e;
+    void* p = malloc_counted(bytes, &e);
+    if (!p) refused_alloc_ = e;  // refused, not poisoned: the world goes on
     return p;
 }
 
@@ -164,9 +165,8 @@ void CudaExec::download(void* dst, const void* src, size_t bytes) {
 }
 
 Status CudaExec::reserve_scan(uint32_t max_n) {
-    record(cub::DeviceScan::ExclusiveSum(nullptr, scan_temp_bytes_, static_cast<const uint32_t*>(nullptr),
-                                         static_cast<uint32_t*>(nullptr), int(max_n), stream_));
-    scan_temp_ = alloc_bytes(scan_temp_bytes_ + 16);
+    scan_temp_bytes_ = scan_temp_bytes(max_n);
+    scan_temp_ = alloc_bytes(scan_temp_bytes_);
     if (!scan_temp_) return Status::error(PBF_ERROR_OUT_OF_MEMORY, "cannot allocate the scan's temporary storage");
     return check("scan storage");
 }

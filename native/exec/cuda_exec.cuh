@@ -122,6 +122,7 @@ private:
     static constexpr size_t kStagingBytes = 256 * 1024;
     void* alloc_bytes(size_t bytes);
     void* try_alloc_bytes(size_t bytes);
+    void* malloc_counted(size_t bytes, cudaError_t* error);
     cudaError_t refused_alloc_ = cudaSuccess;  // the last try_alloc failure
     void* alloc_host_bytes(size_t bytes);
     void* staging_[kStagingSlots] = {};

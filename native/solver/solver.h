@@ -441,7 +441,7 @@ private:
                                            &counters_->drained});
         }
         if (!in.drains.empty()) exec_.for_each(1, CommitDrainOp{&counters_->drained, &counters_->drained_total});
-        if (!in.nozzles.empty() || !in.drains.empty()) grid_valid_ = density_valid_ = surface_normals_valid_ = false;
+        if (!in.nozzles.empty() || !in.drains.empty()) grid_valid_ = density_valid_ = false;
 
         // 1. ρ at the current positions (grid of x): LDC needs it, and so does the λ pass's error
         // damping for particles emitted since the last density pass. Their positions.w, the error
@@ -614,7 +614,7 @@ private:
     void commit_emission(uint32_t requested) {
         exec_.for_each(1, CommitEmissionOp{&counters_->count, &counters_->next_id, &counters_->emitted_total,
                                            config_.capacity, requested});
-        grid_valid_ = density_valid_ = surface_normals_valid_ = false;
+        grid_valid_ = density_valid_ = false;
         emitted_since_density_ = true;
     }
 
@@ -702,6 +702,7 @@ private:
     bool emitted_since_density_ = false;  // positions.w of some particles is the emission's 1, not ρ/ρ0
     bool masks_valid_ = false;
     bool surface_normals_valid_ = false;  // pred_ holds the normals at pos_ (VorticityForcePass<true>)
+                                        // until the next grid build (emission and drains force one)
     bool materials_moved_ = false;  // a particle of another material than the default was emitted
 };
 
