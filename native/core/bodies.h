@@ -90,16 +90,27 @@ PBF_HD Vec3 oriented_half_size(const Collider& c, const Mat3& r) {
     }
 }
 
-// A box holding the collider at every pose of the key: the oriented box swept along the path
-// when it does not turn, else the ball of its reach swept along the path (a turning shape's
-// box in between can exceed both ends' boxes).
+// A box holding the collider at every pose of the key (the position moves linearly, the
+// rotation turns by slerp through an angle θ ≤ π about one axis). A body point at offset q
+// from the origin turns along an arc that stays within |q|(1 - cos(θ/2)) (the arc's sagitta)
+// of the chord between its two ends, so the shape lies within the larger of its two ends'
+// oriented boxes grown by the sagitta of its reach, swept along the path; the ball of its
+// reach bounds it too, and the tighter of the two is taken per axis. A shape that does not
+// turn: its oriented box swept along the path.
 PBF_HD Bounds swept_bounds(const Collider& c, const ColliderKey& k) {
     if (c.shape == kShapePlane)
         return Bounds{Vec3{-kUnbounded, -kUnbounded, -kUnbounded}, Vec3{kUnbounded, kUnbounded, kUnbounded}};
     const Quat a = k.from_rotation, b = k.to_rotation;
     const bool turns = a.x != b.x || a.y != b.y || a.z != b.z || a.w != b.w;
-    const float reach = collider_reach(c);
-    const Vec3 half = turns ? Vec3{reach, reach, reach} : oriented_half_size(c, rotation_matrix(a));
+    Vec3 half = oriented_half_size(c, rotation_matrix(a));
+    if (turns) {
+        const float reach = collider_reach(c);
+        // cos(θ/2) = |a·b| for unit quaternions; rounding can push it past 1.
+        const float cos_half = fminf(fabsf(a.x * b.x + a.y * b.y + a.z * b.z + a.w * b.w), 1.0f);
+        const float sagitta = reach * (1.0f - cos_half);
+        half = max3(half, oriented_half_size(c, rotation_matrix(b))) + Vec3{sagitta, sagitta, sagitta};
+        half = min3(half, Vec3{reach, reach, reach});
+    }
     return Bounds{min3(k.from_position, k.to_position) - half, max3(k.from_position, k.to_position) + half};
 }
 
@@ -117,8 +128,8 @@ PBF_HD void record_push(const ColliderView& cv, const Collider& c, const Collide
     const Vec3 impulse = moved * -cv.impulse_scale;
     const Vec3 centre = pose.position + mul(pose.rotation, c.center_local);
     ColliderForce* row = cv.impulses + c.row;
-    atomic_add_vec3(&row->force, impulse);
-    atomic_add_vec3(&row->torque, cross(at - centre, impulse));
+    atomic_add_vec3_shared(&row->force, impulse);
+    atomic_add_vec3_shared(&row->torque, cross(at - centre, impulse));
 }
 
 // One thread per collider at the end of a step: the mean force and torque over the step (the

@@ -3,6 +3,7 @@
 // fast colliders, and the boundary density that walls and colliders contribute.
 #pragma once
 #include "bodies.h"
+#include "collider_grid.h"
 #include "params.h"
 #include "sdf.h"
 
@@ -103,10 +104,18 @@ PBF_HD bool swept_contact(const Collider& c, const ColliderPose& prev, const Col
 // collider over the substep is removed up to μ times the depth this projection pushed out.
 PBF_HD Vec3 contact(const WorldConstants& s, const Collider& c, const ColliderPose& prev, const ColliderPose& cur,
                     Vec3 p, Vec3 x_old, const MeshView* meshes) {
-    Vec3 hit;
-    if (swept_contact(c, prev, cur, x_old, p, s.radius, meshes, hit)) p = hit;
     Vec3 n;
-    const float d = collider_distance(c, cur, p, n, meshes);
+    // Most candidates are clear of the surface after a short move: no crossing (swept_contact
+    // returns false when the move is within the radius and ends beyond its reach, which is at
+    // most the radius) and no projection, for one distance instead of three.
+    float d = collider_distance(c, cur, p, n, meshes);
+    const Vec3 moved_by = cur.position + mul(cur.rotation, mul_transpose(prev.rotation, x_old - prev.position)) - p;
+    if (d > s.radius && length_sq(moved_by) <= s.radius * s.radius) return p;
+    Vec3 hit;
+    if (swept_contact(c, prev, cur, x_old, p, s.radius, meshes, hit)) {
+        p = hit;
+        d = collider_distance(c, cur, p, n, meshes);
+    }
     if (d >= s.radius) return p;
     const float depth = s.radius - d;
     p += n * depth;
@@ -127,15 +136,18 @@ PBF_HD Vec3 contact(const WorldConstants& s, const Collider& c, const ColliderPo
 // Projects predicted position p (the particle was at x_old at the start of the substep) out of
 // every collider whose step bounds its path's box (grown by the radius) meets, then into the
 // walls. A dynamic collider's push is recorded as its reaction (record_push).
+// The candidates are those of the path's box; each is tested against the path to where the
+// earlier contacts moved p.
 PBF_HD Vec3 collide(const WorldConstants& s, const ColliderView& cv, Vec3 p, Vec3 x_old) {
     const Vec3 r{s.radius, s.radius, s.radius};
-    for (uint32_t k = 0; k < cv.count; ++k) {
+    for_each_collider_on_path(cv, x_old, p, s.radius, [&](uint32_t k) {
         const Collider& c = cv.shapes[k];
-        if (!overlaps(c.bounds, min3(x_old, p) - r, max3(x_old, p) + r)) continue;
+        if (!overlaps(c.bounds, min3(x_old, p) - r, max3(x_old, p) + r)) return;
         const Vec3 moved = contact(s, c, cv.prev[k], cv.cur[k], p, x_old, cv.meshes);
-        if (cv.impulses && (c.flags & kColliderDynamic)) record_push(cv, c, cv.cur[k], moved, moved - p);
+        const Vec3 push = moved - p;
+        if (cv.impulses && (c.flags & kColliderDynamic) && length_sq(push) > 0.0f) record_push(cv, c, cv.cur[k], moved, push);
         p = moved;
-    }
+    });
     return min3(max3(p, s.wall_min), s.wall_max);
 }
 
@@ -244,31 +256,46 @@ PBF_HD BoundarySample walls_boundary(const WorldConstants& s, Vec3 p) {
 // The walls' and the colliders' (at their current poses) share at p.
 PBF_HD BoundarySample boundary_at(const WorldConstants& s, const ColliderView& cv, Vec3 p) {
     BoundarySample b = walls_boundary(s, p);
-    const Vec3 reach{s.h, s.h, s.h};
-    for (uint32_t k = 0; k < cv.count; ++k) {
-        if (!overlaps(cv.shapes[k].bounds, p - reach, p + reach)) continue;
+    for_each_collider_near(cv, p, s.h, [&](uint32_t k) {
         Vec3 n;
         const float d = collider_distance(cv.shapes[k], cv.cur[k], p, n, cv.meshes);
-        if (d >= s.h) continue;
+        if (d >= s.h) return;
         const BoundarySample c = collider_boundary(s, cv.shapes[k], cv.cur[k], p, d, n, cv.meshes);
         b.density_ratio += c.density_ratio;
         b.gradient += c.gradient;
-    }
+    });
     return b;
+}
+
+// The walls' and colliders' share of ∇C at p (boundary_at's gradient), and, in the same walk,
+// each dynamic collider's part of the boundary's push ∇C_boundary·λ (DeltaOp) recorded as its
+// reaction (as record_boundary_push does).
+PBF_HD Vec3 boundary_gradient_reacted(const WorldConstants& s, const ColliderView& cv, Vec3 p, float lambda) {
+    Vec3 g = walls_boundary(s, p).gradient;
+    const bool react = cv.impulses && cv.dynamic_count > 0 && lambda != 0.0f;
+    for_each_collider_near(cv, p, s.h, [&](uint32_t k) {
+        const Collider& c = cv.shapes[k];
+        Vec3 n;
+        const float d = collider_distance(c, cv.cur[k], p, n, cv.meshes);
+        if (d >= s.h) return;
+        const Vec3 ck = collider_boundary(s, c, cv.cur[k], p, d, n, cv.meshes).gradient;
+        g += ck;
+        if (react && (c.flags & kColliderDynamic)) record_push(cv, c, cv.cur[k], p, ck * lambda);
+    });
+    return g;
 }
 
 // The boundary's push on a particle at p (its share of Δp: ∇C_boundary·λ, DeltaOp) recorded
 // as the reaction on each dynamic collider within h.
 PBF_HD void record_boundary_push(const WorldConstants& s, const ColliderView& cv, Vec3 p, float lambda) {
     if (!cv.impulses || cv.dynamic_count == 0 || lambda == 0.0f) return;
-    const Vec3 reach{s.h, s.h, s.h};
-    for (uint32_t k = 0; k < cv.count; ++k) {
+    for_each_collider_near(cv, p, s.h, [&](uint32_t k) {
         const Collider& c = cv.shapes[k];
-        if (!(c.flags & kColliderDynamic) || !overlaps(c.bounds, p - reach, p + reach)) continue;
+        if (!(c.flags & kColliderDynamic)) return;
         Vec3 n;
         const float d = collider_distance(c, cv.cur[k], p, n, cv.meshes);
         if (d < s.h) record_push(cv, c, cv.cur[k], p, collider_boundary(s, c, cv.cur[k], p, d, n, cv.meshes).gradient * lambda);
-    }
+    });
 }
 
 }  // namespace pbf

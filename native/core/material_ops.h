@@ -129,13 +129,11 @@ PBF_HD Vec3 adhesion_pull(const WorldConstants& s, const ColliderView& cv, Vec3 
     a.x += adhesion_falloff(hi.x * inv_h) - adhesion_falloff(lo.x * inv_h);
     a.y += adhesion_falloff(hi.y * inv_h) - adhesion_falloff(lo.y * inv_h);
     a.z += adhesion_falloff(hi.z * inv_h) - adhesion_falloff(lo.z * inv_h);
-    const Vec3 reach{s.h, s.h, s.h};
-    for (uint32_t k = 0; k < cv.count; ++k) {
-        if (!overlaps(cv.shapes[k].bounds, p - reach, p + reach)) continue;
+    for_each_collider_near(cv, p, s.h, [&](uint32_t k) {
         Vec3 n;
         const float d = collider_distance(cv.shapes[k], cv.prev[k], p, n, cv.meshes);
         if (d < s.h) a -= n * adhesion_falloff(d * inv_h);
-    }
+    });
     return a;
 }
 
@@ -207,36 +205,33 @@ PBF_HD Vec3 point_at_start(const ColliderPose& prev, const ColliderPose& cur, Ve
 PBF_HD Vec3 boundary_viscosity(const WorldConstants& s, const ColliderView& cv, float inv_dt, float c,
                                float fluid_weight, Vec3 p, Vec3 v) {
     // One walk over the colliders sums what boundary_at would (Σ_b V_b W_ib) and the share-weighted
-    // boundary velocity; the walls stand still.
+    // boundary velocity; the walls stand still. A dynamic collider's part of the change, as the
+    // displacement it would have made in the substep, is recorded in the same walk at the
+    // uncapped factor c, and corrected by a second walk in the rare case that the cap below cuts it.
+    const bool react = cv.impulses && cv.dynamic_count > 0;
     float share = walls_boundary(s, p).density_ratio;
     Vec3 moving{0.0f, 0.0f, 0.0f};
-    const Vec3 reach{s.h, s.h, s.h};
-    for (uint32_t k = 0; k < cv.count; ++k) {
-        const Collider& col = cv.shapes[k];
-        if (!overlaps(col.bounds, p - reach, p + reach)) continue;
-        Vec3 n;
-        const float d = collider_distance(col, cv.cur[k], p, n, cv.meshes);
-        if (d >= s.h) continue;
-        const float ck = collider_boundary(s, col, cv.cur[k], p, d, n, cv.meshes).density_ratio;
-        share += ck;
-        moving += (p - point_at_start(cv.prev[k], cv.cur[k], p)) * (inv_dt * ck);
-    }
-    if (share <= 0.0f) return Vec3{0.0f, 0.0f, 0.0f};
-    const float cb = fminf(c, fmaxf(1.0f - fluid_weight, 0.0f) / share);
-    // A dynamic collider's part of the change as the displacement it would have made in the
-    // substep (a second walk, over the dynamic colliders only, now that cb is known).
-    if (cv.impulses && cv.dynamic_count > 0) {
-        for (uint32_t k = 0; k < cv.count; ++k) {
+    auto walk = [&](float factor, bool sum) {
+        for_each_collider_near(cv, p, s.h, [&](uint32_t k) {
             const Collider& col = cv.shapes[k];
-            if (!(col.flags & kColliderDynamic) || !overlaps(col.bounds, p - reach, p + reach)) continue;
+            const bool dynamic = react && (col.flags & kColliderDynamic);
+            if (!sum && !dynamic) return;
             Vec3 n;
             const float d = collider_distance(col, cv.cur[k], p, n, cv.meshes);
-            if (d >= s.h) continue;
-            const float weight = cb * collider_boundary(s, col, cv.cur[k], p, d, n, cv.meshes).density_ratio;
+            if (d >= s.h) return;
+            const float ck = collider_boundary(s, col, cv.cur[k], p, d, n, cv.meshes).density_ratio;
             const Vec3 vb = (p - point_at_start(cv.prev[k], cv.cur[k], p)) * inv_dt;
-            record_push(cv, col, cv.cur[k], p, (vb - v) * (weight / inv_dt));
-        }
-    }
+            if (sum) {
+                share += ck;
+                moving += vb * ck;
+            }
+            if (dynamic) record_push(cv, col, cv.cur[k], p, (vb - v) * (factor * ck / inv_dt));
+        });
+    };
+    walk(c, true);
+    if (share <= 0.0f) return Vec3{0.0f, 0.0f, 0.0f};
+    const float cb = fminf(c, fmaxf(1.0f - fluid_weight, 0.0f) / share);
+    if (react && cb < c) walk(cb - c, false);
     return (moving - v * share) * cb;
 }
 

@@ -80,6 +80,19 @@ struct ColliderForce {
     Vec3 torque;
 };
 
+// The colliders' broad phase (collider_grid.h), in backend memory: entries[0, unbinned) are
+// walked by every query; bucket b lists entries[bucket_begin[b], bucket_begin[b + 1]).
+// bucket_begin null: no grid (few colliders), every query walks them all.
+struct ColliderGrid {
+    const uint32_t* bucket_begin = nullptr;  // bucket_mask + 2 offsets into entries
+    const uint32_t* entries = nullptr;       // collider indices
+    uint32_t bucket_mask = 0;                // buckets - 1 (a power of two)
+    uint32_t unbinned = 0;
+    float inv_cell = 0.0f;                   // 1 / the coarse cell's side
+    float pad = 0.0f;                        // bounds grown by this before listing
+    float query_reach = 0.0f;                // the widest query margin (h); below pad
+};
+
 // The colliders of one substep, in backend memory: shapes[k] moves from prev[k] (the substep's
 // start) to cur[k] (its end). Outside a step, prev = cur = the poses the last step reached.
 // impulses: where position corrections of dynamic colliders' contacts go (null: nowhere, e.g.
@@ -93,6 +106,7 @@ struct ColliderView {
     ColliderForce* impulses = nullptr;
     float impulse_scale = 0.0f;
     const MeshView* meshes = nullptr;  // the world's mesh table (rows named by Collider::mesh)
+    ColliderGrid grid;                 // the broad phase over shapes' bounds
 };
 
 // ---- fluid materials (issue 16) -------------------------------------------------------------

@@ -362,13 +362,12 @@ struct DeltaOp {
                 const float scorr = -scorr_k * scorr_power(ratio, s.scorr_n);
                 dp += pair_gradient(d, r2, s.h, s.spiky_coef, i, j) * (lambda_i + pj.w + scorr);
             });
-            // The boundary's share of ∇C_i, weighted by λ_i alone (the boundary has no λ).
-            dp = dp * (s.mass * s.inv_rest_density) + boundary_at(s, ctx.colliders, xi).gradient * lambda_i;
-            // Multiphase: Δx_i = w_i ∇_i C λ, and the colliders feel particle i's own mass.
+            // The boundary's share of ∇C_i, weighted by λ_i alone (the boundary has no λ); dynamic
+            // colliders take its reaction, with particle i's own mass (multiphase: Δx_i = w_i ∇_i C λ).
             const float w_i = inverse_mass(s, ctx, i);
             const ColliderView cv = colliders_for_mass(ctx.colliders, w_i);
+            dp = dp * (s.mass * s.inv_rest_density) + boundary_gradient_reacted(s, cv, xi, lambda_i) * lambda_i;
             if (s.materials.flags & kMaterialMultiphase) dp = dp * w_i;
-            record_boundary_push(s, cv, xi, lambda_i);
             c = collide(s, cv, xi + dp, xyz(positions[i]));
         }
         if (finish_positions) {

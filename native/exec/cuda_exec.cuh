@@ -14,8 +14,34 @@ namespace pbf {
 #define PBF_CUDA_BLOCK 256
 #endif
 
+// Blocks of PBF_CUDA_BLOCK threads an op's kernel must fit per SM: the register cap that
+// __launch_bounds__ derives from it (255 / 1 block unless named here). The passes that walk the
+// colliders carry their rare paths (the broad phase's list, the dynamic colliders' warp sums
+// of atomics.h) in every world; capped, those paths spill instead of costing every world an
+// occupancy step (H100, docs/perf.md: caps at the counts the passes had before the broad phase).
 template <class Op>
-__global__ void __launch_bounds__(PBF_CUDA_BLOCK) for_each_kernel(uint32_t n, Op op) {
+struct MinBlocksPerSm {
+    static constexpr int value = 1;
+};
+template <>
+struct MinBlocksPerSm<LambdaOp> {
+    static constexpr int value = 5;  // 48 registers
+};
+template <>
+struct MinBlocksPerSm<PredictOp> {
+    static constexpr int value = 4;  // 64
+};
+template <>
+struct MinBlocksPerSm<DeltaOp> {
+    static constexpr int value = 4;  // 64
+};
+template <>
+struct MinBlocksPerSm<VorticityXsphOp> {
+    static constexpr int value = 4;  // 64
+};
+
+template <class Op>
+__global__ void __launch_bounds__(PBF_CUDA_BLOCK, MinBlocksPerSm<Op>::value) for_each_kernel(uint32_t n, Op op) {
     const uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i < n) op(i);
 }

@@ -37,8 +37,7 @@ constexpr uint32_t kMaxSubsteps = 64;
 // each) and start and end poses (56 B each) through pinned staging slots of 256 KB without a
 // host wait: 2048 keep each upload within one slot. On the backend a world holds 2 pose rows
 // of 48 B per collider (a substep's start and end, interpolated as the substeps run: 196 KB at
-// 2048), and every particle pass scans the bounds of all of them (linear cost: a spatial index
-// would be needed for many thousands).
+// 2048); every particle pass tests the colliders its coarse cell lists (collider_grid.h).
 constexpr uint32_t kMaxColliderCapacity = 2048;
 
 // Everything one substep needs; built by the world on the host. The solver points
@@ -163,6 +162,7 @@ struct BackendConfig {
     int32_t cuda_device;
     RenderConstants render;  // flags 0: no render buffers are allocated and no pass runs
     DiffuseConstants diffuse;  // capacity 0: no diffuse buffers and no pass
+    float kernel_radius;       // h: the reach of the colliders' broad-phase queries
 };
 
 class Backend {

@@ -11,6 +11,7 @@
 #include "../core/passes.h"
 #include "../core/diffuse_ops.h"
 #include "../core/render_ops.h"
+#include "collider_broadphase.h"
 
 namespace pbf {
 
@@ -102,6 +103,8 @@ public:
         alloc(rest_poses_, colliders);
         alloc(collider_impulses_, colliders);
         alloc(collider_forces_, colliders);
+        grid_capacity_ = collider_grid_capacity(config.max_colliders);
+        if (grid_capacity_.buckets) alloc(collider_grid_, size_t(grid_capacity_.buckets) + 1 + grid_capacity_.entries);
         host_forces_.assign(colliders, ColliderForce{});
         alloc(mesh_table_, kMaxMeshes);
         // Render data only where the world asks for it: nothing at all otherwise.
@@ -175,6 +178,7 @@ public:
             exec_.upload(collider_keys_, in.collider_keys.data(), count * sizeof(ColliderKey));
             exec_.for_each(count, ColliderPoseOp{collider_keys_, collider_poses_, count, substeps, 0});
         }
+        const ColliderGrid grid = upload_collider_grid(in.collider_shapes);
         const bool dynamic = in.dynamic_count > 0;
         if (dynamic) exec_.zero(collider_impulses_, size_t(config_.max_colliders) * sizeof(ColliderForce));
         exec_.for_each(1, BeginStepOp{counters_});
@@ -183,8 +187,7 @@ public:
             ColliderView& view = sub.ctx.colliders;
             ColliderPose* end = collider_poses_ + ((k + 1) % 2) * count;
             if (count > 0) exec_.for_each(count, ColliderPoseOp{collider_keys_, end, count, substeps, k + 1});
-            view = ColliderView{collider_shapes_, collider_poses_ + (k % 2) * count, end, count};
-            view.meshes = mesh_table_;
+            view = colliders_view(collider_poses_ + (k % 2) * count, end, count, grid);
             if (dynamic) {
                 view.dynamic_count = in.dynamic_count;
                 view.impulses = collider_impulses_;
@@ -195,9 +198,8 @@ public:
             substep(s, sub);
         }
         // Between steps the colliders stand at the step's end poses.
-        rest_colliders_ = ColliderView{collider_shapes_, collider_poses_ + (substeps % 2) * count,
-                                       collider_poses_ + (substeps % 2) * count, count};
-        rest_colliders_.meshes = mesh_table_;
+        const ColliderPose* reached = collider_poses_ + (substeps % 2) * count;
+        rest_colliders_ = colliders_view(reached, reached, count, grid);
         if (dynamic)
             exec_.for_each(count, ColliderForceOp{collider_shapes_, collider_impulses_, collider_forces_, 1.0f / in.step_dt});
         host_forces_valid_ = false;
@@ -218,6 +220,32 @@ public:
         return last_feedback_;
     }
 
+    // Lists the colliders by coarse cells on the host and uploads the lists (stream-ordered, like
+    // the shapes they index); the returned grid points at them.
+    ColliderGrid upload_collider_grid(const std::vector<Collider>& shapes) {
+        build_collider_grid(shapes, config_.kernel_radius, grid_capacity_, &grid_lists_);
+        ColliderGrid g = grid_lists_.grid;
+        if (grid_lists_.bucket_begin.empty()) return ColliderGrid{};
+        uint32_t* entries = collider_grid_ + grid_capacity_.buckets + 1;
+        exec_.upload(collider_grid_, grid_lists_.bucket_begin.data(), grid_lists_.bucket_begin.size() * sizeof(uint32_t));
+        exec_.upload(entries, grid_lists_.entries.data(), grid_lists_.entries.size() * sizeof(uint32_t));
+        g.bucket_begin = collider_grid_;
+        g.entries = entries;
+        return g;
+    }
+
+    ColliderView colliders_view(const ColliderPose* prev, const ColliderPose* cur, uint32_t count,
+                                const ColliderGrid& grid) const {
+        ColliderView v;
+        v.shapes = collider_shapes_;
+        v.prev = prev;
+        v.cur = cur;
+        v.count = count;
+        v.meshes = mesh_table_;
+        v.grid = grid;
+        return v;
+    }
+
     Status set_colliders_at_rest(const ColliderSetAtRest& c) override {
         exec_.activate();
         const uint32_t count = static_cast<uint32_t>(c.shapes.size());
@@ -229,8 +257,8 @@ public:
             exec_.upload(collider_keys_, c.keys.data(), count * sizeof(ColliderKey));
             exec_.for_each(count, ColliderPoseOp{collider_keys_, rest_poses_, count, 0});
         }
-        rest_colliders_ = ColliderView{collider_shapes_, rest_poses_, rest_poses_, count};
-        rest_colliders_.meshes = mesh_table_;
+        const ColliderGrid grid = upload_collider_grid(c.shapes);
+        rest_colliders_ = colliders_view(rest_poses_, rest_poses_, count, grid);
         density_valid_ = false;
         return exec_.check("updating colliders");
     }
@@ -641,6 +669,7 @@ private:
         exec_.release(collider_shapes_);
         exec_.release(collider_keys_);
         exec_.release(collider_poses_);
+        exec_.release(collider_grid_);
         exec_.release(rest_poses_);
         exec_.release(collider_impulses_);
         exec_.release(collider_forces_);
@@ -676,6 +705,9 @@ private:
     ColliderKey* collider_keys_ = nullptr;    // max_colliders: where each starts and ends the step
     ColliderPose* collider_poses_ = nullptr;  // 2 rows of the step's colliders: a substep's start and end
     ColliderPose* rest_poses_ = nullptr;      // max_colliders, set between steps
+    ColliderGridCapacity grid_capacity_;
+    uint32_t* collider_grid_ = nullptr;       // the broad phase's bucket offsets, then its entries
+    ColliderGridLists grid_lists_;            // the host's build, kept to reuse its storage
     ColliderForce* collider_impulses_ = nullptr;  // max_colliders rows: the running step's impulses
     ColliderForce* collider_forces_ = nullptr;    // max_colliders rows: the last step's mean forces
     std::vector<ColliderForce> host_forces_;      // the host's copy of collider_forces_
