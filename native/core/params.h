@@ -150,6 +150,7 @@ struct WorldConstants {
     Vec3 wall_min, wall_max;
     Vec3 boundary_min, boundary_max;
     float boundary_scale;  // γ: the half-space density integral scaled to the rest lattice
+    float box_edge_scale;  // κ: the non-separable part of a box's share at its edges (box_boundary)
     GridDims grid;
     uint32_t capacity;
     MaterialConstants materials;

@@ -84,6 +84,27 @@ float boundary_lattice_scale(float spacing, float h) {
     return static_cast<float>(missing * poly6 / c.kernel_sum / boundary_phi(0.5f * spacing / h));
 }
 
+float box_edge_scale(float spacing, float h, float gamma) {
+    // The lattice sites a particle at the edge's diagonal site misses: those beyond both faces
+    // (the edge's quadrant), at k·spacing and l·spacing (k, l >= 1) from it.
+    const double d = spacing, hh = h;
+    const int reach = static_cast<int>(std::ceil(hh / d));
+    double missing = 0.0;
+    for (int k = 1; k <= reach; ++k)
+        for (int l = 1; l <= reach; ++l)
+            for (int z = -reach; z <= reach; ++z) {
+                const double r2 = d * d * double(k * k + l * l + z * z);
+                if (r2 < hh * hh) missing += std::pow(hh * hh - r2, 3);
+            }
+    const LatticeCalibration c = calibrate_lattice(spacing, h);
+    const double poly6 = 315.0 / (64.0 * M_PI * std::pow(hh, 9));
+    // γ (Φ(t)² - κ g(t)²) = missing, t = radius / h (box_boundary's share there).
+    const float t = 0.5f * spacing / h;
+    float slope;
+    const double phi = boundary_phi(t), g = box_edge_term(0.5f * spacing, 1.0f / h, slope);
+    return static_cast<float>((phi * phi - missing * poly6 / c.kernel_sum / gamma) / (g * g));
+}
+
 double rest_render_variance(float spacing, float h) {
     const double d = spacing, hh = h;
     const int reach = static_cast<int>(std::ceil(hh / d));
@@ -125,6 +146,7 @@ std::unique_ptr<World> World::create(const pbf_world_desc& desc, Status* status)
     const double m_over_rho = 1.0 / cal.kernel_sum;
     w->gradient_norm2_ = static_cast<float>(cal.gradient_norm2 * m_over_rho * m_over_rho);
     w->boundary_scale_ = boundary_lattice_scale(spacing, w->h_);
+    w->box_edge_scale_ = box_edge_scale(spacing, w->h_, w->boundary_scale_);
     // Every constant the kernels use must be a normal float: a radius or rest density so extreme
     // that one over- or underflows (a denormal rest density, a radius of 1e20 m) would make every
     // density and velocity NaN.
@@ -204,6 +226,7 @@ void World::update_constants() {
         s.wall_max = Vec3{limit, limit, limit};
     }
     s.boundary_scale = boundary_scale_;
+    s.box_edge_scale = box_edge_scale_;
     s.grid = grid_;
     s.capacity = desc_.max_particles;
     s.materials = material_constants();

@@ -60,6 +60,10 @@ LatticeCalibration calibrate_lattice(float spacing, float h);
 // lattice layers beyond it), over the continuum half-space integral Φ at its distance (one
 // radius): so a rest lattice against a wall has rest density in its first layer.
 float boundary_lattice_scale(float spacing, float h);
+// κ of a box's edges (collide.h box_boundary): chosen so that a rest lattice around a box edge
+// has rest density at the edge's diagonal site (one radius outside both faces), as γ gives it at
+// a face. gamma: boundary_lattice_scale.
+float box_edge_scale(float spacing, float h, float gamma);
 // The eigenvalue (m²) of the render covariance of a rest lattice around one particle (isotropic
 // by the lattice's symmetry): the reference the render scale k_s is given against.
 double rest_render_variance(float spacing, float h);
@@ -213,7 +217,7 @@ private:
     pbf_world_desc desc_{};
     pbf_solver_params params_{};
     Vec3 gravity_{};
-    float mass_ = 0.0f, h_ = 0.0f, gradient_norm2_ = 0.0f, boundary_scale_ = 0.0f;
+    float mass_ = 0.0f, h_ = 0.0f, gradient_norm2_ = 0.0f, boundary_scale_ = 0.0f, box_edge_scale_ = 0.0f;
     float emitted_speed_ = 0.0f;  // fastest particle emitted since the last step (block velocity)
     float emitted_depth_ = 0.0f;  // tallest block emitted since the last step, along gravity (m)
     GridDims grid_{};
