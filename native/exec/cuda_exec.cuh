@@ -19,25 +19,37 @@ namespace pbf {
 // colliders carry their rare paths (the broad phase's list, the dynamic colliders' warp sums
 // of atomics.h) in every world; capped, those paths spill instead of costing every world an
 // occupancy step (H100, docs/perf.md: caps at the counts the passes had before the broad phase).
+// Resident threads per SM of the architecture being compiled (a request beyond it is ignored
+// with a warning).
+#if defined(__CUDA_ARCH__) && __CUDA_ARCH__ == 750
+#define PBF_THREADS_PER_SM 1024
+#elif defined(__CUDA_ARCH__) && (__CUDA_ARCH__ == 860 || __CUDA_ARCH__ == 870 || __CUDA_ARCH__ == 890 || __CUDA_ARCH__ >= 1200)
+#define PBF_THREADS_PER_SM 1536
+#else
+#define PBF_THREADS_PER_SM 2048
+#endif
+constexpr int blocks_that_fit(int wanted) {
+    return wanted * PBF_CUDA_BLOCK <= PBF_THREADS_PER_SM ? wanted : PBF_THREADS_PER_SM / PBF_CUDA_BLOCK;
+}
 template <class Op>
 struct MinBlocksPerSm {
     static constexpr int value = 1;
 };
 template <>
 struct MinBlocksPerSm<LambdaOp> {
-    static constexpr int value = 5;  // 48 registers
+    static constexpr int value = blocks_that_fit(5);  // 48 registers on sm_90
 };
 template <>
 struct MinBlocksPerSm<PredictOp> {
-    static constexpr int value = 4;  // 64
+    static constexpr int value = blocks_that_fit(4);  // 64
 };
 template <>
 struct MinBlocksPerSm<DeltaOp> {
-    static constexpr int value = 4;  // 64
+    static constexpr int value = blocks_that_fit(4);  // 64
 };
 template <>
 struct MinBlocksPerSm<VorticityXsphOp> {
-    static constexpr int value = 4;  // 64
+    static constexpr int value = blocks_that_fit(4);  // 64
 };
 
 template <class Op>
