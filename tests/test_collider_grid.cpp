@@ -210,3 +210,18 @@ TEST_CASE("collider grid: a turning collider's step bounds hold it at every pose
     }
     CHECK(tightest < 0.5);  // a box turning a little is bounded well inside its reach's ball
 }
+
+TEST_CASE("collider grid: a collider kilometres wide among small ones is walked by every query", "[collider_grid]") {
+    std::mt19937 rng(29);
+    std::vector<Collider> shapes = random_colliders(100, Vec3{0, 0, 0}, rng);
+    // 20,000 km across: far more cells than a collider may be listed in.
+    shapes[7].bounds = Bounds{Vec3{-1.0e7f, -1.0e7f, -1.0e7f}, Vec3{1.0e7f, 1.0e7f, 1.0e7f}};
+    ColliderGridLists lists;
+    build_collider_grid(shapes, kReach, collider_grid_capacity(256), &lists);
+    REQUIRE_FALSE(lists.bucket_begin.empty());
+    bool always = false;
+    for (uint32_t e = 0; e < lists.grid.unbinned; ++e) always = always || lists.entries[e] == 7;
+    CHECK(always);
+    check_queries(shapes, collider_grid_capacity(256), Vec3{0, 0, 0}, rng);
+}
+

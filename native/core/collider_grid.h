@@ -15,11 +15,13 @@ namespace pbf {
 
 // A coarse cell index along one axis; clamped so that far-away or unbounded coordinates
 // (kUnbounded) stay finite integers.
+// (fmaxf returns the bound for NaN, so no input converts out of range).
 PBF_HD int32_t coarse_cell(float x, float inv_cell) {
+    const float c = fminf(fmaxf(x * inv_cell, -1.0e9f), 1.0e9f);
 #ifdef __CUDA_ARCH__
-    return __float2int_rd(fminf(fmaxf(x * inv_cell, -1.0e9f), 1.0e9f));  // the same, in one conversion
+    return __float2int_rd(c);  // floor and convert in one instruction
 #else
-    return static_cast<int32_t>(clampf(floorf(x * inv_cell), -1.0e9f, 1.0e9f));
+    return static_cast<int32_t>(floorf(c));
 #endif
 }
 

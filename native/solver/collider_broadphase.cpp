@@ -23,9 +23,16 @@ bool bounded(const Bounds& b) {
     return b.lo.x > -far && b.lo.y > -far && b.lo.z > -far && b.hi.x < far && b.hi.y < far && b.hi.z < far;
 }
 
+// Cells in r, or more than kMaxCellsPerCollider when any side alone has more (a product of three
+// sides of up to 2e9 cells would overflow).
 uint64_t cell_count(const CellRange& r) {
-    return uint64_t(int64_t(r.hi[0]) - r.lo[0] + 1) * uint64_t(int64_t(r.hi[1]) - r.lo[1] + 1) *
-           uint64_t(int64_t(r.hi[2]) - r.lo[2] + 1);
+    uint64_t n = 1;
+    for (int a = 0; a < 3; ++a) {
+        const int64_t side = int64_t(r.hi[a]) - r.lo[a] + 1;
+        if (side > int64_t(kMaxCellsPerCollider)) return uint64_t(kMaxCellsPerCollider) + 1;
+        n *= uint64_t(side);
+    }
+    return n;
 }
 
 // Calls f(bucket) once for every bucket that collider range r hashes into (a bucket met twice
