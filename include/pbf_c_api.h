@@ -284,8 +284,9 @@ typedef struct pbf_world_desc {
     pbf_render_params render;   /* render data (default: none) */
     uint32_t max_colliders;     /* collider capacity, 1..2048, allocated up front (default 256).
                                    Each collider costs about 0.3 KB of backend memory (shape,
-                                   start/end keys, two pose rows, force rows); every particle scans the colliders'
-                                   bounding boxes, so the cost grows linearly with the count. */
+                                   start/end keys, two pose rows, force rows) and up to 32 entries
+                                   of the broad phase's lists: with more than 8 colliders each
+                                   particle tests only those listed in its coarse cell. */
     pbf_diffuse_params diffuse; /* diffuse particles (default: none) */
     uint32_t walls;             /* 1 (default): the six walls of domain_min..domain_max hold the
                                    fluid and add boundary density. 0: an open level: no walls and

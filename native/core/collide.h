@@ -104,18 +104,10 @@ PBF_HD bool swept_contact(const Collider& c, const ColliderPose& prev, const Col
 // collider over the substep is removed up to μ times the depth this projection pushed out.
 PBF_HD Vec3 contact(const WorldConstants& s, const Collider& c, const ColliderPose& prev, const ColliderPose& cur,
                     Vec3 p, Vec3 x_old, const MeshView* meshes) {
-    Vec3 n;
-    // Most candidates are clear of the surface after a short move: no crossing (swept_contact
-    // returns false when the move is within the radius and ends beyond its reach, which is at
-    // most the radius) and no projection, for one distance instead of three.
-    float d = collider_distance(c, cur, p, n, meshes);
-    const Vec3 moved_by = cur.position + mul(cur.rotation, mul_transpose(prev.rotation, x_old - prev.position)) - p;
-    if (d > s.radius && length_sq(moved_by) <= s.radius * s.radius) return p;
     Vec3 hit;
-    if (swept_contact(c, prev, cur, x_old, p, s.radius, meshes, hit)) {
-        p = hit;
-        d = collider_distance(c, cur, p, n, meshes);
-    }
+    if (swept_contact(c, prev, cur, x_old, p, s.radius, meshes, hit)) p = hit;
+    Vec3 n;
+    const float d = collider_distance(c, cur, p, n, meshes);
     if (d >= s.radius) return p;
     const float depth = s.radius - d;
     p += n * depth;
@@ -278,36 +270,23 @@ PBF_HD BoundarySample walls_boundary(const WorldConstants& s, Vec3 p) {
     return BoundarySample{1.0f - w.p, -w.grad};
 }
 
-// The walls' and the colliders' (at their current poses) share at p.
-PBF_HD BoundarySample boundary_at(const WorldConstants& s, const ColliderView& cv, Vec3 p) {
+// The walls' and the colliders' (at their current poses) share at p. Given λ (DeltaOp), each
+// dynamic collider's part of the boundary's push ∇C_k·λ is recorded as its reaction in the same
+// walk (as record_boundary_push does); without it (0, a constant where inlined) nothing is.
+PBF_HD BoundarySample boundary_at(const WorldConstants& s, const ColliderView& cv, Vec3 p, float reacted_lambda = 0.0f) {
     BoundarySample b = walls_boundary(s, p);
+    const bool react = cv.impulses && cv.dynamic_count > 0 && reacted_lambda != 0.0f;
     for_each_collider_near(cv, p, s.h, [&](uint32_t k) {
+        const Collider& col = cv.shapes[k];
         Vec3 n;
-        const float d = collider_distance(cv.shapes[k], cv.cur[k], p, n, cv.meshes);
+        const float d = collider_distance(col, cv.cur[k], p, n, cv.meshes);
         if (d >= s.h) return;
-        const BoundarySample c = collider_boundary(s, cv.shapes[k], cv.cur[k], p, d, n, cv.meshes);
+        const BoundarySample c = collider_boundary(s, col, cv.cur[k], p, d, n, cv.meshes);
         b.density_ratio += c.density_ratio;
         b.gradient += c.gradient;
+        if (react && (col.flags & kColliderDynamic)) record_push(cv, col, cv.cur[k], p, c.gradient * reacted_lambda);
     });
     return b;
-}
-
-// The walls' and colliders' share of ∇C at p (boundary_at's gradient), and, in the same walk,
-// each dynamic collider's part of the boundary's push ∇C_boundary·λ (DeltaOp) recorded as its
-// reaction (as record_boundary_push does).
-PBF_HD Vec3 boundary_gradient_reacted(const WorldConstants& s, const ColliderView& cv, Vec3 p, float lambda) {
-    Vec3 g = walls_boundary(s, p).gradient;
-    const bool react = cv.impulses && cv.dynamic_count > 0 && lambda != 0.0f;
-    for_each_collider_near(cv, p, s.h, [&](uint32_t k) {
-        const Collider& c = cv.shapes[k];
-        Vec3 n;
-        const float d = collider_distance(c, cv.cur[k], p, n, cv.meshes);
-        if (d >= s.h) return;
-        const Vec3 ck = collider_boundary(s, c, cv.cur[k], p, d, n, cv.meshes).gradient;
-        g += ck;
-        if (react && (c.flags & kColliderDynamic)) record_push(cv, c, cv.cur[k], p, ck * lambda);
-    });
-    return g;
 }
 
 // The boundary's push on a particle at p (its share of Δp: ∇C_boundary·λ, DeltaOp) recorded

@@ -3,8 +3,8 @@
 // query (collision, boundary density, boundary viscosity, adhesion, the reactions), so a
 // particle tests the colliders listed in its cell instead of all of them.
 //
-// Each binned collider is listed in every cell that its bounds grown by ColliderGrid::pad meet
-// (once per bucket: cells that hash alike share a bucket, which only adds candidates). A query
+// Each binned collider is listed in every cell that its bounds grown by a pad wider than the
+// query reach meet (once per bucket: cells that hash alike share a bucket, which only adds candidates). A query
 // (a box around a particle or its path, grown by at most ColliderGrid::query_reach: the kernel
 // radius h) reads the cell of the box shrunk by that reach.
 // Colliders with unbounded or large bounds (planes, a level's mesh) are walked by every query.
@@ -25,25 +25,10 @@ PBF_HD int32_t coarse_cell(float x, float inv_cell) {
 #endif
 }
 
-// The cells [lo, hi] (inclusive) that the box [a, b] meets.
-struct CellRange {
-    int32_t lo[3], hi[3];
-};
-PBF_HD CellRange coarse_cells(Vec3 a, Vec3 b, float inv_cell) {
-    return CellRange{{coarse_cell(a.x, inv_cell), coarse_cell(a.y, inv_cell), coarse_cell(a.z, inv_cell)},
-                     {coarse_cell(b.x, inv_cell), coarse_cell(b.y, inv_cell), coarse_cell(b.z, inv_cell)}};
-}
-
 // Bucket of a cell: a multiplicative hash of its coordinates (three large odd constants, as in
 // Teschner et al. 2003's hash for deformable-body collision), masked to the table size.
 PBF_HD uint32_t coarse_bucket(int32_t x, int32_t y, int32_t z, uint32_t mask) {
     return ((uint32_t(x) * 73856093u) ^ (uint32_t(y) * 19349663u) ^ (uint32_t(z) * 83492791u)) & mask;
-}
-
-// The cells in which a collider with step bounds b is listed.
-PBF_HD CellRange collider_cells(const ColliderGrid& g, const Bounds& b) {
-    const Vec3 pad{g.pad, g.pad, g.pad};
-    return coarse_cells(b.lo - pad, b.hi + pad, g.inv_cell);
 }
 
 // Calls f(k) for the colliders listed for cell (x, y, z) (in_grid) or, without a grid or for

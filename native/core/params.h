@@ -89,8 +89,7 @@ struct ColliderGrid {
     uint32_t bucket_mask = 0;                // buckets - 1 (a power of two)
     uint32_t unbinned = 0;
     float inv_cell = 0.0f;                   // 1 / the coarse cell's side
-    float pad = 0.0f;                        // bounds grown by this before listing
-    float query_reach = 0.0f;                // the widest query margin (h); below pad
+    float query_reach = 0.0f;                // the widest query margin (h); the lists' pad exceeds it
 };
 
 // The colliders of one substep, in backend memory: shapes[k] moves from prev[k] (the substep's

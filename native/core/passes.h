@@ -366,7 +366,7 @@ struct DeltaOp {
             // colliders take its reaction, with particle i's own mass (multiphase: Δx_i = w_i ∇_i C λ).
             const float w_i = inverse_mass(s, ctx, i);
             const ColliderView cv = colliders_for_mass(ctx.colliders, w_i);
-            dp = dp * (s.mass * s.inv_rest_density) + boundary_gradient_reacted(s, cv, xi, lambda_i) * lambda_i;
+            dp = dp * (s.mass * s.inv_rest_density) + boundary_at(s, cv, xi, lambda_i).gradient * lambda_i;
             if (s.materials.flags & kMaterialMultiphase) dp = dp * w_i;
             c = collide(s, cv, xi + dp, xyz(positions[i]));
         }

@@ -14,11 +14,6 @@ namespace pbf {
 #define PBF_CUDA_BLOCK 256
 #endif
 
-// Blocks of PBF_CUDA_BLOCK threads an op's kernel must fit per SM: the register cap that
-// __launch_bounds__ derives from it (255 / 1 block unless named here). The passes that walk the
-// colliders carry their rare paths (the broad phase's list, the dynamic colliders' warp sums
-// of atomics.h) in every world; capped, those paths spill instead of costing every world an
-// occupancy step (H100, docs/perf.md: caps at the counts the passes had before the broad phase).
 // Resident threads per SM of the architecture being compiled (a request beyond it is ignored
 // with a warning).
 #if defined(__CUDA_ARCH__) && __CUDA_ARCH__ == 750
@@ -31,6 +26,12 @@ namespace pbf {
 constexpr int blocks_that_fit(int wanted) {
     return wanted * PBF_CUDA_BLOCK <= PBF_THREADS_PER_SM ? wanted : PBF_THREADS_PER_SM / PBF_CUDA_BLOCK;
 }
+
+// Blocks of PBF_CUDA_BLOCK threads an op's kernel must fit per SM: the register cap that
+// __launch_bounds__ derives from it (255 / 1 block unless named here). The passes that walk the
+// colliders carry their rare paths (the broad phase's list, the dynamic colliders' warp sums
+// of atomics.h) in every world; capped, those paths spill instead of costing every world an
+// occupancy step (H100, docs/perf.md: caps at the counts the passes had before the broad phase).
 template <class Op>
 struct MinBlocksPerSm {
     static constexpr int value = 1;

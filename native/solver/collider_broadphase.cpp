@@ -18,6 +18,17 @@ uint32_t next_pow2(uint32_t v) {
     return p;
 }
 
+// The cells [lo, hi] (inclusive) in which a collider with step bounds b is listed: those its
+// bounds grown by the pad meet.
+struct CellRange {
+    int32_t lo[3], hi[3];
+};
+CellRange collider_cells(const Bounds& b, float pad, float inv_cell) {
+    const Vec3 lo = b.lo - Vec3{pad, pad, pad}, hi = b.hi + Vec3{pad, pad, pad};
+    return CellRange{{coarse_cell(lo.x, inv_cell), coarse_cell(lo.y, inv_cell), coarse_cell(lo.z, inv_cell)},
+                     {coarse_cell(hi.x, inv_cell), coarse_cell(hi.y, inv_cell), coarse_cell(hi.z, inv_cell)}};
+}
+
 bool bounded(const Bounds& b) {
     const float far = 0.5f * kUnbounded;
     return b.lo.x > -far && b.lo.y > -far && b.lo.z > -far && b.hi.x < far && b.hi.y < far && b.hi.z < far;
@@ -80,12 +91,12 @@ void build_collider_grid(const std::vector<Collider>& shapes, float query_reach,
     if (sides.size() <= kLinearColliders) return;
     ColliderGrid& g = out->grid;
     g.query_reach = query_reach;
-    g.pad = 1.05f * query_reach + 1e-5f * far;
+    const float pad = 1.05f * query_reach + 1e-5f * far;
     // Cells half as large as the median collider's padded box: a typical collider is listed in
     // 8-27 cells, and a cell's list holds few more colliders than meet it (with cells as large
     // as the box, about 7 for 1 in a lattice of boxes).
     std::nth_element(sides.begin(), sides.begin() + sides.size() / 2, sides.end());
-    g.inv_cell = 2.0f / (sides[sides.size() / 2] + 2.0f * g.pad);
+    g.inv_cell = 2.0f / (sides[sides.size() / 2] + 2.0f * pad);
 
     // Which colliders are listed: bounded ones within kMaxCellsPerCollider cells, while the
     // entries last (each listed collider takes at most its cell count).
@@ -95,7 +106,7 @@ void build_collider_grid(const std::vector<Collider>& shapes, float query_reach,
     uint64_t budget = cap.entries > n ? cap.entries - n : 0, unbinned = 0, listed_cells = 0;
     for (uint32_t k = 0; k < n; ++k) {
         if (bounded(shapes[k].bounds)) {
-            ranges[k] = collider_cells(g, shapes[k].bounds);
+            ranges[k] = collider_cells(shapes[k].bounds, pad, g.inv_cell);
             const uint64_t cells = cell_count(ranges[k]);
             if (cells <= kMaxCellsPerCollider && cells <= budget) {
                 listed[k] = 1;

@@ -224,8 +224,8 @@ public:
     // the shapes they index); the returned grid points at them.
     ColliderGrid upload_collider_grid(const std::vector<Collider>& shapes) {
         build_collider_grid(shapes, config_.kernel_radius, grid_capacity_, &grid_lists_);
-        ColliderGrid g = grid_lists_.grid;
-        if (grid_lists_.bucket_begin.empty()) return ColliderGrid{};
+        ColliderGrid g = grid_lists_.grid;  // no lists: null pointers, every query walks all
+        if (grid_lists_.bucket_begin.empty()) return g;
         uint32_t* entries = collider_grid_ + grid_capacity_.buckets + 1;
         exec_.upload(collider_grid_, grid_lists_.bucket_begin.data(), grid_lists_.bucket_begin.size() * sizeof(uint32_t));
         exec_.upload(entries, grid_lists_.entries.data(), grid_lists_.entries.size() * sizeof(uint32_t));
