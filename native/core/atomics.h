@@ -33,37 +33,49 @@ PBF_HD void atomic_add_vec3(Vec3* addr, Vec3 v) {
     atomic_add_f32(&addr->z, v.z);
 }
 
-// atomic_add_vec3 for many threads adding to few addresses: on the device the lanes of a warp
-// that add to the same address sum first and one of them adds the sum. Many particles beside
-// one collider (neighbours in the sorted order) otherwise queue their atomics on the same
-// words (measured on the H100: 2M same-address reductions per Δ pass with 256 colliders, the
-// pass 2.6x slower). The sum's rounding order differs from the atomics' (equally arbitrary).
-PBF_HD void atomic_add_vec3_shared(Vec3* addr, Vec3 a) {
+// atomic_add_vec3 of a and b for many threads adding to few rows (a collider's force and
+// torque): on the device the lanes of a warp that add to the same row (a_addr) sum first and
+// one of them adds the sums. Many particles beside one collider (neighbours in the sorted
+// order) otherwise queue their atomics on the same words (measured on the H100: 2M
+// same-address reductions per Δ pass with 256 colliders, the pass 2.6x slower); one match for
+// both vectors halves the grouping's cost. The sums' rounding order differs from the atomics'
+// (equally arbitrary).
+PBF_HD void atomic_add_vec3_pair_shared(Vec3* a_addr, Vec3 a, Vec3* b_addr, Vec3 b) {
 #if defined(__CUDA_ARCH__)
-    const unsigned peers = __match_any_sync(__activemask(), reinterpret_cast<unsigned long long>(addr));
+    const unsigned peers = __match_any_sync(__activemask(), reinterpret_cast<unsigned long long>(a_addr));
     const unsigned lane = threadIdx.x & 31u;
     const unsigned first = __ffs(peers) - 1u;
     if (peers != (1u << lane)) {
+        float v[6] = {a.x, a.y, a.z, b.x, b.y, b.z};
         const unsigned rank = __popc(peers & ((1u << lane) - 1u)), n = __popc(peers);
         if (((peers >> first) & ((peers >> first) + 1u)) == 0u) {
             // Contiguous lanes (the usual case): a tree, each lane adding the one `offset` above.
             for (unsigned offset = 1; offset < n; offset <<= 1) {
-                const float x = __shfl_down_sync(peers, a.x, offset), y = __shfl_down_sync(peers, a.y, offset),
-                            z = __shfl_down_sync(peers, a.z, offset);
-                if (rank + offset < n) a = a + Vec3{x, y, z};
+                float above[6];
+#pragma unroll
+                for (int c = 0; c < 6; ++c) above[c] = __shfl_down_sync(peers, v[c], offset);
+                if (rank + offset < n) {
+#pragma unroll
+                    for (int c = 0; c < 6; ++c) v[c] += above[c];
+                }
             }
         } else {  // scattered lanes: the first one gathers the others' values one by one
-            Vec3 sum{0.0f, 0.0f, 0.0f};
+            float sum[6] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
             for (unsigned m = peers; m; m &= m - 1u) {
                 const int src = __ffs(m) - 1;
-                sum = sum + Vec3{__shfl_sync(peers, a.x, src), __shfl_sync(peers, a.y, src), __shfl_sync(peers, a.z, src)};
+#pragma unroll
+                for (int c = 0; c < 6; ++c) sum[c] += __shfl_sync(peers, v[c], src);
             }
-            a = sum;
+#pragma unroll
+            for (int c = 0; c < 6; ++c) v[c] = sum[c];
         }
         if (lane != first) return;
+        a = Vec3{v[0], v[1], v[2]};
+        b = Vec3{v[3], v[4], v[5]};
     }
 #endif
-    atomic_add_vec3(addr, a);
+    atomic_add_vec3(a_addr, a);
+    atomic_add_vec3(b_addr, b);
 }
 
 }  // namespace pbf

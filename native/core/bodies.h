@@ -128,8 +128,7 @@ PBF_HD void record_push(const ColliderView& cv, const Collider& c, const Collide
     const Vec3 impulse = moved * -cv.impulse_scale;
     const Vec3 centre = pose.position + mul(pose.rotation, c.center_local);
     ColliderForce* row = cv.impulses + c.row;
-    atomic_add_vec3_shared(&row->force, impulse);
-    atomic_add_vec3_shared(&row->torque, cross(at - centre, impulse));
+    atomic_add_vec3_pair_shared(&row->force, impulse, &row->torque, cross(at - centre, impulse));
 }
 
 // One thread per collider at the end of a step: the mean force and torque over the step (the

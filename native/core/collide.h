@@ -270,21 +270,23 @@ PBF_HD BoundarySample walls_boundary(const WorldConstants& s, Vec3 p) {
     return BoundarySample{1.0f - w.p, -w.grad};
 }
 
-// The walls' and the colliders' (at their current poses) share at p. Given λ (DeltaOp), each
-// dynamic collider's part of the boundary's push ∇C_k·λ is recorded as its reaction in the same
-// walk (as record_boundary_push does); without it (0, a constant where inlined) nothing is.
-PBF_HD BoundarySample boundary_at(const WorldConstants& s, const ColliderView& cv, Vec3 p, float reacted_lambda = 0.0f) {
-    BoundarySample b = walls_boundary(s, p);
-    const bool react = cv.impulses && cv.dynamic_count > 0 && reacted_lambda != 0.0f;
+// Calls f(k, collider, its share at p) for each collider (at its current pose) within h of p.
+template <class F>
+PBF_HD void for_each_collider_share(const WorldConstants& s, const ColliderView& cv, Vec3 p, F&& f) {
     for_each_collider_near(cv, p, s.h, [&](uint32_t k) {
         const Collider& col = cv.shapes[k];
         Vec3 n;
         const float d = collider_distance(col, cv.cur[k], p, n, cv.meshes);
-        if (d >= s.h) return;
-        const BoundarySample c = collider_boundary(s, col, cv.cur[k], p, d, n, cv.meshes);
+        if (d < s.h) f(k, col, collider_boundary(s, col, cv.cur[k], p, d, n, cv.meshes));
+    });
+}
+
+// The walls' and the colliders' share at p.
+PBF_HD BoundarySample boundary_at(const WorldConstants& s, const ColliderView& cv, Vec3 p) {
+    BoundarySample b = walls_boundary(s, p);
+    for_each_collider_share(s, cv, p, [&](uint32_t, const Collider&, const BoundarySample& c) {
         b.density_ratio += c.density_ratio;
         b.gradient += c.gradient;
-        if (react && (col.flags & kColliderDynamic)) record_push(cv, col, cv.cur[k], p, c.gradient * reacted_lambda);
     });
     return b;
 }
@@ -293,12 +295,8 @@ PBF_HD BoundarySample boundary_at(const WorldConstants& s, const ColliderView& c
 // as the reaction on each dynamic collider within h.
 PBF_HD void record_boundary_push(const WorldConstants& s, const ColliderView& cv, Vec3 p, float lambda) {
     if (!cv.impulses || cv.dynamic_count == 0 || lambda == 0.0f) return;
-    for_each_collider_near(cv, p, s.h, [&](uint32_t k) {
-        const Collider& c = cv.shapes[k];
-        if (!(c.flags & kColliderDynamic)) return;
-        Vec3 n;
-        const float d = collider_distance(c, cv.cur[k], p, n, cv.meshes);
-        if (d < s.h) record_push(cv, c, cv.cur[k], p, collider_boundary(s, c, cv.cur[k], p, d, n, cv.meshes).gradient * lambda);
+    for_each_collider_share(s, cv, p, [&](uint32_t k, const Collider& c, const BoundarySample& share) {
+        if (c.flags & kColliderDynamic) record_push(cv, c, cv.cur[k], p, share.gradient * lambda);
     });
 }
 

@@ -6,6 +6,7 @@
 #include "collide.h"
 #include "grid.h"
 #include "material_ops.h"
+#include "packed_vectors.h"
 #include "sph.h"
 
 namespace pbf {
@@ -239,6 +240,17 @@ struct PredictOp {
     }
 };
 
+// Which colliders near a particle take the reaction of its boundary push, in one register:
+// none near, only static ones, several with a dynamic one among them (their parts are summed
+// again by a second walk), or the index of the one collider near, which is dynamic (the usual
+// case: its part is the colliders' whole gradient).
+constexpr uint32_t kSeveralNear = 0xfffffffdu, kStaticNear = 0xfffffffeu, kNoneNear = 0xffffffffu;
+PBF_HD uint32_t next_reacting(uint32_t state, uint32_t k, bool dynamic) {
+    if (state == kNoneNear) return dynamic ? k : kStaticNear;
+    if (state == kStaticNear) return dynamic ? kSeveralNear : kStaticNear;
+    return kSeveralNear;
+}
+
 // ---- density constraint (Macklin & Müller 2013, Eq. 1-11) --------------------------------------
 // λ_i = -C_i / (Σ_k |∇_k C_i|² + ε) with C_i = ρ_i/ρ0 - 1. The constraint is unilateral
 // (C clamped at 0): particles at the free surface are not pulled together, which with few
@@ -248,6 +260,9 @@ struct PredictOp {
 // denominator Σ_k |∇_k C_i|² + ε; later λ passes reuse it and sum only ρ (the constraint value
 // C_i stays exact each iteration; its gradient norm, the step's scaling, is frozen within the
 // substep, where positions move by a small fraction of h).
+// With colliders, the pass also keeps their share's gradient at x* for the iteration's Δ pass
+// (which reads it instead of walking the colliders again: x* and the poses are the same there)
+// and records the dynamic colliders' reaction to the push ∇C_k·λ_i that pass gives particle i.
 struct LambdaOp {
     WorldConstants s;
     StepContext ctx;
@@ -259,16 +274,17 @@ struct LambdaOp {
     float* density;
     const IterationControl* control;  // null: fixed iteration count
     float* denominator = nullptr;     // null: every pass computes its own
+    PackedVectors colliders_gradient{};  // written when the world has colliders
     PBF_HD void operator()(uint32_t i) const {
         if (control && control->converged) return;
         const Vec3 xi = xyz(predicted[i]);
-        float rho = 0.0f, denom, boundary;
-        if (record || !denominator) {
-            float sum_grad2 = 0.0f;
-            Vec3 grad_i{0.0f, 0.0f, 0.0f};
+        float rho = 0.0f, sum_grad2 = 0.0f;
+        Vec3 grad_i{0.0f, 0.0f, 0.0f};
+        // Multiphase: each particle's share of the correction weighted by its inverse mass.
+        const bool multiphase = s.materials.flags & kMaterialMultiphase;
+        const bool first = record || !denominator;
+        if (first) {
             const float scale = s.mass * s.inv_rest_density;
-            // Multiphase: each particle's share of the correction weighted by its inverse mass.
-            const bool multiphase = s.materials.flags & kMaterialMultiphase;
             auto visit = [&](uint32_t j) {
                 const Vec3 d = xi - xyz(predicted[j]);
                 const float r2 = length_sq(d);
@@ -281,22 +297,34 @@ struct LambdaOp {
             };
             if (record) for_each_neighbor_recording(s.grid, cell_begin, predicted, s.h2, masks, i, xi, visit);
             else for_each_listed_neighbor(s.grid, cell_begin, masks, i, visit);
-            // The walls' and colliders' density moves with x_i too (they carry no λ of their own).
-            const BoundarySample b = boundary_at(s, ctx.colliders, xi);
-            boundary = b.density_ratio;
-            const float self = length_sq(grad_i + b.gradient);
-            denom = (1.0f + ctx.error_damping) * (sum_grad2 + (multiphase ? self * inverse_mass(s, ctx, i) : self)) +
-                    ctx.lambda_epsilon;
-            if (denominator) denominator[i] = denom;
         } else {
             for_each_listed_neighbor(s.grid, cell_begin, masks, i, [&](uint32_t j) {
                 const float r2 = length_sq(xi - xyz(predicted[j]));
                 if (r2 < s.h2) rho += poly6(r2, s.h2, s.poly6_coef);
             });
-            denom = denominator[i];
-            boundary = boundary_at(s, ctx.colliders, xi).density_ratio;
         }
-        rho = rho * s.mass + boundary * s.rest_density;
+        // The colliders once: their density, their gradient (the denominator's, and the Δ
+        // pass's), and which dynamic ones are within h (the reaction below).
+        float colliders_density = 0.0f;
+        Vec3 colliders_grad{0.0f, 0.0f, 0.0f};
+        uint32_t reacting = kNoneNear;
+        for_each_collider_share(s, ctx.colliders, xi, [&](uint32_t k, const Collider& c, const BoundarySample& part) {
+            colliders_density += part.density_ratio;
+            colliders_grad += part.gradient;
+            reacting = next_reacting(reacting, k, (c.flags & kColliderDynamic) != 0);
+        });
+        const BoundarySample walls = walls_boundary(s, xi);
+        float denom;
+        if (first) {
+            // The walls' and colliders' density moves with x_i too (they carry no λ of their own).
+            const float self = length_sq(grad_i + walls.gradient + colliders_grad);
+            denom = (1.0f + ctx.error_damping) * (sum_grad2 + (multiphase ? self * inverse_mass(s, ctx, i) : self)) +
+                    ctx.lambda_epsilon;
+            if (denominator) denominator[i] = denom;
+        } else {
+            denom = denominator[i];
+        }
+        rho = rho * s.mass + (walls.density_ratio + colliders_density) * s.rest_density;
         density[i] = rho;
         // Error damping (XPBD's constraint damping with the substep's start as reference): the
         // target is C + γ (C - C₀) = 0, C₀ the error the particle started the substep with. New
@@ -305,7 +333,15 @@ struct LambdaOp {
         // creates stays bounded (the step turns every correction into velocity).
         const float c = fmaxf(rho * s.inv_rest_density - 1.0f, 0.0f);
         const float c0 = fmaxf(positions[i].w - 1.0f, 0.0f);
-        predicted[i].w = -fmaxf(c + ctx.error_damping * (c - c0), 0.0f) / denom;
+        const float lambda = -fmaxf(c + ctx.error_damping * (c - c0), 0.0f) / denom;
+        predicted[i].w = lambda;
+        if (ctx.colliders.count == 0) return;
+        // Packed, the Δ pass's push differs from the reaction below by at most 1e-4 of it.
+        colliders_gradient.store(i, colliders_grad);
+        if (reacting >= kStaticNear || !ctx.colliders.impulses || lambda == 0.0f) return;
+        const ColliderView cv = colliders_for_mass(ctx.colliders, inverse_mass(s, ctx, i));
+        if (reacting == kSeveralNear) record_boundary_push(s, cv, xi, lambda);  // walk them again (rare)
+        else record_push(cv, cv.shapes[reacting], cv.cur[reacting], xi, colliders_grad * lambda);
     }
 };
 
@@ -340,6 +376,7 @@ struct DeltaOp {
     Vec4* finish_positions = nullptr;   // = positions, on the last iteration
     Vec4* finish_velocities = nullptr;
     const float* density = nullptr;     // ρ of the last λ pass, for x's w (ρ/ρ0)
+    PackedVectors colliders_gradient{};  // the λ pass's, when the world has colliders
     PBF_HD void operator()(uint32_t i) const {
         const Vec4 pi = predicted[i];
         const Vec3 xi = xyz(pi);
@@ -362,11 +399,14 @@ struct DeltaOp {
                 const float scorr = -scorr_k * scorr_power(ratio, s.scorr_n);
                 dp += pair_gradient(d, r2, s.h, s.spiky_coef, i, j) * (lambda_i + pj.w + scorr);
             });
-            // The boundary's share of ∇C_i, weighted by λ_i alone (the boundary has no λ); dynamic
-            // colliders take its reaction, with particle i's own mass (multiphase: Δx_i = w_i ∇_i C λ).
+            // The boundary's share of ∇C_i, weighted by λ_i alone (the boundary has no λ): the
+            // walls', and the colliders' from the λ pass, which recorded their reaction
+            // (multiphase: Δx_i = w_i ∇_i C λ, the reaction with particle i's own mass).
             const float w_i = inverse_mass(s, ctx, i);
             const ColliderView cv = colliders_for_mass(ctx.colliders, w_i);
-            dp = dp * (s.mass * s.inv_rest_density) + boundary_at(s, cv, xi, lambda_i).gradient * lambda_i;
+            Vec3 boundary_grad = walls_boundary(s, xi).gradient;
+            if (ctx.colliders.count > 0) boundary_grad += colliders_gradient.load(i);
+            dp = dp * (s.mass * s.inv_rest_density) + boundary_grad * lambda_i;
             if (s.materials.flags & kMaterialMultiphase) dp = dp * w_i;
             c = collide(s, cv, xi + dp, xyz(positions[i]));
         }

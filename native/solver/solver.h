@@ -514,10 +514,13 @@ private:
         // iterations >= 1 (the API refuses 0): the first λ pass records the neighbour masks and
         // the last Δp pass updates v and x.
         const NeighborMasks masks{masks_, sorted_keys_, config_.capacity};
+        // The sort's value buffers are free until the next grid build: λ leaves the colliders'
+        // boundary gradient there for Δ.
+        const PackedVectors colliders_gradient{order_[0], reinterpret_cast<float*>(order_[1])};
         for (uint32_t it = 0; it < in.iterations; ++it) {
             exec_.profile_mark(kStageLambda);
             exec_.for_each(bound_, LambdaOp{s, ctx, cell_begin_, masks, it == 0 ? 1u : 0u, pos_, pred_, density_,
-                                            control, denominator_});
+                                            control, denominator_, colliders_gradient});
             if (adaptive) {
                 exec_.sum_compressive_error(s, density_, &counters_->count, bound_, &control->error_sum);
                 exec_.for_each(1, ConvergenceOp{control, &counters_->count, s.adaptive_target, it == 0 ? 1u : 0u});
@@ -526,7 +529,8 @@ private:
             // The last iteration also updates v and x (no separate velocity pass).
             const bool last = it + 1 == in.iterations;
             exec_.for_each(bound_, DeltaOp{s, ctx, cell_begin_, masks, pos_, pred_, spare_, control,
-                                           last ? pos_ : nullptr, last ? vel_ : nullptr, density_});
+                                           last ? pos_ : nullptr, last ? vel_ : nullptr, density_,
+                                           colliders_gradient});
             if (!last) std::swap(pred_, spare_);  // Jacobi: the corrected positions are the next input
         }
         masks_valid_ = true;  // recorded by the first λ pass
