@@ -124,7 +124,7 @@ PBF_HD bool overlaps(const Bounds& b, Vec3 lo, Vec3 hi) {
 // changed by Δ/Δt (v = (x* - x)/Δt): the collider that displaced it gave it the impulse
 // m·Δ/Δt and received the opposite. Recorded at the particle's position, about the collider's
 // centre at the substep's end pose.
-PBF_HD void record_push(const ColliderView& cv, const Collider& c, const ColliderPose& pose, Vec3 at, Vec3 moved) {
+PBF_HD_COLD void record_push(const ColliderView& cv, const Collider& c, const ColliderPose& pose, Vec3 at, Vec3 moved) {
     const Vec3 impulse = moved * -cv.impulse_scale;
     const Vec3 centre = pose.position + mul(pose.rotation, c.center_local);
     ColliderForce* row = cv.impulses + c.row;

@@ -13,8 +13,12 @@
 
 #if defined(__CUDACC__)
 #define PBF_HD __host__ __device__ __forceinline__
+// A rare path kept out of line on the device, so its registers do not weigh on the hot code
+// around the call.
+#define PBF_HD_COLD __host__ __device__ __noinline__ inline
 #else
 #define PBF_HD inline
+#define PBF_HD_COLD inline
 #endif
 
 namespace pbf {
