@@ -4,28 +4,24 @@
 // twins in test_gpu_coupling.cpp).
 //
 // Known failures, tagged [!shouldfail] (they pass while the bound fails; remove the tag when the
-// physics meets it). Measured on this branch, CPU backend, defaults (LDC on, its boundary part's
-// reaction given to the colliders: passes.h record_ldc_reaction); the CPU runs are chaotic, so
-// repeated runs of the floating scene spread by about ±0.005:
-// - Archimedes: 140.0 N for rho g V = 135.6 N (1.032, within 5 %; a white-box run of the same
-//   scene: 1.031 with LDC, 0.986 without), but the largest |torque| over the last second is
-//   0.50 N m for a bound of 0.163, and the torque's mean over that second is 0.20 N m with LDC,
-//   0.18 without, 0.31 with vorticity confinement off (with a mean sideways force of 1-3 N): a
-//   slow circulation around the box, not only step-to-step noise, so the statistic is kept.
-// - Floating at 500 kg/m3: submerged fraction 0.462-0.468 (before the box edge term,
-//   collide.h box_boundary: 0.464-0.472; the term fixed the share beyond the bottom edges,
-//   which had pushed the water off them: held still at half depth without LDC the box felt
-//   1.071 rho g V_sub before it, 0.994 after). Two causes remain, measured with the box held
-//   still or released from inside the water instead of dropped:
-//   * LDC: a box emitted in place at half depth and released floats 0.504 submerged without LDC
-//     but 0.462 with it; held still at half depth it feels 0.994 rho g V_sub without LDC and
-//     1.07 with it. Likely (not yet shown): next to a boundary LDC's sum is one-sided, so the layer
-//     against the box's bottom gets about half the support LDC gives the bulk and the position
-//     solve pushes it off the box harder; a submerged box gets the same extra push down on its
-//     top face (it cancels), a floating one has no water on top.
-//   * the drop: released from 1 cm above the water as here, without LDC, it floats 0.465-0.479
-//     (0.504 from inside the water); held still where it came to rest it feels 1.065 times
-//     rho g A times its depth: the water it pushed down stays packed under it.
+// physics meets it). Measured on this branch, CPU backend, defaults (LDC on, walls and colliders
+// among its neighbours at rest density, their reaction given to the colliders: passes.h
+// ldc_force, record_ldc_reaction); the CPU runs are chaotic: a change in the last bit of one
+// sum moves a held box's force by ±3 % and the floating fraction by about ±0.005, so compare
+// averages, not single runs.
+// - Archimedes: 137.6 N for rho g V = 135.6 N (1.014, within 5 %; 1.03 before LDC took the box
+//   as neighbours at rest density, when a boundary mirrored each particle's P; 0.99 without LDC),
+//   but the largest |torque| over the last second is 0.50 N m for a bound of 0.163, and the
+//   torque's mean over that second was 0.20 N m with LDC, 0.18 without, 0.31 with vorticity
+//   confinement off (with a mean sideways force of 1-3 N): a slow circulation around the box, not
+//   only step-to-step noise, so the statistic is kept.
+// - Floating at 500 kg/m3: submerged fraction 0.470 (0.462-0.468 before the change above). LDC
+//   is no longer the cause: emitted in place at half depth and released (1-thread white-box
+//   runs) the box floats 0.506 submerged with LDC, 0.504 without (0.459-0.462 with the mirrored
+//   boundary, and its error scaled with LDC's gain: 0.481 at half the gain). What remains is the
+//   drop: released from 1 cm above the water as here, without LDC, it floats 0.465-0.479, and held
+//   still where it came to rest it feels 1.065 times rho g A times its depth: the water it pushed
+//   down stays packed under it.
 #include "coupling_scenes.h"
 
 using namespace coupling;
