@@ -141,7 +141,7 @@ struct DensityOp {
 // their side: their term -K Σ_b ((ρ0 - ρ̃_i)/ρ0) w_ib = K P_i/ρ0 Σ_b w_ib is a pair force
 // -K (P_i + P_b)/ρ0 w_ib, equal and opposite, whose reaction the boundary takes. Σ_b w_ib is the
 // fluid neighbours' deficit -Σ_j w_ij along the boundaries' density gradient G (boundary_at; it
-// points into them): G ((Σ_j w_ij)·G)/|G|², counted when the deficit lies on the boundary's side.
+// points into them): G ((Σ_j w_ij)·G)/|G|², counted when the missing neighbours lie on its side.
 // With the boundary's term, the particle's push from the boundary is K P_i/ρ0 (Σ_j w_ij)_G,
 // half the own part's component along G. Without it (Eq. 1 over fluid neighbours alone, as
 // before) a boundary acted as neighbours mirroring the particle's P (they add nothing to the
