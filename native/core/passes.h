@@ -135,29 +135,11 @@ struct DensityOp {
 // A pair pushes both of its particles the same way, so LDC alone does not conserve momentum:
 // with P = ρ̃ - ρ0 (ρ̃ as below) and w_ij = h (1 - r/h) n_ij, f_i splits exactly into pair forces
 // -K (P_i + P_j)/ρ0 w_ij, equal and opposite (a pressure), and a part of particle i alone,
-// 2K P_i/ρ0 Σ_j w_ij, zero in a full neighbourhood.
-// Boundaries (walls, colliders) take part as Eq. 1's neighbours b, at rest density (a rigid
-// boundary does not compress: ρ_b = ρ0, P_b = 0), namely the neighbours the particle misses on
-// their side: their term -K Σ_b ((ρ0 - ρ̃_i)/ρ0) w_ib = K P_i/ρ0 Σ_b w_ib is a pair force
-// -K (P_i + P_b)/ρ0 w_ib, equal and opposite, whose reaction the boundary takes. Σ_b w_ib is the
-// fluid neighbours' deficit -Σ_j w_ij along the boundaries' density gradient G (boundary_at; it
-// points into them): G ((Σ_j w_ij)·G)/|G|², counted when the missing neighbours lie on its side.
-// With the boundary's term, the particle's push from the boundary is K P_i/ρ0 (Σ_j w_ij)_G,
-// half the own part's component along G. Without it (Eq. 1 over fluid neighbours alone, as
-// before) a boundary acted as neighbours mirroring the particle's P (they add nothing to the
-// difference sum), and the layer a wall holds, whose density the position solve leaves ~0.13 %
-// above the hydrostatic line under a box's bottom and as much below it on its top (with or
-// without LDC), likely pushed with that as pressure (the size fits): a 500 kg/m3 box released
-// at half depth floated 0.46 submerged (0.504 without LDC, 0.506 now), a submerged one felt
-// 1.03-1.06 ρgV (1.01 now). Approximations: the boundary's neighbours mirror the
-// missing ones along G only (exact at a flat boundary; edges and corners, where G sums several
-// faces, by direction); the missing neighbours of a free surface are air, not neighbours:
-// there Eq. 1's own part alone pushes, unreacted (it adds ~0.5 % to a pool's floor load).
-// *boundary_push (null: not wanted) receives the boundary's push on the particle, along G;
-// record_ldc_reaction gives the colliders its reaction. g = 0: no boundary within h.
+// 2K P_i/ρ0 Σ_j w_ij, zero in a full neighbourhood. *own_part receives that part (null: not
+// wanted): record_ldc_reaction gives the colliders its reaction.
 PBF_HD Vec3 ldc_force(const WorldConstants& s, float k, const uint32_t* cell_begin, const Vec4* pos,
                       const float* density, uint32_t i, const NeighborMasks& masks = NeighborMasks{},
-                      Vec3 g = Vec3{0.0f, 0.0f, 0.0f}, Vec3* boundary_push = nullptr) {
+                      Vec3* own_part = nullptr) {
     const Vec3 xi = xyz(pos[i]);
     // Densities below ρ0 count as ρ0: LDC smooths compression only. Read literally, Eq. 1 also
     // evens out the density deficit of free-surface and wall particles (too few neighbours, not
@@ -171,27 +153,34 @@ PBF_HD Vec3 ldc_force(const WorldConstants& s, float k, const uint32_t* cell_beg
         const float inv_r = inv_sqrt(r2);
         const float rho_ij = (fmaxf(density[j], s.rest_density) - rho_i) * s.inv_rest_density;
         // ρ_ij h (1 - r/h) n_ij with n_ij = d / r:  ρ_ij (h/r - 1) d
-        const Vec3 w = d * (s.h * inv_r - 1.0f);
-        f += w * rho_ij;
-        deficit += w;
+        f += d * (rho_ij * (s.h * inv_r - 1.0f));
+        if (own_part) deficit += d * (s.h * inv_r - 1.0f);
     });
-    const float g2 = length_sq(g);
-    const float along = g2 > 1e-20f ? fminf(dot(deficit, g), 0.0f) / g2 : 0.0f;  // Σ_b w_ib = -along G
-    // K P_i/ρ0 (Σ_j w_ij)_G: the boundary's push on the particle
-    const Vec3 push = g * (k * (rho_i - s.rest_density) * s.inv_rest_density * along);
-    if (boundary_push) *boundary_push = push;
-    return f * -k - push;  // Eq. 1 over the fluid (its own part 2 push) plus the boundary's term (-push)
+    if (own_part) *own_part = deficit * (2.0f * k * (rho_i - s.rest_density) * s.inv_rest_density);
+    return f * -k;
 }
 
-// LDC's reaction on dynamic colliders: the boundary's push on the particle (ldc_force's
-// boundary_push, along G = Σ_k G_k, boundary_at), shared as each collider's G_k:
-// push·G/|G|² G_k each. cv is the view at the substep's start poses, where x and G were
-// taken; displacement_per_accel turns the acceleration into the substep's displacement (w_i Δt²).
-PBF_HD void record_ldc_reaction(const WorldConstants& s, const ColliderView& cv, Vec3 x, Vec3 g, Vec3 push,
+// LDC's reaction on dynamic colliders. Next to a wall or collider, ldc_force's own part is the
+// push of the missing neighbours: the boundary acts as neighbours b that mirror the particle's
+// pressure (as Akinci et al. 2012's boundary particles do; P_b = P_i adds nothing to f_i), whose
+// pair forces -2K P_i/ρ0 Σ_b w_ib on the particle the boundary feels back. At a free surface the
+// missing neighbours are air, with nothing to push back on: reacting the whole part (an earlier
+// attempt) also pushed a floating box up by the compression at its waterline. So the colliders
+// take the part's component against the boundaries' density gradient G = Σ_k G_k (boundary_at;
+// it points into the boundary), shared as -G_k: part·G/|G|² G_k each. Approximation: the
+// boundary's push on a particle lies along G (exact at a flat boundary; edges, corners and air
+// beside a boundary are split by direction); a part pointing into a boundary is not reacted.
+// x is where the substep starts, with the colliders at their start poses; displacement_per_accel
+// turns the acceleration into the substep's displacement (w_i Δt²).
+PBF_HD void record_ldc_reaction(const WorldConstants& s, const ColliderView& cv, Vec3 x, Vec3 own_part,
                                 float displacement_per_accel) {
-    const float g2 = length_sq(g);
-    if (!(g2 > 1e-20f)) return;
-    record_boundary_push(s, cv, x, dot(push, g) / g2 * displacement_per_accel);
+    if (!cv.impulses || cv.dynamic_count == 0 || length_sq(own_part) == 0.0f) return;
+    ColliderView start = cv;
+    start.cur = cv.prev;
+    const Vec3 g = boundary_at(s, start, x).gradient;
+    const float g2 = length_sq(g), along = -dot(own_part, g);
+    if (!(g2 > 0.0f) || !(along > 0.0f)) return;
+    record_boundary_push(s, start, x, -(along / g2) * displacement_per_accel);
 }
 
 // Limits |v| to max_speed, and never returns Inf or NaN, whatever it is given: every velocity
@@ -239,14 +228,10 @@ struct PredictOp {
         // LDC's push is a force per particle: a multiphase world divides it by the particle's mass.
         if (s.ldc_enabled) {
             const float k = material_ldc_k(ctx, m);
-            // The boundary where LDC's densities were taken: at x, the colliders at their start poses.
-            ColliderView start = cv;
-            start.cur = cv.prev;
-            const Vec3 g = boundary_at(s, start, x).gradient;
             const bool react = cv.impulses && cv.dynamic_count > 0;
-            Vec3 push;
-            accel += ldc_force(s, k, cell_begin, positions, density, i, masks, g, react ? &push : nullptr) * w_i;
-            if (react) record_ldc_reaction(s, start, x, g, push, w_i * ctx.dt * ctx.dt);
+            Vec3 own_part;
+            accel += ldc_force(s, k, cell_begin, positions, density, i, masks, react ? &own_part : nullptr) * w_i;
+            if (react) record_ldc_reaction(s, cv, x, own_part, w_i * ctx.dt * ctx.dt);
         }
         const Vec3 v = limit_speed(ctx, xyz(velocities[i]) + accel * ctx.dt);
         velocities[i] = make_vec4(v, 0.0f);
