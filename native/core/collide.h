@@ -300,4 +300,40 @@ PBF_HD void record_boundary_push(const WorldConstants& s, const ColliderView& cv
     });
 }
 
+// Which colliders near a particle take the reaction of its boundary push, in one register:
+// none near, only static ones, several with a dynamic one among them (their parts are summed
+// again by a second walk), or the index of the one collider near, which is dynamic (the usual
+// case: its part is the colliders' whole share).
+constexpr uint32_t kSeveralNear = 0xfffffffdu, kStaticNear = 0xfffffffeu, kNoneNear = 0xffffffffu;
+PBF_HD uint32_t next_reacting(uint32_t state, uint32_t k, bool dynamic) {
+    if (state == kNoneNear) return dynamic ? k : kStaticNear;
+    if (state == kStaticNear) return dynamic ? kSeveralNear : kStaticNear;
+    return kSeveralNear;
+}
+
+// The colliders' share at p (boundary_at without the walls) and which of them react.
+struct ColliderShares {
+    float density_ratio = 0.0f;
+    Vec3 gradient{0.0f, 0.0f, 0.0f};
+    uint32_t reacting = kNoneNear;
+};
+PBF_HD ColliderShares collider_shares(const WorldConstants& s, const ColliderView& cv, Vec3 p) {
+    ColliderShares c;
+    for_each_collider_share(s, cv, p, [&](uint32_t k, const Collider& col, const BoundarySample& part) {
+        c.density_ratio += part.density_ratio;
+        c.gradient += part.gradient;
+        c.reacting = next_reacting(c.reacting, k, (col.flags & kColliderDynamic) != 0);
+    });
+    return c;
+}
+
+// record_boundary_push for shares taken at p: the one dynamic collider's from them, several by
+// walking them again.
+PBF_HD void record_shares_push(const WorldConstants& s, const ColliderView& cv, Vec3 p, const ColliderShares& c,
+                               float lambda) {
+    if (c.reacting >= kStaticNear || lambda == 0.0f) return;
+    if (c.reacting == kSeveralNear) record_boundary_push(s, cv, p, lambda);
+    else record_push(cv, cv.shapes[c.reacting], cv.cur[c.reacting], p, c.gradient * lambda);
+}
+
 }  // namespace pbf

@@ -178,10 +178,12 @@ PBF_HD void record_ldc_reaction(const WorldConstants& s, const ColliderView& cv,
     if (!cv.impulses || cv.dynamic_count == 0 || length_sq(own_part) == 0.0f) return;
     ColliderView start = cv;
     start.cur = cv.prev;
-    const Vec3 g = boundary_at(s, start, x).gradient;
+    const ColliderShares colliders = collider_shares(s, start, x);
+    if (colliders.reacting >= kStaticNear) return;  // no dynamic collider within h
+    const Vec3 g = walls_boundary(s, x).gradient + colliders.gradient;
     const float g2 = length_sq(g), along = -dot(own_part, g);
     if (!(g2 > 0.0f) || !(along > 0.0f)) return;
-    record_boundary_push(s, start, x, -(along / g2) * displacement_per_accel);
+    record_shares_push(s, start, x, colliders, -(along / g2) * displacement_per_accel);
 }
 
 // Limits |v| to max_speed, and never returns Inf or NaN, whatever it is given: every velocity
@@ -240,17 +242,6 @@ struct PredictOp {
     }
 };
 
-// Which colliders near a particle take the reaction of its boundary push, in one register:
-// none near, only static ones, several with a dynamic one among them (their parts are summed
-// again by a second walk), or the index of the one collider near, which is dynamic (the usual
-// case: its part is the colliders' whole gradient).
-constexpr uint32_t kSeveralNear = 0xfffffffdu, kStaticNear = 0xfffffffeu, kNoneNear = 0xffffffffu;
-PBF_HD uint32_t next_reacting(uint32_t state, uint32_t k, bool dynamic) {
-    if (state == kNoneNear) return dynamic ? k : kStaticNear;
-    if (state == kStaticNear) return dynamic ? kSeveralNear : kStaticNear;
-    return kSeveralNear;
-}
-
 // ---- density constraint (Macklin & Müller 2013, Eq. 1-11) --------------------------------------
 // λ_i = -C_i / (Σ_k |∇_k C_i|² + ε) with C_i = ρ_i/ρ0 - 1. The constraint is unilateral
 // (C clamped at 0): particles at the free surface are not pulled together, which with few
@@ -305,26 +296,19 @@ struct LambdaOp {
         }
         // The colliders once: their density, their gradient (the denominator's, and the Δ
         // pass's), and which dynamic ones are within h (the reaction below).
-        float colliders_density = 0.0f;
-        Vec3 colliders_grad{0.0f, 0.0f, 0.0f};
-        uint32_t reacting = kNoneNear;
-        for_each_collider_share(s, ctx.colliders, xi, [&](uint32_t k, const Collider& c, const BoundarySample& part) {
-            colliders_density += part.density_ratio;
-            colliders_grad += part.gradient;
-            reacting = next_reacting(reacting, k, (c.flags & kColliderDynamic) != 0);
-        });
+        const ColliderShares colliders = collider_shares(s, ctx.colliders, xi);
         const BoundarySample walls = walls_boundary(s, xi);
         float denom;
         if (first) {
             // The walls' and colliders' density moves with x_i too (they carry no λ of their own).
-            const float self = length_sq(grad_i + walls.gradient + colliders_grad);
+            const float self = length_sq(grad_i + walls.gradient + colliders.gradient);
             denom = (1.0f + ctx.error_damping) * (sum_grad2 + (multiphase ? self * inverse_mass(s, ctx, i) : self)) +
                     ctx.lambda_epsilon;
             if (denominator) denominator[i] = denom;
         } else {
             denom = denominator[i];
         }
-        rho = rho * s.mass + (walls.density_ratio + colliders_density) * s.rest_density;
+        rho = rho * s.mass + (walls.density_ratio + colliders.density_ratio) * s.rest_density;
         density[i] = rho;
         // Error damping (XPBD's constraint damping with the substep's start as reference): the
         // target is C + γ (C - C₀) = 0, C₀ the error the particle started the substep with. New
@@ -337,11 +321,9 @@ struct LambdaOp {
         predicted[i].w = lambda;
         if (ctx.colliders.count == 0) return;
         // Packed, the Δ pass's push differs from the reaction below by at most 1e-4 of it.
-        colliders_gradient.store(i, colliders_grad);
-        if (reacting >= kStaticNear || !ctx.colliders.impulses || lambda == 0.0f) return;
-        const ColliderView cv = colliders_for_mass(ctx.colliders, inverse_mass(s, ctx, i));
-        if (reacting == kSeveralNear) record_boundary_push(s, cv, xi, lambda);  // walk them again (rare)
-        else record_push(cv, cv.shapes[reacting], cv.cur[reacting], xi, colliders_grad * lambda);
+        colliders_gradient.store(i, colliders.gradient);
+        if (colliders.reacting < kStaticNear && ctx.colliders.impulses)
+            record_shares_push(s, colliders_for_mass(ctx.colliders, inverse_mass(s, ctx, i)), xi, colliders, lambda);
     }
 };
 
