@@ -96,6 +96,39 @@ TEST_CASE("a freshly emitted block without s_corr stays calm through 200 steps o
     }, 0.0f);
 }
 
+// A pool emitted at rest (a lattice at rest density) and stepped at 1/60 s with a fixed substep
+// count must stay a resting pool: no particle thrown above the surface, its depth kept. Known
+// failure, tagged [!shouldfail] (remove the tag when it passes). Measured on the CPU (radius
+// 0.02 m, 0.72 x 0.36 x 0.72 m, LDC off, means after 1 s): 4 substeps keep it (top particle 0.364 m,
+// mean height 0.1790 m for the lattice's 0.1800); 16 substeps throw particles up to 0.47 m
+// (1.15 m/s within 0.5 s) and leave it 6 % expanded (mean height 0.1909 m); 8 substeps 0.395 m.
+// Without s_corr 16 substeps boil instead (kinetic energy rising), without the error damping the
+// pool expands 20 %: s_corr's growth as Δt falls (README, Physics) and the position solve at
+// small Δt. The default automatic substeps (2-4 in a resting pool) avoid it.
+TEST_CASE("a pool emitted at rest stays at rest with a fixed substep count of 4 or 16", "[realtime][!shouldfail]") {
+    const float r = 0.02f, side = 0.72f, depth = 0.36f;
+    for (uint32_t substeps : {4u, 16u}) {
+        pbf_world_desc d = tank(PBF_BACKEND_CPU, r, side, 0.8f, side, 8192);
+        d.solver.ldc_enabled = 0;
+        d.solver.substeps = substeps;
+        pbf_world_id w = create(d);
+        const uint32_t n = fill(w, 0, 0, 0, side, depth, side);
+        for (int k = 0; k < 60; ++k) REQUIRE_PBF(pbf_world_step(w, kDt));
+        const Particles p = read(w);
+        double top = 0.0, mean_height = 0.0;
+        for (uint32_t i = 0; i < p.count; ++i) {
+            top = std::max(top, double(p.pos[4 * i + 1]));
+            mean_height += p.pos[4 * i + 1] / double(p.count);
+        }
+        INFO(substeps << " substeps after 1 s: top particle " << top << " m, mean height " << mean_height
+                      << " m (the lattice's " << depth / 2 << " m)");
+        CHECK(p.count == n);
+        CHECK(top <= depth + 2 * r);  // nothing thrown more than a diameter above the surface
+        CHECK(std::fabs(mean_height - depth / 2) <= 0.01 * depth / 2);
+        REQUIRE_PBF(pbf_world_destroy(w));
+    }
+}
+
 TEST_CASE("variable frame times (1e-5 .. 1/30 s, mixed) keep a dam break finite and inside", "[realtime]") {
     pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.0125f, 0.8f, 0.5f, 0.1f, 4096);
     pbf_world_id w = create(d);
