@@ -281,16 +281,6 @@ PBF_HD void for_each_collider_share(const WorldConstants& s, const ColliderView&
     });
 }
 
-// The walls' and the colliders' share at p.
-PBF_HD BoundarySample boundary_at(const WorldConstants& s, const ColliderView& cv, Vec3 p) {
-    BoundarySample b = walls_boundary(s, p);
-    for_each_collider_share(s, cv, p, [&](uint32_t, const Collider&, const BoundarySample& c) {
-        b.density_ratio += c.density_ratio;
-        b.gradient += c.gradient;
-    });
-    return b;
-}
-
 // The boundary's push on a particle at p (its share of Δp: ∇C_boundary·λ, DeltaOp) recorded
 // as the reaction on each dynamic collider within h.
 PBF_HD void record_boundary_push(const WorldConstants& s, const ColliderView& cv, Vec3 p, float lambda) {
@@ -325,6 +315,13 @@ PBF_HD ColliderShares collider_shares(const WorldConstants& s, const ColliderVie
         c.reacting = next_reacting(c.reacting, k, (col.flags & kColliderDynamic) != 0);
     });
     return c;
+}
+
+// The walls' and the colliders' share at p.
+PBF_HD BoundarySample boundary_at(const WorldConstants& s, const ColliderView& cv, Vec3 p) {
+    const BoundarySample walls = walls_boundary(s, p);
+    const ColliderShares colliders = collider_shares(s, cv, p);
+    return BoundarySample{walls.density_ratio + colliders.density_ratio, walls.gradient + colliders.gradient};
 }
 
 // record_boundary_push for shares taken at p: the one dynamic collider's from them, several by
