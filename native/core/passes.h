@@ -366,11 +366,8 @@ struct DeltaOp {
         Vec3 c = xi;
         if (!(control && control->converged)) {  // converged: x* carries over unchanged
             Vec3 dp{0.0f, 0.0f, 0.0f};
-            // s_corr answers an arrangement (clumping) that the substep started with: it relaxes
-            // with the error damping, like any old error, so a tiny Δt does not turn its fixed
-            // push into a large velocity. Approximation (README, Physics): repeated every
-            // substep, the push is an acceleration of about k/(τ Δt), unbounded as Δt → 0.
-            const float scorr_k = s.scorr_k / (1.0f + ctx.error_damping);
+            // s_corr's k relaxes with Δt (StepContext::scorr_k, world.cpp).
+            const float scorr_k = ctx.scorr_k;
             for_each_listed_neighbor(s.grid, cell_begin, masks, i, [&](uint32_t j) {
                 if (j == i) return;
                 const Vec4 pj = predicted[j];
