@@ -80,7 +80,7 @@ TEST_CASE("a settled pool stays calm after one step of any dt from 1e-5 to 1/30 
 // 1/60 s gives it. Measured: 0.27 m/s with LDC on and off. Before, with LDC off the emitted
 // particles' error counted as new and went in one substep: 16.9 m/s within 2 ms. With s_corr
 // (default k = 0.1) the block reached 12.7 m/s while s_corr pushed k/(1 + γ) per substep (a force
-// growing as 1/Δt); k/(1 + γ)² keeps its force bounded as Δt → 0 (README, Physics).
+// growing as 1/Δt); below Δt = τ it now pushes k/(2γ²), bounded as Δt → 0 (README, Physics).
 TEST_CASE("a freshly emitted block stays calm through 200 steps of 1e-5 s, with and without s_corr", "[realtime]") {
     for (float scorr_k : {0.0f, pbf_solver_params_default().scorr_k}) {
         with_and_without_ldc([&](pbf_world_id w, uint32_t ldc) {
@@ -103,10 +103,9 @@ TEST_CASE("a freshly emitted block stays calm through 200 steps of 1e-5 s, with 
 // A pool emitted at rest (a lattice at rest density) and stepped at 1/60 s with a fixed substep
 // count must stay a resting pool: no particle thrown above the surface, its depth kept. Measured
 // on the CPU (radius 0.02 m, 0.72 x 0.36 x 0.72 m, LDC off, after 1 s): 4 substeps top particle
-// 0.359 m, mean height 0.1787 m for the lattice's 0.1800; 16 substeps 0.384 m and 0.1811 m. While
-// s_corr pushed k/(1 + γ) per substep, 16 substeps threw particles to 0.47 m and left the pool
-// 6 % expanded (k/(1 + γ)²: README, Physics). Beyond the bound: 32 substeps 0.407 m (+1.5 %),
-// 64 substeps 0.408 m (+2.1 %).
+// 0.363 m, mean height 0.1790 m for the lattice's 0.1800; 16 substeps 0.398 m and 0.1816 m (close
+// to both bounds). While s_corr pushed k/(1 + γ) per substep at any Δt, 16 substeps threw
+// particles to 0.47 m and left the pool 6 % expanded (README, Physics).
 TEST_CASE("a pool emitted at rest stays at rest with a fixed substep count of 4 or 16", "[realtime]") {
     const float r = 0.02f, side = 0.72f, depth = 0.36f;
     for (uint32_t substeps : {4u, 16u}) {

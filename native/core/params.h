@@ -161,7 +161,7 @@ struct StepContext {
     float lambda_epsilon;    // ε of λ (relaxation × the rest gradient norm)
     float error_damping;     // γ = τ / Δt: an error present at the substep's start relaxes by 1/(1 + γ)
     float ldc_k;             // LDC's K (1/s²)
-    float scorr_k;           // s_corr's k of this substep: WorldConstants::scorr_k / (1 + γ)²
+    float scorr_k;           // s_corr's k of this substep: WorldConstants::scorr_k · min(1/(1 + γ), 1/(2γ²))
     float xsph_c;            // XSPH factor of this substep (the user's c is per 1/60 s)
     float speed_limit;       // min(max_speed, the travel cap · h / Δt)
     ColliderView colliders;
