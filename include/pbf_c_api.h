@@ -128,7 +128,8 @@ typedef struct pbf_solver_params {
     float xsph_c;               /* XSPH viscosity c per 1/60 s of simulated time, 0..1 (default 0.01):
                                    a substep of Δt applies 1 - (1 - c)^(60 Δt), so the smoothing
                                    does not depend on the substep count. */
-    float vorticity_epsilon;    /* vorticity confinement ε, in m/s; >= 0 (default 0.0005) */
+    float vorticity_epsilon;    /* vorticity confinement ε, in m/s; 0..1 (default 0.0005). It adds
+                                   energy by design: above 1 m/s it outgrew the dissipation */
     uint32_t ldc_enabled;       /* 1: Local Density Calibration before the iterations (default 1) */
     float ldc_gain;             /* LDC strength as K·Δt² (dimensionless; Δt the substep), so the
                                    paper's K = ldc_gain / (Δt² + τ²), τ = h / sound_speed. 0..1
@@ -148,7 +149,7 @@ typedef struct pbf_solver_params {
                                    every particle within h per substep (stats count the cuts). */
     float substep_travel;       /* automatic substeps: the fastest particle's travel per substep, as a
                                    fraction of h, 0.05..1 (default 0.5) */
-    float sound_speed;          /* m/s, > 0 (default 40): the response speed of the density
+    float sound_speed;          /* m/s, >= 10 (default 40): the response speed of the density
                                    constraint to an error older than the substep. Such an error
                                    relaxes over τ = h / sound_speed rather than in one substep, so
                                    the velocity its removal creates stays near error · sound_speed

@@ -94,6 +94,8 @@ TEST_CASE("world desc: NaN, Inf and out-of-range fields are refused", "[api][nan
         {"substep_travel 0.01", [](pbf_world_desc& d) { d.solver.substep_travel = 0.01f; }, "substep_travel"},
         {"substep_travel NaN", [](pbf_world_desc& d) { d.solver.substep_travel = NAN; }, "substep_travel"},
         {"sound_speed 0", [](pbf_world_desc& d) { d.solver.sound_speed = 0.0f; }, "sound_speed"},
+        {"sound_speed 9.9", [](pbf_world_desc& d) { d.solver.sound_speed = 9.9f; }, "sound_speed"},
+        {"vorticity_epsilon 1.01", [](pbf_world_desc& d) { d.solver.vorticity_epsilon = 1.01f; }, "vorticity_epsilon"},
         {"sound_speed Inf", [](pbf_world_desc& d) { d.solver.sound_speed = INFINITY; }, "sound_speed"},
         {"ldc_enabled 2", [](pbf_world_desc& d) { d.solver.ldc_enabled = 2; }, "ldc_enabled"},
         {"relaxation 0", [](pbf_world_desc& d) { d.solver.relaxation = 0; }, "relaxation"},

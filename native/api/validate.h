@@ -41,13 +41,13 @@ inline uint32_t element_alignment(pbf_buffer source) {
     X(SOLVER_SUBSTEPS, PBF_ERROR_INVALID_ARGUMENT, "solver.substeps must be 0 (automatic) or 1..64")                 \
     X(SOLVER_MAX_SUBSTEPS, PBF_ERROR_INVALID_ARGUMENT, "solver.max_substeps must be 1..64")                          \
     X(SOLVER_SUBSTEP_TRAVEL, PBF_ERROR_INVALID_ARGUMENT, "solver.substep_travel must be 0.05..1 (a fraction of h)")  \
-    X(SOLVER_SOUND_SPEED, PBF_ERROR_INVALID_ARGUMENT, "solver.sound_speed must be finite and > 0")                   \
+    X(SOLVER_SOUND_SPEED, PBF_ERROR_INVALID_ARGUMENT, "solver.sound_speed must be finite and >= 10 (m/s)")          \
     X(SOLVER_RELAXATION, PBF_ERROR_INVALID_ARGUMENT, "solver.relaxation must be finite and > 0")                     \
     X(SOLVER_SCORR_K, PBF_ERROR_INVALID_ARGUMENT, "solver.scorr_k must be 0..1")                                     \
     X(SOLVER_SCORR_N, PBF_ERROR_INVALID_ARGUMENT, "solver.scorr_n must be 1..8")                                     \
     X(SOLVER_SCORR_DQ, PBF_ERROR_INVALID_ARGUMENT, "solver.scorr_dq must be in (0, 1) (a fraction of h)")            \
     X(SOLVER_XSPH_C, PBF_ERROR_INVALID_ARGUMENT, "solver.xsph_c must be 0..1")                                       \
-    X(SOLVER_VORTICITY, PBF_ERROR_INVALID_ARGUMENT, "solver.vorticity_epsilon must be 0..100")                       \
+    X(SOLVER_VORTICITY, PBF_ERROR_INVALID_ARGUMENT, "solver.vorticity_epsilon must be 0..1 (m/s)")                 \
     X(SOLVER_LDC_ENABLED, PBF_ERROR_INVALID_ARGUMENT, "solver.ldc_enabled must be 0 or 1")                           \
     X(SOLVER_LDC_GAIN, PBF_ERROR_INVALID_ARGUMENT, "solver.ldc_gain must be 0..1")                                   \
     X(SOLVER_MAX_SPEED, PBF_ERROR_INVALID_ARGUMENT, "solver.max_speed must be finite and > 0")                       \

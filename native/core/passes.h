@@ -342,7 +342,12 @@ PBF_HD float scorr_power(float ratio, float n) {
     return powf(ratio, n);
 }
 
-// Δp_i = (1/ρ0) Σ_j (λ_i + λ_j + s_corr) ∇W(x_i - x_j), s_corr = -k (W(r)/W(Δq))^n; Jacobi:
+// s_corr's (W(r)/W(Δq))^n is at most this: with Δq near h, W(Δq) is tiny and the term reached
+// 1e20 (a dam break at Δq = 0.7 h exploded; README, Physics). The defaults' largest value, at
+// r = 0, is 1.63 (below the cap: unchanged).
+constexpr float kScorrPowerCap = 2.0f;
+
+// Δp_i = (1/ρ0) Σ_j (λ_i + λ_j + s_corr) ∇W(x_i - x_j), s_corr = -k min((W(r)/W(Δq))^n, 2); Jacobi:
 // reads predicted, writes the corrected, collided position to corrected. The substep's last
 // iteration does the velocity update in the same pass (finish_positions set): v = (x* - x)/Δt
 // and x = x*, each particle writing only its own x and v, which no other thread reads here.
@@ -375,7 +380,7 @@ struct DeltaOp {
                 const float r2 = length_sq(d);
                 if (r2 >= s.h2) return;
                 const float ratio = poly6(r2, s.h2, s.poly6_coef) * s.scorr_inv_w_dq;
-                const float scorr = -scorr_k * scorr_power(ratio, s.scorr_n);
+                const float scorr = -scorr_k * fminf(scorr_power(ratio, s.scorr_n), kScorrPowerCap);
                 dp += pair_gradient(d, r2, s.h, s.spiky_coef, i, j) * (lambda_i + pj.w + scorr);
             });
             // The boundary's share of ∇C_i, weighted by λ_i alone (the boundary has no λ): the

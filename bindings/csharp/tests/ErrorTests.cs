@@ -114,6 +114,12 @@ namespace Pbf.Tests
             p.SoundSpeed = float.PositiveInfinity;
             Scene.ExpectError(Result.InvalidArgument, () => _world.SetSolverParams(p), "sound_speed");
             p = _world.GetSolverParams();
+            p.SoundSpeed = 5f;  // below 10 m/s the fluid compresses until particles overlap
+            Scene.ExpectError(Result.InvalidArgument, () => _world.SetSolverParams(p), "sound_speed must be finite and >= 10");
+            p = _world.GetSolverParams();
+            p.VorticityEpsilon = 2f;  // above 1 m/s confinement makes energy
+            Scene.ExpectError(Result.InvalidArgument, () => _world.SetSolverParams(p), "vorticity_epsilon must be 0..1");
+            p = _world.GetSolverParams();
             p.ScorrN = float.NaN;
             Scene.ExpectError(Result.InvalidArgument, () => _world.SetSolverParams(p), "scorr_n");
             p = _world.GetSolverParams();

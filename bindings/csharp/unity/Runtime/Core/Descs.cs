@@ -59,7 +59,7 @@ namespace Pbf
         /// <summary>XSPH viscosity c per 1/60 s of simulated time, 0..1 (default 0.01): a substep of
         /// Δt applies 1 - (1 - c)^(60 Δt), so the smoothing does not depend on the substep count.</summary>
         public float XsphC { get { return _raw.xsph_c; } set { _raw.xsph_c = value; } }
-        /// <summary>Vorticity confinement ε in m/s, &gt;= 0 (default 0.0005).</summary>
+        /// <summary>Vorticity confinement ε in m/s, 0..1 (default 0.0005).</summary>
         public float VorticityEpsilon { get { return _raw.vorticity_epsilon; } set { _raw.vorticity_epsilon = value; } }
         /// <summary>Local Density Calibration before the iterations (default on).</summary>
         public bool LdcEnabled { get { return _raw.ldc_enabled != 0; } set { _raw.ldc_enabled = value ? 1u : 0u; } }
@@ -79,7 +79,7 @@ namespace Pbf
         /// <summary>Automatic substeps: the fastest particle's travel per substep, as a fraction of h,
         /// 0.05..1 (default 0.5).</summary>
         public float SubstepTravel { get { return _raw.substep_travel; } set { _raw.substep_travel = value; } }
-        /// <summary>m/s, &gt; 0 (default 40): the response speed of the density constraint to an
+        /// <summary>m/s, &gt;= 10 (default 40): the response speed of the density constraint to an
         /// error older than the substep. Such an error relaxes over τ = h / SoundSpeed rather than in
         /// one substep, so the velocity its removal creates stays near error · SoundSpeed whatever dt
         /// is; new compression is removed in full every substep.</summary>
