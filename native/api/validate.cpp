@@ -64,14 +64,15 @@ Verdict validate_solver_params(const pbf_solver_params& p) {
     V(p.max_substeps >= 1 && p.max_substeps <= 64, SOLVER_MAX_SUBSTEPS);
     V(std::isfinite(p.substep_travel) && p.substep_travel >= 0.05f && p.substep_travel <= 1.0f, SOLVER_SUBSTEP_TRAVEL);
     // Below ~10 m/s old errors relax too slowly: a 0.4 m dam break at 3 m/s left particles 0.46
-    // radii apart, at 1 m/s 0.04 (overlapping). Above 1 m/s vorticity confinement makes energy:
-    // the same dam break gained 43 % of its energy at 3 m/s and exploded at 10.
+    // radii apart, at 1 m/s 0.04 (overlapping).
     V(std::isfinite(p.sound_speed) && p.sound_speed >= 10.0f, SOLVER_SOUND_SPEED);
     V(std::isfinite(p.relaxation) && p.relaxation > 0.0f, SOLVER_RELAXATION);
     V(in(p.scorr_k, 0.0f, 1.0f), SOLVER_SCORR_K);
     V(in(p.scorr_n, 1.0f, 8.0f), SOLVER_SCORR_N);
     V(std::isfinite(p.scorr_dq) && p.scorr_dq > 0.0f && p.scorr_dq < 1.0f, SOLVER_SCORR_DQ);
     V(in(p.xsph_c, 0.0f, 1.0f), SOLVER_XSPH_C);
+    // Above 1 m/s vorticity confinement makes energy: the same dam break gained 43 % of its
+    // energy at 3 m/s and exploded at 10.
     V(in(p.vorticity_epsilon, 0.0f, 1.0f), SOLVER_VORTICITY);
     V(p.ldc_enabled <= 1, SOLVER_LDC_ENABLED);
     V(in(p.ldc_gain, 0.0f, 1.0f), SOLVER_LDC_GAIN);
