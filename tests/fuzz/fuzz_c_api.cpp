@@ -403,7 +403,7 @@ void fuzz_params(Reader& in, pbf_solver_params* p) {
     if (mask & 0x010) p->scorr_n = in.f(1.0f, 8.0f);
     if (mask & 0x020) p->scorr_dq = in.f(0.0f, 1.0f);
     if (mask & 0x040) p->xsph_c = in.f(0.0f, 1.0f);
-    if (mask & 0x080) p->vorticity_epsilon = in.f(0.0f, 0.01f);
+    if (mask & 0x080) p->vorticity_epsilon = in.f(0.0f, 1.2f);  // > 1 m/s is refused
     if (mask & 0x100) p->ldc_enabled = in.u32(0, 1);
     if (mask & 0x200) p->ldc_gain = in.f(0.0f, 1.0f);
     if (mask & 0x400) p->max_speed = in.f(0.1f, 200.0f);
@@ -411,7 +411,7 @@ void fuzz_params(Reader& in, pbf_solver_params* p) {
     if (mask & 0x1000) p->adaptive_error_target = in.f(0.0f, 0.05f);
     if (mask & 0x2000) p->max_substeps = in.u32(0, 8);  // 0 is refused
     if (mask & 0x4000) p->substep_travel = in.f(0.0f, 1.2f);
-    if (mask & 0x8000) p->sound_speed = in.f(-1.0f, 100.0f);
+    if (mask & 0x8000) p->sound_speed = in.f(-1.0f, 100.0f);  // < 10 m/s is refused
 }
 
 // What check_solver_params accepts (a refused struct is checked to change nothing).
@@ -419,11 +419,11 @@ bool params_valid(const pbf_solver_params& p) {
     return p.struct_size == sizeof p && p.iterations >= 1 && p.iterations <= 64 && p.substeps <= 64 &&
            p.max_substeps >= 1 && p.max_substeps <= 64 && std::isfinite(p.substep_travel) &&
            p.substep_travel >= 0.05f && p.substep_travel <= 1.0f && std::isfinite(p.sound_speed) &&
-           p.sound_speed > 0 && std::isfinite(p.relaxation) && p.relaxation > 0 && std::isfinite(p.scorr_k) &&
+           p.sound_speed >= 10 && std::isfinite(p.relaxation) && p.relaxation > 0 && std::isfinite(p.scorr_k) &&
            p.scorr_k >= 0 && p.scorr_k <= 1 && std::isfinite(p.scorr_n) && p.scorr_n >= 1 && p.scorr_n <= 8 &&
            std::isfinite(p.scorr_dq) && p.scorr_dq > 0 && p.scorr_dq < 1 && std::isfinite(p.xsph_c) &&
            p.xsph_c >= 0 && p.xsph_c <= 1 && std::isfinite(p.vorticity_epsilon) && p.vorticity_epsilon >= 0 &&
-           p.vorticity_epsilon <= 100 && p.ldc_enabled <= 1 && std::isfinite(p.ldc_gain) && p.ldc_gain >= 0 &&
+           p.vorticity_epsilon <= 1 && p.ldc_enabled <= 1 && std::isfinite(p.ldc_gain) && p.ldc_gain >= 0 &&
            p.ldc_gain <= 1 && std::isfinite(p.max_speed) && p.max_speed > 0 && std::isfinite(p.adaptive_error_target) &&
            p.adaptive_error_target >= 0 && p.adaptive_error_target < 1;
 }
