@@ -1,9 +1,9 @@
 // Two-way coupling scenes (issue 13), shared by the CPU suite (test_coupling.cpp) and its [gpu]
 // twin (test_gpu_coupling.cpp): a box in a pool at rest (Archimedes), boxes released in a pool
 // and integrated by the test the way an engine integrates its rigid bodies, and a paddle.
-// Black-box: only the public header. Particle radius 0.02 m (spacing 0.04 m, h = 0.08 m); every
-// box face and pool level lies on the emission lattice, so the water starts at rest density
-// around the box.
+// Black-box: only the public header. Particle radius 0.02 m (spacing 0.04 m, h = 0.08 m), or a
+// Setup's (resolved(): 0.01 or 0.005 m); every box face and pool level lies on the emission
+// lattice, so the water starts at rest density around the box.
 #pragma once
 #include "support.h"
 
@@ -20,9 +20,11 @@ struct Box {
 // A tank of lx x ly x lz at the origin holding water to `depth`, except inside `hole`. With
 // open_ends the domain reaches 0.2 m beyond x = 0, x = lx and y = 0, where the caller stands
 // dynamic planes in for those walls.
+// r: the particle radius (every face of hole and the depth on its lattice of spacing 2 r).
 inline pbf_world_id pool(pbf_backend backend, float lx, float ly, float lz, float depth, const Box& hole,
-                         const pbf_solver_params* solver = nullptr, bool open_ends = false) {
-    pbf_world_desc d = scene::tank(backend, kR, lx, ly, lz, 16384);
+                         const pbf_solver_params* solver = nullptr, bool open_ends = false, float r = kR) {
+    const double sites = double(lx) * depth * lz / std::pow(2.0 * r, 3);
+    pbf_world_desc d = scene::tank(backend, r, lx, ly, lz, std::max(16384u, uint32_t(1.05 * sites) + 1024u));
     if (solver) d.solver = *solver;
     if (open_ends) {
         d.domain_min[0] = d.domain_min[1] = -0.2f;
@@ -92,12 +94,12 @@ inline double water_weight(pbf_world_id w, uint32_t* count = nullptr) {
 // The free surface away from a box: the mean over lattice columns farther than `margin` from
 // its footprint of the highest particle centre, plus one radius (a rest lattice filled to
 // depth d has its top centres at d - r).
-inline double surface_level(const scene::Particles& p, const Box& b, float margin) {
+inline double surface_level(const scene::Particles& p, const Box& b, float margin, float r = kR) {
     std::map<std::pair<int, int>, float> top;
     for (uint32_t i = 0; i < p.count; ++i) {
         const float x = p.pos[4 * i], y = p.pos[4 * i + 1], z = p.pos[4 * i + 2];
         if (x > b.lo[0] - margin && x < b.hi[0] + margin && z > b.lo[2] - margin && z < b.hi[2] + margin) continue;
-        const auto key = std::make_pair(int(std::floor(x / kSpacing)), int(std::floor(z / kSpacing)));
+        const auto key = std::make_pair(int(std::floor(x / (2.0f * r))), int(std::floor(z / (2.0f * r))));
         auto it = top.find(key);
         if (it == top.end()) top[key] = y;
         else it->second = std::max(it->second, y);
@@ -105,7 +107,7 @@ inline double surface_level(const scene::Particles& p, const Box& b, float margi
     REQUIRE(!top.empty());
     double sum = 0;
     for (const auto& [key, y] : top) sum += y;
-    return sum / double(top.size()) + kR;
+    return sum / double(top.size()) + r;
 }
 
 // The solver's defaults, with Local Density Calibration on or off.
@@ -115,13 +117,32 @@ inline pbf_solver_params solver(bool ldc) {
     return s;
 }
 
+// The particle radius and solver a buoyancy scene runs with.
+struct Setup {
+    float r = kR;
+    pbf_solver_params solver = coupling::solver(true);
+};
+
+// The defaults at radius 0.02 m: the 0.24 m box spans 6 particle diameters.
+inline Setup coarse(bool ldc = true) { return Setup{kR, solver(ldc)}; }
+
+// What README (Physics, Two-way coupling) asks of a scene whose buoyancy should be accurate: the
+// body at least 12 particle diameters across (radius r <= 0.01 m for the 0.24 m box), and the
+// fluid held near its rest density (adaptive iterations to a 0.3 % mean compression, up to 16
+// per substep), since a body feels the weight of the fluid it displaces, compressed or not.
+inline Setup resolved(float r) {
+    Setup s{r, solver(true)};
+    s.solver.iterations = 16;
+    s.solver.adaptive_error_target = 0.003f;
+    return s;
+}
+
 // A pool 0.72 m square, water 0.56 m deep, a 0.24 m box held at rest in its middle, 0.16 m
 // (two kernel radii) from the floor and from the surface. Returns the mean upward force over
 // the last second of three, and (through *expected) ρ g V.
-inline double submerged_box_force(pbf_backend backend, bool ldc, double* expected, double* torque) {
+inline double submerged_box_force(pbf_backend backend, const Setup& setup, double* expected, double* torque) {
     const Box b{{0.24f, 0.16f, 0.24f}, {0.48f, 0.40f, 0.48f}};
-    const pbf_solver_params s = solver(ldc);
-    pbf_world_id w = pool(backend, 0.72f, 0.8f, 0.72f, 0.56f, b, &s);
+    pbf_world_id w = pool(backend, 0.72f, 0.8f, 0.72f, 0.56f, b, &setup.solver, false, setup.r);
     const pbf_collider_id box = add_box(w, b, PBF_MOTION_STATIC);
     double fy = 0, tau = 0;
     int n = 0;
@@ -181,11 +202,10 @@ struct Release {
     double bottom = 0, submerged = 0, min_bottom = 1e9;
     double submerged_force_over_weight = 0;  // mean F_y / (m g) while fully under water, clear of the floor
 };
-inline Release release_box(pbf_backend backend, bool ldc, float density, float seconds, float average_s) {
+inline Release release_box(pbf_backend backend, const Setup& setup, float density, float seconds, float average_s) {
     const float half = 0.12f, lx = 0.72f;
     const Box hole{{0.24f, 1.0f, 0.24f}, {0.48f, 1.0f, 0.48f}};  // above the water: nothing left out
-    const pbf_solver_params s = solver(ldc);
-    pbf_world_id w = pool(backend, lx, 0.8f, lx, 0.36f, hole, &s);
+    pbf_world_id w = pool(backend, lx, 0.8f, lx, 0.36f, hole, &setup.solver, false, setup.r);
     Box b{{0.24f, 0.37f, 0.24f}, {0.48f, 0.37f + 2 * half, 0.48f}};
     const pbf_collider_id box = add_box(w, b, PBF_MOTION_KINEMATIC);
     const double mass = density * std::pow(2.0 * half, 3);
@@ -213,7 +233,7 @@ inline Release release_box(pbf_backend backend, bool ldc, float density, float s
         if (step >= steps - averaged) {  // the particles and the box at the same instant
             const scene::Particles p = scene::read(w);
             r.bottom += (reached - half) / averaged;
-            r.submerged += (surface_level(p, b, 0.12f) - (reached - half)) / (2 * half) / averaged;
+            r.submerged += (surface_level(p, b, 0.12f, setup.r) - (reached - half)) / (2 * half) / averaged;
         }
     }
     REQUIRE_PBF(pbf_world_destroy(w));
@@ -360,9 +380,9 @@ inline ManyBoxes many_boxes(pbf_backend backend) {
 // ---- the checks, run by the CPU suite and its [gpu] twin --------------------------------------
 namespace coupling {
 
-inline void check_archimedes(pbf_backend backend) {
+inline void check_archimedes(pbf_backend backend, const Setup& setup = coarse()) {
     double expected = 0, torque = 0;
-    const double fy = submerged_box_force(backend, true, &expected, &torque);
+    const double fy = submerged_box_force(backend, setup, &expected, &torque);
     INFO("mean upward force " << fy << " N, rho g V = " << expected << " N, largest |torque| " << torque << " N m");
     CHECK(std::fabs(fy - expected) <= 0.05 * expected);
     // A box symmetric about its centre: no torque beyond noise (1 % of rho g V at half its width).
@@ -375,15 +395,15 @@ inline void check_support(pbf_backend backend) {
     CHECK(std::fabs(ratio - 1.0) <= 0.005);
 }
 
-inline void check_floating(pbf_backend backend) {
-    const Release r = release_box(backend, true, 500.0f, 5.0f, 2.0f);
+inline void check_floating(pbf_backend backend, const Setup& setup = coarse()) {
+    const Release r = release_box(backend, setup, 500.0f, 5.0f, 2.0f);
     INFO("submerged fraction " << r.submerged << ", bottom " << r.bottom << " m");
     CHECK(std::fabs(r.submerged - 0.5) <= 0.05 * 0.5);
     CHECK(r.min_bottom > 0.05);  // it never touched the floor
 }
 
 inline void check_sinking(pbf_backend backend) {
-    const Release r = release_box(backend, true, 2000.0f, 3.0f, 0.5f);
+    const Release r = release_box(backend, coarse(), 2000.0f, 3.0f, 0.5f);
     INFO("lowest bottom " << r.min_bottom << " m, mean upward force / weight under water "
                           << r.submerged_force_over_weight);
     // On the floor, with at most one layer of water trapped under it (centres one radius above

@@ -1,7 +1,7 @@
 // [gpu] twins of test_coupling.cpp: the same scenes and bounds on the CUDA backend, where the
 // impulses are accumulated with device atomics (summed per warp first). Known failures as in
-// test_coupling.cpp; on an H100 (NVIDIA H100 80GB HBM3, 2026-11-23): Archimedes 140.05 N for
-// rho g V = 135.61 N (1.033) with a largest |torque| of 0.459 N m, floating 0.465 submerged.
+// test_coupling.cpp; on an H100 (NVIDIA H100 80GB HBM3, 2026-11-24): Archimedes 140.18 N for
+// rho g V = 135.61 N (1.034) with a largest |torque| of 0.403 N m, floating 0.460 submerged.
 #include "coupling_scenes.h"
 
 using namespace coupling;
@@ -16,6 +16,32 @@ TEST_CASE("coupling on CUDA: without LDC the box and the floor carry exactly the
 
 TEST_CASE("coupling on CUDA: a box of 500 kg/m3 floats half submerged within 5 %", "[gpu][coupling][!shouldfail]") {
     check_floating(PBF_BACKEND_CUDA);
+}
+
+// Resolved (README, Physics, Two-way coupling): the fluid held within 0.3 % of rest density, the
+// box 24 particle diameters across (radius 0.005 m: 276k particles around the submerged box,
+// 187k under the floating one) and 12 (0.01 m, the CPU suite's).
+TEST_CASE("coupling on CUDA: resolved at 24 diameters, a submerged box feels rho g V within 5 %", "[gpu][coupling]") {
+    check_archimedes(PBF_BACKEND_CUDA, resolved(0.005f));
+}
+
+TEST_CASE("coupling on CUDA: resolved at 24 diameters, a box of 500 kg/m3 floats half submerged within 5 %",
+          "[gpu][coupling]") {
+    check_floating(PBF_BACKEND_CUDA, resolved(0.005f));
+}
+
+// Known failure: at 12 diameters on CUDA the force is within 1 % (136.9 N for 135.6 N), but the
+// largest |torque| over the last second is 0.218 N m (bound 0.163), its mean 0.17 N m about x:
+// a stress the resting packing holds (the CPU run of this scene stays under the bound; 24
+// diameters, above, and 12 at 8 iterations stay under 0.08 N m). H100, this branch.
+TEST_CASE("coupling on CUDA: resolved at 12 diameters, a submerged box feels rho g V within 5 %",
+          "[gpu][coupling][!shouldfail]") {
+    check_archimedes(PBF_BACKEND_CUDA, resolved(0.01f));
+}
+
+TEST_CASE("coupling on CUDA: resolved at 12 diameters, a box of 500 kg/m3 floats half submerged within 5 %",
+          "[gpu][coupling]") {
+    check_floating(PBF_BACKEND_CUDA, resolved(0.01f));
 }
 
 TEST_CASE("coupling on CUDA: a box of 2000 kg/m3 sinks to the floor", "[gpu][coupling]") {

@@ -461,7 +461,9 @@ namespace Pbf
         public float Friction { get { return _raw.friction; } set { _raw.friction = value; } }
         /// <summary>Default false. True: the library records the force and torque the fluid exerts
         /// on the collider each step (<see cref="Collider.GetForce"/>); the engine integrates its
-        /// body and moves it (Kinematic, <see cref="Collider.SetTargetPose"/>).</summary>
+        /// body and moves it (Kinematic, <see cref="Collider.SetTargetPose"/>). Buoyancy is within 3 %
+        /// with the body at least 12 particle diameters across and the density held near rest
+        /// (<see cref="SolverParams.AdaptiveErrorTarget"/> 0.003; README, Physics, Two-way coupling).</summary>
         public bool Dynamic { get { return _raw.dynamic != 0; } set { _raw.dynamic = value ? 1u : 0u; } }
         /// <summary>Dynamic: the point torques are taken about, in the collider's own frame (default 0).</summary>
         public Vector3 CenterOfMass { get { return Convert3.FromNative(_raw.center_of_mass); } set { _raw.center_of_mass = Convert3.ToNative(value); } }
