@@ -572,6 +572,10 @@ static inline pbf_collider_desc pbf_collider_desc_default(void) {
     (void)pbf_collider_desc_init(&d, d.struct_size);
     return d;
 }
+/* A collider created where fluid is (or teleported there, or a block emitted into one) did not
+ * move into it: the next step's first substep moves the particles inside it out and settles
+ * what that piles at its surface, in their positions only, so the water is not flung (README,
+ * Physics, Overlaps; that substep runs at least 32 extra constraint iterations). */
 PBF_API pbf_result PBF_CALL pbf_world_create_collider(pbf_world_id world, const pbf_collider_desc* desc,
                                                       pbf_collider_id* out_collider);
 PBF_API pbf_result PBF_CALL pbf_world_destroy_collider(pbf_world_id world, pbf_collider_id collider);
@@ -580,9 +584,10 @@ PBF_API pbf_result PBF_CALL pbf_world_destroy_collider(pbf_world_id world, pbf_c
  * by slerp in rotation, one pose per substep). A static collider gives PBF_ERROR_INVALID_STATE. */
 PBF_API pbf_result PBF_CALL pbf_collider_set_target_pose(pbf_world_id world, pbf_collider_id collider,
                                                          const float position[3], const float rotation[4]);
-/* Any collider: puts it at this pose now, without moving it there (no sweep, no push: the next
- * step starts and ends at this pose, and so does a pending target). For engines that respawn or
- * stream a body: a target pose far away would sweep through the fluid in one step and fling it. */
+/* Any collider: puts it at this pose now, without moving it there (no sweep: the next step
+ * starts and ends at this pose, and so does a pending target). For engines that respawn or
+ * stream a body: a target pose far away would sweep through the fluid in one step and fling it.
+ * Fluid it lands in is moved out and settled as for a new collider (pbf_world_create_collider). */
 PBF_API pbf_result PBF_CALL pbf_collider_teleport(pbf_world_id world, pbf_collider_id collider, const float position[3],
                                                   const float rotation[4]);
 

@@ -2,7 +2,7 @@
 #include <array>
 #include <map>
 
-#include "support.h"
+#include "overlap_scenes.h"
 
 using namespace scene;
 
@@ -178,4 +178,13 @@ TEST_CASE("CUDA without render data: no render bytes, no render pass", "[gpu][re
     CHECK(pbf_world_copy_buffer(off, PBF_BUFFER_ANISOTROPY, out, sizeof out, &written) == PBF_ERROR_INVALID_STATE);
     REQUIRE_PBF(pbf_world_destroy(off));
     REQUIRE_PBF(pbf_world_destroy(on));
+}
+
+// The CPU suite's "a collider created or teleported into a settled pool moves the water out
+// without flinging it" (test_realtime.cpp) on the CUDA backend.
+TEST_CASE("CUDA: a collider created or teleported into a settled pool moves the water out without flinging it",
+          "[gpu][collide]") {
+    for (bool teleported : {false, true}) {
+        for (float dt : {1.0f / 60.0f, 1e-4f}) check_collider_appears(PBF_BACKEND_CUDA, teleported, dt);
+    }
 }

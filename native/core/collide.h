@@ -143,6 +143,24 @@ PBF_HD Vec3 collide(const WorldConstants& s, const ColliderView& cv, Vec3 p, Vec
     return min3(max3(p, s.wall_min), s.wall_max);
 }
 
+// Moves p out of every collider it overlaps at the substep's start poses, to `radius` outside
+// the surface as contact's projection does (no sweep, no friction, no reaction recorded), then
+// into the walls. For overlaps no motion made (a collider created or teleported into the
+// fluid, a block emitted into one): the caller moves x itself, so the move gives no velocity.
+PBF_HD Vec3 project_out_at_start(const WorldConstants& s, const ColliderView& cv, Vec3 p) {
+    ColliderView start = cv;
+    start.cur = cv.prev;
+    const Vec3 r{s.radius, s.radius, s.radius};
+    for_each_collider_on_path(start, p, p, s.radius, [&](uint32_t k) {
+        const Collider& c = start.shapes[k];
+        if (!overlaps(c.bounds, p - r, p + r)) return;
+        Vec3 n;
+        const float d = collider_distance(c, start.cur[k], p, n, start.meshes);
+        if (d < s.radius) p += n * (s.radius - d);
+    });
+    return min3(max3(p, s.wall_min), s.wall_max);
+}
+
 // ---- boundary density ------------------------------------------------------------------------
 // A solid half-space at distance y from a particle, filled at rest density, adds ρ0·Φ(y/h)
 // to its poly6 density, with Φ(t) = ∫_t^1 (315/256)(1 - s²)⁴ ds (the poly6 kernel integrated over

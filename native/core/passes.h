@@ -127,6 +127,43 @@ struct DensityOp {
     }
 };
 
+// ---- pre-stabilization (Macklin et al. 2014, Unified Particle Physics: constraints applied to x
+// before the prediction resolve initial overlaps without adding energy) ------------------------
+// For overlaps no motion made: a collider created or teleported into the fluid, a block emitted
+// into one. The solver runs these on the first substep after such a change (Solver::settle).
+// x moves out of the colliders it overlaps at the start poses.
+struct SettleOverlapOp {
+    WorldConstants s;
+    ColliderView colliders;
+    Vec4* positions;
+    PBF_HD void operator()(uint32_t i) const {
+        const Vec4 x = positions[i];
+        positions[i] = make_vec4(project_out_at_start(s, colliders, xyz(x)), x.w);
+    }
+};
+
+// The settling iterations' error damping γ: this large, the λ pass's target is each particle's
+// own C₀. At least kSettleIterations of them run: a 0.2 m box created half in a settled pool of
+// 0.02 m particles flung the water at 1.9 m/s after 16, 1.5 after 32, 1.1 after 64 (12 m/s with
+// the move out of the box alone, 14 with neither; the water lifted onto its top falls off at
+// about 1.1 m/s).
+constexpr float kSettleDamping = 1e6f;
+constexpr uint32_t kSettleIterations = 32;
+
+// x* = x, the starting point of the settling iterations.
+struct CopyPositionsOp {
+    const Vec4* from;
+    Vec4* to;
+    PBF_HD void operator()(uint32_t i) const { to[i] = from[i]; }
+};
+
+// x takes the settled x*; its w (ρ/ρ0 when the last substep ended) stays.
+struct AdoptSettledOp {
+    const Vec4* settled;
+    Vec4* positions;
+    PBF_HD void operator()(uint32_t i) const { positions[i] = make_vec4(xyz(settled[i]), positions[i].w); }
+};
+
 // ---- Local Density Calibration + external forces + prediction ----------------------------------
 // Meno & Tsuruno, Eq. 1-2: f_i = -K Σ_j ((ρ_j - ρ_i)/ρ0) h (1 - r/h) n_ij, n_ij = (x_j - x_i)/r.
 // The paper prints a scalar sum; its text fixes the direction: a particle is pushed toward

@@ -47,6 +47,7 @@ struct SubstepInput {
     std::vector<NozzleEmission> nozzles;
     std::vector<DrainBox> drains;
     uint32_t iterations = 1;
+    bool settle_overlaps = false;  // first move particles out of colliders, positions only (SettleOverlapOp)
 };
 
 // One pbf_world_step: its substeps and the colliders they see. Each collider moves from its

@@ -471,6 +471,9 @@ private:
         if (!in.drains.empty()) exec_.for_each(1, CommitDrainOp{&counters_->drained, &counters_->drained_total});
         if (!in.nozzles.empty() || !in.drains.empty()) grid_valid_ = density_valid_ = false;
 
+        // 0. Overlaps no motion made (a collider created or teleported into the fluid, a block
+        // emitted into one): settled in x, which gives no velocity.
+        if (in.settle_overlaps) settle(s, ctx, in.iterations);
         // 1. ρ at the current positions (grid of x): LDC needs it, and so does the λ pass's error
         // damping for particles emitted since the last density pass. Their positions.w, the error
         // C₀ a particle starts the substep with, is still the emission's 1: the compression they
@@ -603,6 +606,36 @@ private:
         std::swap(diffuse_[1], diffuse_[3]);
         ++diffuse_steps_;
         ++diffuse_updates_;
+    }
+
+    // Pre-stabilization (passes.h): the particles move out of the colliders they overlap, then
+    // constraint iterations run on x itself, each particle's target being the error C₀ it ended
+    // the last substep with (its positions.w), so that only what the move and a new boundary
+    // added is removed, and none of it becomes velocity. The move gives no momentum to the
+    // colliders (no impulses recorded) and s_corr stays out (it would move resting fluid). The
+    // density pass of the substep then takes what is left as the error the particles start
+    // with, which relaxes over τ (measured: README, Physics).
+    void settle(const WorldConstants& s, const StepContext& ctx, uint32_t iterations) {
+        if (ctx.colliders.count > 0) exec_.for_each(bound_, SettleOverlapOp{s, ctx.colliders, pos_});
+        build_grid(s, false);
+        StepContext settling = ctx;
+        settling.colliders.impulses = nullptr;
+        settling.error_damping = kSettleDamping;
+        settling.scorr_k = 0.0f;
+        exec_.for_each(bound_, CopyPositionsOp{pos_, pred_});
+        const NeighborMasks masks{masks_, sorted_keys_, config_.capacity};
+        const PackedVectors colliders_gradient{order_[0], reinterpret_cast<float*>(order_[1])};
+        const uint32_t settle_iterations = std::max(iterations, kSettleIterations);
+        for (uint32_t it = 0; it < settle_iterations; ++it) {
+            exec_.for_each(bound_, LambdaOp{s, settling, cell_begin_, masks, it == 0 ? 1u : 0u, pos_, pred_, density_,
+                                            nullptr, denominator_, colliders_gradient});
+            exec_.for_each(bound_, DeltaOp{s, settling, cell_begin_, masks, pos_, pred_, spare_, nullptr, nullptr,
+                                           nullptr, density_, colliders_gradient});
+            std::swap(pred_, spare_);
+        }
+        exec_.for_each(bound_, AdoptSettledOp{pred_, pos_});
+        grid_valid_ = density_valid_ = masks_valid_ = false;
+        emitted_since_density_ = true;
     }
 
     // Sorts particles by the cell of x (by_predicted false) or of x*, moves their data into

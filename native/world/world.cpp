@@ -353,6 +353,7 @@ Status World::step(float dt) {
         SubstepInput& in = input.substeps[k];
         in.ctx = ctx;
         in.iterations = params_.iterations;
+        in.settle_overlaps = k == 0 && overlaps_pending_;
         emitters_.for_each([&](EmitterEntry& e) {
             if (!e.desc.enabled) return;
             if (e.desc.type == PBF_EMITTER_DRAIN) {
@@ -390,6 +391,7 @@ Status World::step(float dt) {
         last_iterations_ = params_.iterations * substeps;
         emitted_speed_ = 0.0f;
         emitted_depth_ = 0.0f;
+        overlaps_pending_ = false;
         if (attachment_) st = attachment_->after_step();  // e.g. copies into graphics buffers
     }
     return st;
@@ -507,6 +509,15 @@ Status World::emit_block(const pbf_block_desc& d, uint32_t* emitted) {
         const float along = std::fabs(gravity_.x) * float(b.nx - 1) + std::fabs(gravity_.y) * float(b.ny - 1) +
                             std::fabs(gravity_.z) * float(b.nz - 1);
         if (g > 0.0f) emitted_depth_ = std::fmax(emitted_depth_, along * b.spacing / g);
+        // Into a collider: the next step settles the overlap (Solver::settle). Tested against
+        // the colliders' bounds, so that blocks emitted clear of them cost no settling.
+        const Vec3 reach{desc_.particle_radius, desc_.particle_radius, desc_.particle_radius};
+        const Vec3 lo = b.origin - reach;
+        const Vec3 hi = b.origin + Vec3{float(b.nx - 1), float(b.ny - 1), float(b.nz - 1)} * b.spacing + reach;
+        colliders_.for_each([&](ColliderEntry& e) {
+            const ColliderKey at_rest{e.position, e.position, quat_of(e.rotation), quat_of(e.rotation)};
+            if (overlaps(swept_bounds(e.collider, at_rest), lo, hi)) overlaps_pending_ = true;
+        });
     }
     if (st.ok() && *emitted == 0)
         return Status::error(PBF_ERROR_CAPACITY, "world is full (max_particles = " +
@@ -589,6 +600,7 @@ Status World::create_collider(const pbf_collider_desc& d, pbf_collider_id* out) 
         return st;
     }
     if (mesh) ++mesh->users;
+    overlaps_pending_ = true;
     *out = pbf_collider_id{h.index, h.generation};
     return st;
 }

@@ -220,6 +220,9 @@ private:
     float mass_ = 0.0f, h_ = 0.0f, gradient_norm2_ = 0.0f, boundary_scale_ = 0.0f, box_edge_scale_ = 0.0f;
     float emitted_speed_ = 0.0f;  // fastest particle emitted since the last step (block velocity)
     float emitted_depth_ = 0.0f;  // tallest block emitted since the last step, along gravity (m)
+    // A collider created or teleported, or a block emitted, since the last step: particles may
+    // overlap a collider without having moved into it (the step's first substep settles them).
+    bool overlaps_pending_ = false;
     GridDims grid_{};
     std::unique_ptr<Backend> backend_;
     SlotTable<EmitterEntry> emitters_;

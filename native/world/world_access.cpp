@@ -64,6 +64,7 @@ Status World::teleport_collider(pbf_collider_id id, const float position[3], con
     store_pose(position, rotation, &e->position, e->rotation);
     e->target_position = e->position;
     std::memcpy(e->target_rotation, e->rotation, sizeof e->rotation);
+    overlaps_pending_ = true;
     return colliders_changed();
 }
 

@@ -110,8 +110,9 @@ namespace Pbf
             PbfException.Check(Native.pbf_collider_set_target_pose(World.Handle, Id, ref p, ref q));
         }
 
-        /// <summary>Any collider: puts it at this pose now, without moving it there (no sweep, no
-        /// push: the next step starts and ends here). For respawned or streamed bodies.</summary>
+        /// <summary>Any collider: puts it at this pose now, without moving it there (no sweep: the
+        /// next step starts and ends here). For respawned or streamed bodies. Fluid it lands in is
+        /// moved out and settled in the next step without being flung (README, Physics, Overlaps).</summary>
         public void Teleport(Vector3 position, Quaternion rotation)
         {
             Float3 p = Convert3.ToNative(position);

@@ -239,6 +239,8 @@ namespace Pbf
         /// <summary>A drain: removes the particles inside boxMin..boxMax at each step.</summary>
         public Emitter CreateDrain(Vector3 boxMin, Vector3 boxMax) { return CreateEmitter(EmitterDesc.Drain(boxMin, boxMax)); }
 
+        /// <summary>A collider. Created where fluid is, the next step moves the particles inside it
+        /// out and settles them without flinging them (README, Physics, Overlaps).</summary>
         public Collider CreateCollider(ColliderDesc desc)
         {
             if (desc == null) throw new ArgumentNullException("desc");
