@@ -1,7 +1,8 @@
 // [gpu] twins of test_coupling.cpp: the same scenes and bounds on the CUDA backend, where the
 // impulses are accumulated with device atomics (summed per warp first). Known failures as in
-// test_coupling.cpp; on an H100 (NVIDIA H100 80GB HBM3, 2026-11-24): Archimedes 140.18 N for
-// rho g V = 135.61 N (1.034) with a largest |torque| of 0.403 N m, floating 0.460 submerged.
+// test_coupling.cpp; on an H100 (NVIDIA H100 80GB HBM3, 2026-11-24): Archimedes 140.2-142.1 N
+// for rho g V = 135.61 N (1.034-1.048) with a largest |torque| of 0.40-0.51 N m, floating
+// 0.460-0.467 submerged (two runs, before and after the overlap settling of e4f292b).
 #include "coupling_scenes.h"
 
 using namespace coupling;
@@ -30,12 +31,14 @@ TEST_CASE("coupling on CUDA: resolved at 24 diameters, a box of 500 kg/m3 floats
     check_floating(PBF_BACKEND_CUDA, resolved(0.005f));
 }
 
-// Known failure: at 12 diameters on CUDA the force is within 1 % (136.9 N for 135.6 N), but the
-// largest |torque| over the last second is 0.218 N m (bound 0.163), its mean 0.17 N m about x:
-// a stress the resting packing holds (the CPU run of this scene stays under the bound; 24
-// diameters, above, and 12 at 8 iterations stay under 0.08 N m). H100, this branch.
+// May fail ([!mayfail]: reported, not fatal): at 12 diameters on CUDA the force is within 1-2 %
+// (136.9 N for 135.6 N), but one run's largest |torque| over the last second was 0.218 N m
+// (bound 0.163), its mean 0.17 N m about x, a stress the resting packing holds, while the next
+// run (after the first step began settling the new box's boundary: README, Physics, Overlaps)
+// stayed under the bound: the scene is chaotic. The CPU run of it stays under; 24 diameters,
+// above, stay under 0.06 N m. H100.
 TEST_CASE("coupling on CUDA: resolved at 12 diameters, a submerged box feels rho g V within 5 %",
-          "[gpu][coupling][!shouldfail]") {
+          "[gpu][coupling][!mayfail]") {
     check_archimedes(PBF_BACKEND_CUDA, resolved(0.01f));
 }
 
