@@ -514,10 +514,9 @@ Status World::emit_block(const pbf_block_desc& d, uint32_t* emitted) {
         const Vec3 reach{desc_.particle_radius, desc_.particle_radius, desc_.particle_radius};
         const Vec3 lo = b.origin - reach;
         const Vec3 hi = b.origin + Vec3{float(b.nx - 1), float(b.ny - 1), float(b.nz - 1)} * b.spacing + reach;
-        colliders_.for_each([&](ColliderEntry& e) {
-            const ColliderKey at_rest{e.position, e.position, quat_of(e.rotation), quat_of(e.rotation)};
-            if (overlaps(swept_bounds(e.collider, at_rest), lo, hi)) overlaps_pending_ = true;
-        });
+        ColliderSetAtRest rest;
+        gather_colliders(false, &rest.shapes, &rest.keys);
+        for (const Collider& c : rest.shapes) overlaps_pending_ = overlaps_pending_ || overlaps(c.bounds, lo, hi);
     }
     if (st.ok() && *emitted == 0)
         return Status::error(PBF_ERROR_CAPACITY, "world is full (max_particles = " +
