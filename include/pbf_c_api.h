@@ -1,6 +1,6 @@
 /*
  * libpbf: real-time Position Based Fluids (with Local Density Calibration) for game engines.
- * Public C ABI, version 1. Pure C99.
+ * Public C ABI, version 2. Pure C99.
  *
  * Conventions
  * - Every fallible call returns a pbf_result. On failure, pbf_last_error_message() returns a
@@ -269,6 +269,49 @@ typedef enum pbf_backend {
     PBF_BACKEND_CUDA = 2,
     PBF_BACKEND_FORCE32 = 0x7FFFFFFF
 } pbf_backend;
+
+/* Whether a backend can run on this machine, and if not, why (pbf_get_backend_info). The CUDA
+ * backend needs no CUDA toolkit or runtime: the library opens the NVIDIA driver itself at run
+ * time (libcuda.so.1 / nvcuda.dll) and runs kernels embedded in it. */
+typedef enum pbf_backend_status {
+    PBF_BACKEND_STATUS_AVAILABLE = 0,
+    PBF_BACKEND_STATUS_NOT_BUILT = 1,          /* this library was built without the backend */
+    PBF_BACKEND_STATUS_NO_DRIVER = 2,          /* no NVIDIA driver: its library was not found */
+    PBF_BACKEND_STATUS_DRIVER_TOO_OLD = 3,     /* older than required_driver_version */
+    PBF_BACKEND_STATUS_NO_DEVICE = 4,          /* a driver, but no CUDA device of that ordinal */
+    PBF_BACKEND_STATUS_DEVICE_UNSUPPORTED = 5, /* a GPU the kernels do not run on (before
+                                                  compute capability 7.5) */
+    PBF_BACKEND_STATUS_DRIVER_ERROR = 6,       /* the driver failed to start, or to load the
+                                                  kernels: the message gives its error */
+    PBF_BACKEND_STATUS_FORCE32 = 0x7FFFFFFF
+} pbf_backend_status;
+
+typedef struct pbf_backend_info {
+    uint32_t struct_size;
+    pbf_backend backend;              /* the backend described; for AUTO, the one a world
+                                         created with AUTO on that device gets */
+    pbf_backend_status status;
+    int32_t cuda_device;              /* the device described (CUDA); -1 for the CPU */
+    int32_t device_count;             /* CUDA devices the driver reports (0 without a driver) */
+    int32_t driver_version;           /* the driver's CUDA version, 1000·major + 10·minor (0
+                                         without a driver), e.g. 13000 for 13.0 */
+    int32_t required_driver_version;  /* the least driver version the kernels need (0 in a
+                                         build without CUDA) */
+    uint32_t reserved0;
+    char device_name[128];            /* e.g. "NVIDIA GeForce RTX 4070" or "CPU (8 threads)";
+                                         empty where there is no such device */
+    char message[512];                /* why the backend is unavailable (for AUTO: why CUDA was
+                                         not taken), or what was found */
+} pbf_backend_info;
+
+/* Describes backend (AUTO, CPU or CUDA) on CUDA device cuda_device (ignored for the CPU) into
+ * *out_info (struct_size set by the caller). Returns PBF_OK whether or not the backend is
+ * available: out_info->status says which. The first call looking at a CUDA device opens the driver
+ * and loads the kernels into that device's context (tens to hundreds of milliseconds); later calls
+ * and world creations reuse them. Setting the environment variable PBF_CUDA_DRIVER to a library's
+ * path makes the library open that one instead of the system's driver (diagnostics). */
+PBF_API pbf_result PBF_CALL pbf_get_backend_info(pbf_backend backend, int32_t cuda_device,
+                                                 pbf_backend_info* out_info);
 
 typedef struct pbf_world_desc {
     uint32_t struct_size;

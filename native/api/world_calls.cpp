@@ -6,10 +6,12 @@
 
 #include "api_common.h"
 
+using pbf::CudaAvailability;
 using pbf::Status;
 using pbf::World;
 using pbf::api::fail;
 using pbf::api::guarded;
+using pbf::api::raw;
 using pbf::api::log_message;
 
 namespace {
@@ -44,10 +46,13 @@ PBF_API pbf_result PBF_CALL pbf_world_create(const pbf_world_desc* d, pbf_world_
         PBF_VALIDATE(pbf::api::validate_render_params(d->render));
         PBF_CHECK_STRUCT(pbf_diffuse_params, &d->diffuse);
         PBF_VALIDATE(pbf::api::validate_diffuse_params(d->diffuse));
-        if (d->backend == PBF_BACKEND_CUDA && !World::cuda_available(d->cuda_device))
-            return fail(PBF_ERROR_BACKEND_UNAVAILABLE,
-                        std::string(fn) + ": PBF_BACKEND_CUDA requested but CUDA device " +
-                            std::to_string(d->cuda_device) + " is not available (no device, no driver, or a CPU-only build)");
+        if (d->backend == PBF_BACKEND_CUDA) {
+            const CudaAvailability cuda = World::cuda_available(d->cuda_device);
+            if (!cuda.ok())
+                return fail(PBF_ERROR_BACKEND_UNAVAILABLE,
+                            std::string(fn) + ": PBF_BACKEND_CUDA requested, but CUDA device " +
+                                std::to_string(d->cuda_device) + " cannot be used: " + cuda.message);
+        }
 
         Status st;
         std::unique_ptr<World> world = World::create(*d, &st);
@@ -57,6 +62,8 @@ PBF_API pbf_result PBF_CALL pbf_world_create(const pbf_world_desc* d, pbf_world_
         *out = pbf::api::insert_world(std::move(world));
         log_message(PBF_LOG_INFO, std::string("world created on ") + info.device_name + ", capacity " +
                                       std::to_string(d->max_particles));
+        if (d->backend == PBF_BACKEND_AUTO && info.backend == PBF_BACKEND_CPU)
+            log_message(PBF_LOG_INFO, "CUDA not taken: " + World::cuda_available(d->cuda_device).message);
         return PBF_OK;
     });
 }
@@ -134,6 +141,19 @@ PBF_API pbf_result PBF_CALL pbf_world_set_render_params(pbf_world_id id, const p
                                       "this world has " + std::to_string(w->render_flags()) + ", got " +
                         std::to_string(p->flags));
         w->set_render_params(*p);
+        return PBF_OK;
+    });
+}
+
+PBF_API pbf_result PBF_CALL pbf_get_backend_info(pbf_backend backend, int32_t cuda_device, pbf_backend_info* out) {
+    const char* fn = "pbf_get_backend_info";
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_CHECK_STRUCT(pbf_backend_info, out);
+        const int32_t b = raw(backend);
+        PBF_REQUIRE_ARG(b == PBF_BACKEND_AUTO || b == PBF_BACKEND_CPU || b == PBF_BACKEND_CUDA,
+                        "backend must be PBF_BACKEND_AUTO, PBF_BACKEND_CPU or PBF_BACKEND_CUDA");
+        PBF_REQUIRE_ARG(b == PBF_BACKEND_CPU || cuda_device >= 0, "cuda_device must be >= 0");
+        World::describe_backend(backend, cuda_device, out);
         return PBF_OK;
     });
 }

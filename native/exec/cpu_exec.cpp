@@ -43,7 +43,9 @@ Status CpuExec::init(uint32_t, uint32_t num_cells) {
     return Status{};
 }
 
-std::string CpuExec::device_name() const {
+std::string CpuExec::device_name() const { return cpu_device_name(); }
+
+std::string cpu_device_name() {
 #ifdef _OPENMP
     return "CPU (" + std::to_string(omp_get_max_threads()) + " threads)";
 #else

@@ -2,6 +2,7 @@
 // reduction reads back, and whether a CUDA device is usable.
 #pragma once
 #include <cstdint>
+#include <string>
 
 #include "../common/status.h"
 
@@ -19,7 +20,25 @@ struct StatsReadback {
     uint64_t diffuse_generated_total = 0, diffuse_dropped_total = 0;
 };
 
-// Whether a CUDA device is usable (false in CPU-only builds: cuda_unavailable.cpp).
-bool cuda_device_available(int32_t device);
+// What was found when looking for the CUDA backend on one device: PBF_BACKEND_STATUS_AVAILABLE,
+// or why not, in words an engine can show.
+struct CudaAvailability {
+    pbf_backend_status status = PBF_BACKEND_STATUS_NOT_BUILT;
+    std::string message;
+    int driver_version = 0;           // the driver's CUDA version (0: no driver)
+    int required_driver_version = 0;  // what the embedded kernels need (0: none built in)
+    int device_count = 0;
+    std::string device_name;          // the device asked about, where it exists
+    double kernel_load_ms = 0.0;      // the load of the kernels into its context, when done
+    bool ok() const { return status == PBF_BACKEND_STATUS_AVAILABLE; }
+};
+
+// Whether CUDA device `device` can run a world: the driver is opened and the kernels loaded into
+// the device's context on the first call for it (cuda_module.cpp; in builds without CUDA,
+// cuda_unavailable.cpp says NOT_BUILT).
+CudaAvailability cuda_availability(int32_t device);
+
+// The CPU backend's device, e.g. "CPU (8 threads)" (cpu_exec.cpp).
+std::string cpu_device_name();
 
 }  // namespace pbf

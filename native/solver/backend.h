@@ -1,7 +1,7 @@
 // The solver layer's door for the world: what a world asks of its compute backend, and what one
 // substep needs. One implementation, Solver<Exec> (solver.h), runs the same passes on either
 // executor (native/exec): CpuExec (OpenMP) or CudaExec (one stream per world); the factories
-// are in solver_cpu.cpp and solver_cuda.cu.
+// are in solver_cpu.cpp and solver_cuda.cpp.
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -13,6 +13,7 @@
 #include "../core/params.h"
 #include "../core/diffuse_ops.h"
 #include "../core/render_ops.h"
+#include "../core/step_ops.h"
 #include "mesh_input.h"
 #include "pbf_c_api.h"
 
@@ -65,15 +66,6 @@ struct StepInput {
 struct ColliderSetAtRest {
     std::vector<Collider> shapes;
     std::vector<ColliderKey> keys;
-};
-
-// What a step leaves for the host to read without waiting (the next step's substep choice):
-// valid once the step has finished on the backend; the host reads the latest finished one.
-struct StepFeedback {
-    float max_speed = 0.0f;     // fastest particle at the end of the step (m/s)
-    uint32_t speed_clamps = 0;  // particle-substeps whose speed a limit cut
-    uint32_t steps = 0;         // steps finished (0: no feedback yet)
-    float fluid_depth = 0.0f;   // the particles' extent along gravity at the end of the step (m)
 };
 
 struct BlockEmission {

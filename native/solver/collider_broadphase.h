@@ -16,7 +16,7 @@ constexpr uint32_t kLinearColliders = 8;
 constexpr uint32_t kMaxCellsPerCollider = 64;
 
 // Sizes of a world's broad-phase buffers, fixed at creation from max_colliders; each list
-// travels in one staging slot (cuda_exec.cu: 256 KB): 32 entries per collider, 64K at most.
+// travels in one staging slot (cuda_exec.h: 256 KB): 32 entries per collider, 64K at most.
 struct ColliderGridCapacity {
     uint32_t buckets = 0;  // a power of two; 0: the world never builds a grid
     uint32_t entries = 0;

@@ -1,6 +1,6 @@
 // The step, written once: the order of passes (Meno & Tsuruno Fig. 3 on top of Macklin &
 // Müller 2013), instantiated with CpuExec in solver_cpu.cpp and with CudaExec in
-// solver_cuda.cu. Exec supplies memory, for_each(n, op), a key/value sort and reductions.
+// solver_cuda.cpp. Exec supplies memory, for_each(n, op), a key/value sort and reductions.
 #pragma once
 #include <algorithm>
 #include <utility>
@@ -9,54 +9,12 @@
 #include "backend.h"
 #include "mesh_field.h"
 #include "../core/passes.h"
+#include "../core/step_ops.h"
 #include "../core/diffuse_ops.h"
 #include "../core/render_ops.h"
 #include "collider_broadphase.h"
 
 namespace pbf {
-
-// Counters that live in backend memory so the step never reads them back.
-struct DeviceCounters {
-    uint32_t count;         // live particles in slots [0, count)
-    uint32_t next_id;
-    uint32_t drained;       // drained this step, folded into drained_total
-    uint32_t pad;
-    unsigned long long emitted_total;
-    unsigned long long drained_total;
-    IterationControl control;
-    uint32_t speed_clamps;  // particle-substeps a speed limit cut, this step
-    uint32_t steps;         // steps finished
-    FeedbackBits feedback;  // the fastest particle and the fluid's extent at the end of the step
-    uint32_t pad2;
-};
-
-// One thread at the start of a step: clears the step's counters.
-struct BeginStepOp {
-    DeviceCounters* c;
-    PBF_HD void operator()(uint32_t) const {
-        c->control.converged = 0;
-        c->control.error_sum = 0.0f;
-        c->control.iterations_used = 0;
-        c->speed_clamps = 0;
-        c->feedback = FeedbackBits{0, 0, 0};
-    }
-};
-
-// One thread at the end of a step: publishes what the host reads without waiting.
-struct PublishFeedbackOp {
-    DeviceCounters* c;
-    HeightFrame frame;
-    StepFeedback* out;  // host-visible memory
-    PBF_HD void operator()(uint32_t) const {
-        ++c->steps;
-        StepFeedback f;
-        f.max_speed = float_from_bits(c->feedback.speed);
-        f.speed_clamps = c->speed_clamps;
-        f.steps = c->steps;
-        f.fluid_depth = fluid_depth(frame, c->feedback);
-        *out = f;
-    }
-};
 
 template <class Exec>
 class Solver final : public Backend {

@@ -178,7 +178,7 @@ std::unique_ptr<World> World::create(const pbf_world_desc& desc, Status* status)
                          render_constants(desc.render, desc.particle_radius, w->h_), diffuse_constants(desc.diffuse),
                          w->h_};
     pbf_backend kind = desc.backend;
-    if (kind == PBF_BACKEND_AUTO) kind = cuda_device_available(desc.cuda_device) ? PBF_BACKEND_CUDA : PBF_BACKEND_CPU;
+    if (kind == PBF_BACKEND_AUTO) kind = cuda_availability(desc.cuda_device).ok() ? PBF_BACKEND_CUDA : PBF_BACKEND_CPU;
     w->backend_ = kind == PBF_BACKEND_CUDA ? create_cuda_backend(config, status) : create_cpu_backend(config, status);
     if (!w->backend_) return nullptr;
     w->init_materials();

@@ -9,7 +9,38 @@
 
 namespace pbf {
 
-bool World::cuda_available(int32_t device) { return cuda_device_available(device); }
+CudaAvailability World::cuda_available(int32_t device) { return cuda_availability(device); }
+
+void World::describe_backend(pbf_backend backend, int32_t device, pbf_backend_info* out) {
+    const uint32_t size = out->struct_size;
+    std::memset(out, 0, sizeof *out);
+    out->struct_size = size;
+    auto copy = [](char* dst, size_t capacity, const std::string& text) {
+        std::strncpy(dst, text.c_str(), capacity - 1);
+        dst[capacity - 1] = '\0';
+    };
+    CudaAvailability cuda;
+    if (backend != PBF_BACKEND_CPU) {
+        cuda = cuda_availability(device);
+        out->device_count = cuda.device_count;
+        out->driver_version = cuda.driver_version;
+        out->required_driver_version = cuda.required_driver_version;
+    }
+    if (backend == PBF_BACKEND_CUDA || (backend == PBF_BACKEND_AUTO && cuda.ok())) {
+        out->backend = PBF_BACKEND_CUDA;
+        out->status = cuda.status;
+        out->cuda_device = device;
+        copy(out->device_name, sizeof out->device_name, cuda.device_name);
+        copy(out->message, sizeof out->message, cuda.message);
+        return;
+    }
+    out->backend = PBF_BACKEND_CPU;
+    out->status = PBF_BACKEND_STATUS_AVAILABLE;
+    out->cuda_device = -1;
+    copy(out->device_name, sizeof out->device_name, cpu_device_name());
+    copy(out->message, sizeof out->message,
+         backend == PBF_BACKEND_AUTO ? "CUDA not taken: " + cuda.message : "the CPU backend is always available");
+}
 
 pbf_backend World::backend_kind() const { return backend_->kind(); }
 

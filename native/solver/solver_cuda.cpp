@@ -1,5 +1,5 @@
 // The solver on the CUDA executor.
-#include "../exec/cuda_exec.cuh"
+#include "../exec/cuda_exec.h"
 #include "solver.h"
 
 namespace pbf {
