@@ -323,3 +323,40 @@ TEST_CASE("set_gravity, set_solver_params and step: NaN, Inf and bad dt are refu
     REQUIRE_OK(pbf_world_step(w, 1.0f));
     w.require_usable(n);
 }
+
+TEST_CASE("pbf_get_backend_info: arguments, and the CPU backend always there", "[api]") {
+    pbf_backend_info info;
+    std::memset(&info, 0, sizeof info);
+    info.struct_size = sizeof info;
+    CHECK_FAILS(pbf_get_backend_info(PBF_BACKEND_CPU, 0, nullptr), PBF_ERROR_INVALID_ARGUMENT, "NULL");
+    pbf_backend_info small = info;
+    small.struct_size = sizeof small - 4;
+    CHECK_FAILS(pbf_get_backend_info(PBF_BACKEND_CPU, 0, &small), PBF_ERROR_STRUCT_SIZE, "struct_size");
+    CHECK_FAILS(pbf_get_backend_info(static_cast<pbf_backend>(3), 0, &info), PBF_ERROR_INVALID_ARGUMENT, "backend");
+    CHECK_FAILS(pbf_get_backend_info(PBF_BACKEND_CUDA, -1, &info), PBF_ERROR_INVALID_ARGUMENT, "cuda_device");
+
+    REQUIRE_PBF(pbf_get_backend_info(PBF_BACKEND_CPU, 0, &info));
+    CHECK(info.backend == PBF_BACKEND_CPU);
+    CHECK(info.status == PBF_BACKEND_STATUS_AVAILABLE);
+    CHECK(info.cuda_device == -1);
+    CHECK(std::string(info.device_name).rfind("CPU (", 0) == 0);
+
+    // CUDA is described either way: available, or a status that names why not, with a message;
+    // AUTO is then CUDA exactly when CUDA is available.
+    pbf_backend_info cuda = info, automatic = info;
+    REQUIRE_PBF(pbf_get_backend_info(PBF_BACKEND_CUDA, 0, &cuda));
+    REQUIRE_PBF(pbf_get_backend_info(PBF_BACKEND_AUTO, 0, &automatic));
+    CHECK(cuda.backend == PBF_BACKEND_CUDA);
+    CHECK(std::strlen(cuda.message) > 0);
+    if (cuda.status == PBF_BACKEND_STATUS_AVAILABLE) {
+        CHECK(automatic.backend == PBF_BACKEND_CUDA);
+    } else {
+        CHECK(automatic.backend == PBF_BACKEND_CPU);
+        CHECK(std::string(automatic.message) == std::string("CUDA not taken: ") + cuda.message);
+        pbf_world_desc d = pbf_world_desc_default();
+        d.backend = PBF_BACKEND_CUDA;
+        pbf_world_id w{7, 7};
+        CHECK_FAILS(pbf_world_create(&d, &w), PBF_ERROR_BACKEND_UNAVAILABLE, cuda.message);
+        CHECK(w.index == 0);
+    }
+}

@@ -188,3 +188,40 @@ TEST_CASE("CUDA: a collider created or teleported into a settled pool moves the 
         for (float dt : {1.0f / 60.0f, 1e-4f}) check_collider_appears(PBF_BACKEND_CUDA, teleported, dt);
     }
 }
+
+TEST_CASE("the CUDA backend is found through the driver the library opens itself", "[gpu]") {
+    pbf_backend_info cuda;
+    std::memset(&cuda, 0, sizeof cuda);
+    cuda.struct_size = sizeof cuda;
+    REQUIRE_PBF(pbf_get_backend_info(PBF_BACKEND_CUDA, 0, &cuda));
+    INFO(cuda.message);
+    CHECK(cuda.backend == PBF_BACKEND_CUDA);
+    CHECK(cuda.status == PBF_BACKEND_STATUS_AVAILABLE);
+    CHECK(cuda.device_count >= 1);
+    CHECK(cuda.required_driver_version > 0);
+    CHECK(cuda.driver_version >= cuda.required_driver_version);
+    CHECK(std::strlen(cuda.device_name) > 0);
+
+    pbf_backend_info automatic = cuda;
+    REQUIRE_PBF(pbf_get_backend_info(PBF_BACKEND_AUTO, 0, &automatic));
+    CHECK(automatic.backend == PBF_BACKEND_CUDA);
+    CHECK(automatic.status == PBF_BACKEND_STATUS_AVAILABLE);
+
+    // A world created with AUTO runs where the info said, on the device it named.
+    pbf_world_desc d = pbf_world_desc_default();
+    d.max_particles = 64;
+    pbf_world_id w = create(d);
+    pbf_world_info info;
+    std::memset(&info, 0, sizeof info);
+    info.struct_size = sizeof info;
+    REQUIRE_PBF(pbf_world_get_info(w, &info));
+    CHECK(info.backend == PBF_BACKEND_CUDA);
+    CHECK(std::string(info.device_name) == cuda.device_name);
+    pbf_world_destroy(w);
+
+    // A device ordinal past the last is refused with its reason.
+    pbf_backend_info missing = cuda;
+    REQUIRE_PBF(pbf_get_backend_info(PBF_BACKEND_CUDA, cuda.device_count, &missing));
+    CHECK(missing.status == PBF_BACKEND_STATUS_NO_DEVICE);
+    CHECK(std::string(missing.message).find("no CUDA device") != std::string::npos);
+}

@@ -142,12 +142,12 @@ void* CudaExec::alloc_host_bytes(size_t bytes) {
 }
 
 void CudaExec::release_host_visible(void* p) {
-    if (p) cu_->cuMemFreeHost(p);
+    if (p && cu_) cu_->cuMemFreeHost(p);
 }
 
 void CudaExec::release(void* p) {
     // The driver's free waits for the work queued on the memory to finish.
-    if (p) cu_->cuMemFree(dptr(p));
+    if (p && cu_) cu_->cuMemFree(dptr(p));
 }
 
 void CudaExec::zero(void* p, size_t bytes) {
