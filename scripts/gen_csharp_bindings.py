@@ -34,6 +34,7 @@ How C becomes C# (rules, so that a new declaration needs no change here):
       const T* of a number, or a T* followed  ref T        (an array: ref array[0] or
         by an integer argument (its length)                 ref MemoryMarshal.GetReference(span))
       void* followed by an integer argument   ref float and ref byte (a buffer of any element)
+      const char*                             ref byte     (the first byte of NUL-terminated UTF-8)
       any other T* / void**                   out T / out IntPtr (one value written back)
   - Every `static inline T pbf_x_default(void)` of the header becomes a C# method that does what
     its body does: zero a T, set struct_size, call the init function it calls.
@@ -367,15 +368,41 @@ def xml(text):
     return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
 
 
-def doc(lines, indent):
-    """/// <summary> of comment lines, or nothing."""
-    if not lines:
-        return []
+def doc(lines, indent, remarks=()):
+    """/// <summary> of comment lines (and <remarks>), or nothing."""
     pad = " " * indent
-    body = [xml(l) for l in lines]
-    if len(body) == 1:
-        return [pad + "/// <summary>" + body[0] + "</summary>"]
-    return [pad + "/// <summary>"] + [(pad + "/// " + l).rstrip() for l in body] + [pad + "/// </summary>"]
+    out = []
+    for tag, text in (("summary", lines), ("remarks", list(remarks))):
+        if not text:
+            continue
+        body = [xml(l) for l in text]
+        if len(body) == 1:
+            out.append(pad + "/// <%s>%s</%s>" % (tag, body[0], tag))
+        else:
+            out += [pad + "/// <%s>" % tag] + [(pad + "/// " + l).rstrip() for l in body] + [pad + "/// </%s>" % tag]
+    return out
+
+
+def function_remarks(ci, fn, params):
+    """What C# code must know about the function's IntPtr-only arguments and result."""
+    T = ci.TypeKind
+    out = []
+
+    def fn_pointer(t):
+        c = t.get_canonical()
+        return c.kind == T.POINTER and c.get_pointee().get_canonical().kind == T.FUNCTIONPROTO
+
+    for p in params:
+        if fn_pointer(p.type):
+            out.append("%s: a function pointer, Marshal.GetFunctionPointerForDelegate of a %s delegate that "
+                       "the caller keeps alive, or IntPtr.Zero for NULL." % (p.spelling, p.type.spelling))
+    r = fn.result_type
+    if fn_pointer(r):
+        out.append("Returns the %s as a raw function pointer (Marshal.GetDelegateForFunctionPointer reads it)."
+                   % r.spelling)
+    elif r.get_canonical().kind == T.POINTER and r.get_canonical().get_pointee().get_canonical().kind == T.CHAR_S:
+        out.append("Returns UTF-8 text owned by the library (Native.Utf8ToString decodes it).")
+    return out
 
 
 # ---- Writing C# --------------------------------------------------------------------------------
@@ -519,7 +546,7 @@ def generate_native(h, mapper):
                 combos = [prev + [x] for x in a for prev in combos]
             # Typed first, all-IntPtr last: order by how many arguments are IntPtr.
             combos.sort(key=lambda cb: sum(1 for a in cb if a.startswith("IntPtr ")))
-            members += [""] + doc(comment_lines(c.raw_comment), 8)
+            members += [""] + doc(comment_lines(c.raw_comment), 8, function_remarks(ci, c, params))
             ret = mapper.result(c.result_type)
             for cb in combos:
                 members += ["        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]",

@@ -1191,14 +1191,17 @@ namespace Pbf.Interop
 
         // ---- Results and errors
         /// <summary>Message of the calling thread's last failed call ("" if none). Never NULL.</summary>
+        /// <remarks>Returns UTF-8 text owned by the library (Native.Utf8ToString decodes it).</remarks>
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern IntPtr pbf_last_error_message();
 
         /// <summary>Static name of a result code, e.g. "PBF_ERROR_INVALID_HANDLE". Never NULL.</summary>
+        /// <remarks>Returns UTF-8 text owned by the library (Native.Utf8ToString decodes it).</remarks>
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern IntPtr pbf_result_string(pbf_result result);
 
         /// <summary>Pass NULL to remove. Process-wide.</summary>
+        /// <remarks>callback: a function pointer, Marshal.GetFunctionPointerForDelegate of a pbf_log_fn delegate that the caller keeps alive, or IntPtr.Zero for NULL.</remarks>
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern void pbf_set_log_callback(IntPtr callback, IntPtr user_data);
 
@@ -1390,6 +1393,7 @@ namespace Pbf.Interop
         public static extern pbf_result pbf_world_get_profile(pbf_world_id world, IntPtr out_profile);
 
         /// <summary>The name of stage `stage` (e.g. "lambda"), or NULL outside 0..stage_count-1.</summary>
+        /// <remarks>Returns UTF-8 text owned by the library (Native.Utf8ToString decodes it).</remarks>
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern IntPtr pbf_profile_stage_name(uint stage);
 
@@ -1974,6 +1978,7 @@ namespace Pbf.Interop
         // ---- The render-thread entry point
         public const int PBF_RENDER_EVENT_ALL_WORLDS = 0;
 
+        /// <remarks>Returns the pbf_render_event_fn as a raw function pointer (Marshal.GetDelegateForFunctionPointer reads it).</remarks>
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern IntPtr pbf_get_render_event_func();
 
