@@ -123,8 +123,8 @@ def comment_blocks(raw):
         out = []
         for i, line in enumerate(lines):
             line = line.strip()
-            if i > 0 and line.startswith("*"):
-                line = line[1:].strip()
+            if i > 0:
+                line = re.sub(r"^\*(\s+|$)", "", line)
             if i == len(lines) - 1 and line.endswith("*"):
                 line = line[:-1].rstrip()
             out.append(line)
@@ -287,9 +287,8 @@ FIXED_PREFIX = {"float": ("Float", "f"), "byte": ("Bytes", "b"), "uint": ("UInt"
 
 
 class Mapper:
-    def __init__(self, ci, header):
+    def __init__(self, ci):
         self.ci = ci
-        self.header = header
         self.fixed = {}          # C# name -> (element C# type, N, is_char)
 
     def fixed_array(self, t):
@@ -667,7 +666,7 @@ def generate(header_path=HEADER):
     ci = load_cindex()
     PRIMITIVES.update(_kinds())
     h = Header(ci, header_path)
-    mapper = Mapper(ci, h)
+    mapper = Mapper(ci)
     return {NATIVE_CS: generate_native(h, mapper), LAYOUT_DUMP: generate_dump(h)}
 
 
