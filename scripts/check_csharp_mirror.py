@@ -1,20 +1,20 @@
 #!/usr/bin/env python3
-"""The C# mirror against include/pbf_c_api.h, by name, without building anything:
+"""The C# bindings against include/pbf_c_api.h, without building anything:
 
   python3 scripts/check_csharp_mirror.py
 
-1. every PBF_API function of the header has a DllImport in Native.cs, and Native.cs imports
-   nothing the header lacks;
-2. every struct, field, enum constant and numeric PBF_* macro of the header is listed in
-   bindings/csharp/tools/layout_dump.c: the dump bindings/csharp/tests/LayoutTests.cs compares,
-   size by size and value by value, with the C# mirror. A header addition missing from the dump
-   would otherwise go unchecked;
-3. every pbf_buffer kind has a member of the friendly BufferSource enum (by value);
-4. every field of every *_desc and *_params struct is reached by the friendly layer (a `.field`
-   access in Runtime/Core outside Native.cs), but for the raw-only structs and fields below.
+1. the generated raw layer (Native.cs) and layout dump (tools/layout_dump.c) are what
+   scripts/gen_csharp_bindings.py makes of the header now: a header change without a
+   regenerated mirror fails here (bindings/csharp/tests/LayoutTests.cs then compares the dump,
+   size by size and value by value, with the C# mirror);
+2. every pbf_buffer kind has a member of the friendly BufferSource enum (by value);
+3. every field of every *_desc and *_params struct is reached by the friendly layer (a `.field`
+   access in Runtime/Core outside the generated Native.cs), but for the raw-only structs and
+   fields below.
 
 Then it checks itself: on a copy of the header with a new function, a new world desc field and a
-new buffer kind it must fail (at least three checks).
+new buffer kind it must fail (three checks); and the generator must carry a new struct (fixed
+char and byte arrays, a nested struct) and a function taking it into both generated files.
 
 Ends with 'csharp mirror: N passed, N failed'; exit 1 on any failure.
 """
@@ -27,11 +27,9 @@ import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import pbf_packages as P  # noqa: E402  (the header parser the package checks use)
+import gen_csharp_bindings as G  # noqa: E402
 
 CORE = os.path.join(P.ROOT, "bindings", "csharp", "unity", "Runtime", "Core")
-DUMP = os.path.join(P.ROOT, "bindings", "csharp", "tools", "layout_dump.c")
-# Macros that are not values: the include guard and the export/calling-convention decorations.
-NOT_VALUES = {"PBF_C_API_H", "PBF_API", "PBF_CALL"}
 # External memory and semaphores are raw-layer only (bindings/csharp/README.md says so); a desc's
 # struct_size, reserved fields and header_version are filled by the bindings' *_desc_init calls.
 RAW_ONLY_STRUCTS = {"pbf_external_buffer_desc", "pbf_semaphore_desc"}
@@ -51,27 +49,9 @@ def header_structs(text):
     return out
 
 
-def header_enums(text):
-    """{enum: [constant, ...]} of every 'typedef enum X { ... } X;'."""
-    out = {}
-    for m in re.finditer(r"typedef\s+enum\s+\w+\s*\{(.*?)\}\s*(\w+)\s*;", text, re.S):
-        out[m.group(2)] = [re.match(r"\s*(\w+)", e).group(1) for e in m.group(1).split(",") if e.strip()]
-    return out
-
-
 def header_buffer_values(text):
     m = re.search(r"typedef\s+enum\s+pbf_buffer\s*\{(.*?)\}", text, re.S)
     return {name: int(value, 0) for name, value in re.findall(r"(\w+)\s*=\s*(0x[0-9A-Fa-f]+|\d+)", m.group(1))}
-
-
-def header_macros(text):
-    """Object-like PBF_* macros with a value (function-like ones have '(' after the name)."""
-    names = re.findall(r"#\s*define\s+(PBF_\w+)[ \t]+\S", text)
-    return sorted(set(names) - NOT_VALUES)
-
-
-def csharp_imports(native_cs):
-    return set(re.findall(r"static\s+extern\s+[\w.\[\]]+\s+(pbf_\w+)\s*\(", native_cs))
 
 
 def csharp_enum_values(source, name):
@@ -84,44 +64,15 @@ def csharp_enum_values(source, name):
 def check(report):
     """Adds the checks above to report."""
     text = P._header_text()
-    with open(os.path.join(CORE, "Native.cs"), encoding="utf-8") as f:
-        native_cs = f.read()
-    with open(DUMP, encoding="utf-8") as f:
-        dump = f.read()
-
-    want, have = P.header_functions(), csharp_imports(native_cs)
-    if want - have:
-        report.fail("Native.cs lacks DllImports of: %s" % ", ".join(sorted(want - have)))
+    stale = G.stale(G.generate(P.HEADER))
+    if stale:
+        report.fail("the generated bindings differ from what %s makes of the header "
+                    "(run python3 scripts/gen_csharp_bindings.py):\n%s"
+                    % (os.path.relpath(P.HEADER, P.ROOT), "".join(d for _, d in stale)[:4000]))
     else:
-        report.ok("Native.cs imports all %d functions of the header" % len(want))
-    if have - want:
-        report.fail("Native.cs imports functions the header does not declare: %s" % ", ".join(sorted(have - want)))
-    else:
-        report.ok("Native.cs imports nothing the header lacks")
-
+        report.ok("Native.cs and tools/layout_dump.c are generated from the header as it is "
+                  "(scripts/gen_csharp_bindings.py --check)")
     structs = header_structs(text)
-    missing = [s for s in structs if "STRUCT(%s)" % s not in dump]
-    missing += ["%s.%s" % (s, f) for s, fs in structs.items() for f in fs if "FIELD(%s, %s)" % (s, f) not in dump]
-    if missing:
-        report.fail("layout_dump.c lacks (so LayoutTests cannot compare them): %s" % ", ".join(missing))
-    else:
-        report.ok("layout_dump.c lists all %d structs and %d fields of the header"
-                  % (len(structs), sum(len(f) for f in structs.values())))
-
-    enums = header_enums(text)
-    missing = ["%s.%s" % (e, c) for e, cs in enums.items() for c in cs if "ENUM(%s, %s)" % (e, c) not in dump]
-    if missing:
-        report.fail("layout_dump.c lacks enum constants: %s" % ", ".join(missing))
-    else:
-        report.ok("layout_dump.c lists all %d constants of the header's %d enums"
-                  % (sum(len(c) for c in enums.values()), len(enums)))
-
-    macros = header_macros(text)
-    missing = [m for m in macros if "CONST(%s)" % m not in dump]
-    if missing:
-        report.fail("layout_dump.c lacks the macros: %s" % ", ".join(missing))
-    else:
-        report.ok("layout_dump.c lists all %d PBF_* value macros of the header" % len(macros))
 
     sources, friendly_layer = "", ""
     for name in sorted(os.listdir(CORE)):
@@ -177,6 +128,48 @@ def selftest(report):
         report.ok("self-test: fails (%d times) on a header with a new function, desc field and buffer kind" % inner.failed)
     else:
         report.fail("self-test: a header with a new function, desc field and buffer kind failed only %d checks" % inner.failed)
+    generator_selftest(report, text)
+
+
+NEW_DECLS = """
+typedef struct pbf_selftest_info {
+    uint32_t struct_size;
+    uint32_t available;         /* selftest field doc */
+    char name[32];
+    char device_name[128];
+    uint8_t uuid[16];
+    pbf_world_id world;
+    float origin[3];
+} pbf_selftest_info;
+/* selftest function doc */
+PBF_API pbf_result PBF_CALL pbf_get_selftest_info(pbf_backend backend, pbf_selftest_info* out_info);
+"""
+
+
+def generator_selftest(report, text):
+    """A struct of fixed arrays and a nested struct, and a function that fills it, added to the
+    header, reach both generated files with no change to the generator."""
+    anchor = "PBF_API pbf_result PBF_CALL pbf_world_step("
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "pbf_c_api.h")
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(text.replace(anchor, NEW_DECLS + anchor, 1))
+        files = G.generate(path)
+    cs, dump = files[G.NATIVE_CS], files[G.LAYOUT_DUMP]
+    want_cs = ["public struct pbf_selftest_info", "public uint available;", "public Char32 name;",
+               "public Char128 device_name;", "public Bytes16 uuid;", "public pbf_world_id world;",
+               "public Float3 origin;", "public struct Char32", "/// <summary>selftest field doc</summary>",
+               "/// <summary>selftest function doc</summary>",
+               "pbf_get_selftest_info(pbf_backend backend, ref pbf_selftest_info out_info);",
+               "pbf_get_selftest_info(pbf_backend backend, IntPtr out_info);"]
+    want_dump = ["STRUCT(pbf_selftest_info);"] + ["FIELD(pbf_selftest_info, %s);" % f for f in
+                                                  ("struct_size", "available", "name", "device_name", "uuid", "world", "origin")]
+    missing = [w for w in want_cs if w not in cs] + [w for w in want_dump if w not in dump]
+    if missing:
+        report.fail("generator self-test: a new struct and function did not reach the bindings: %s" % "; ".join(missing))
+    else:
+        report.ok("generator self-test: a new struct (char[32], char[128], uint8_t[16], a nested handle, "
+                  "float[3]) and a function filling it reach Native.cs and layout_dump.c")
 
 
 def main():

@@ -6,10 +6,10 @@
 #   1. scripts/check_unity_package.sh        the Unity package as Unity's importer reads it
 #   2. pbf_packages.py unity-selftest        that check fails on broken copies of the package
 #   3. scripts/check_nuget.sh LIBDIR         pack the NuGet package, validate it, consume it under Mono
-#   4. scripts/check_csharp_mirror.py         every function, struct, field, enum constant, macro and
-#                                            buffer kind of the header has its C# counterpart
-#                                            (the layout dump LayoutTests compares lists them all),
-#                                            the friendly layer reaches every desc field; self-test
+#   4. scripts/check_csharp_mirror.py         the C# raw layer and the layout dump are what
+#                                            scripts/gen_csharp_bindings.py makes of the header now,
+#                                            every buffer kind has a BufferSource member, the
+#                                            friendly layer reaches every desc field; self-tests
 #   5. tools/check_unity_sample.sh           the package's UnityEngine scripts and its sample compile
 #                                            (mcs against UnityEngine stubs; shaders with glslang);
 #                                            skipped, and said so, without mcs or glslang

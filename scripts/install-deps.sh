@@ -5,14 +5,15 @@
 #
 #   scripts/install-deps.sh            the build, the tests, the samples, tools/bake (CLI11,
 #                                      nlohmann-json), the headless renderer (EGL, GL, Mesa), the install check and the C# package
-#                                      checks (nuget, unzip, python3)
+#                                      checks (nuget, unzip, python3, python3-clang: the C#
+#                                      bindings' generator)
 #   scripts/install-deps.sh windows    also the Windows cross build and its tests
 #                                      (MinGW-w64 posix-thread compilers, Wine)
 set -euo pipefail
 
 packages=(cmake g++ make pkg-config libeigen3-dev catch2 libpng-dev
           mono-mcs mono-runtime nunit-console libnunit-cil-dev
-          libcli11-dev nlohmann-json3-dev nuget unzip python3
+          libcli11-dev nlohmann-json3-dev nuget unzip python3 python3-clang
           libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri)  # the renderer's smoke test (Mesa llvmpipe)
 if [ "${1:-}" = windows ]; then
   packages+=(g++-mingw-w64-x86-64-posix gcc-mingw-w64-x86-64-posix wine wine64)
