@@ -66,6 +66,15 @@ int main(void) {
     ENUM(pbf_backend, PBF_BACKEND_CUDA);
     ENUM(pbf_backend, PBF_BACKEND_FORCE32);
 
+    ENUM(pbf_backend_status, PBF_BACKEND_STATUS_AVAILABLE);
+    ENUM(pbf_backend_status, PBF_BACKEND_STATUS_NOT_BUILT);
+    ENUM(pbf_backend_status, PBF_BACKEND_STATUS_NO_DRIVER);
+    ENUM(pbf_backend_status, PBF_BACKEND_STATUS_DRIVER_TOO_OLD);
+    ENUM(pbf_backend_status, PBF_BACKEND_STATUS_NO_DEVICE);
+    ENUM(pbf_backend_status, PBF_BACKEND_STATUS_DEVICE_UNSUPPORTED);
+    ENUM(pbf_backend_status, PBF_BACKEND_STATUS_DRIVER_ERROR);
+    ENUM(pbf_backend_status, PBF_BACKEND_STATUS_FORCE32);
+
     ENUM(pbf_emitter_type, PBF_EMITTER_NOZZLE);
     ENUM(pbf_emitter_type, PBF_EMITTER_DRAIN);
     ENUM(pbf_emitter_type, PBF_EMITTER_TYPE_FORCE32);
@@ -119,6 +128,7 @@ int main(void) {
     printf("enumsize pbf_result %lu\n", (unsigned long)sizeof(pbf_result));
     printf("enumsize pbf_log_level %lu\n", (unsigned long)sizeof(pbf_log_level));
     printf("enumsize pbf_backend %lu\n", (unsigned long)sizeof(pbf_backend));
+    printf("enumsize pbf_backend_status %lu\n", (unsigned long)sizeof(pbf_backend_status));
     printf("enumsize pbf_emitter_type %lu\n", (unsigned long)sizeof(pbf_emitter_type));
     printf("enumsize pbf_collider_shape %lu\n", (unsigned long)sizeof(pbf_collider_shape));
     printf("enumsize pbf_collider_motion %lu\n", (unsigned long)sizeof(pbf_collider_motion));
@@ -189,6 +199,18 @@ int main(void) {
     FIELD(pbf_diffuse_params, buoyancy);
     FIELD(pbf_diffuse_params, bubble_drag);
     FIELD(pbf_diffuse_params, spray_drag);
+
+    STRUCT(pbf_backend_info);
+    FIELD(pbf_backend_info, struct_size);
+    FIELD(pbf_backend_info, backend);
+    FIELD(pbf_backend_info, status);
+    FIELD(pbf_backend_info, cuda_device);
+    FIELD(pbf_backend_info, device_count);
+    FIELD(pbf_backend_info, driver_version);
+    FIELD(pbf_backend_info, required_driver_version);
+    FIELD(pbf_backend_info, reserved0);
+    FIELD(pbf_backend_info, device_name);
+    FIELD(pbf_backend_info, message);
 
     STRUCT(pbf_world_desc);
     FIELD(pbf_world_desc, struct_size);

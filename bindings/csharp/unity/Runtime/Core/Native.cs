@@ -97,6 +97,55 @@ namespace Pbf.Interop
         }
     }
 
+    /// <summary>char[512] of the header: a NUL-terminated UTF-8 string.</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct Char512
+    {
+        public byte c000, c001, c002, c003, c004, c005, c006, c007, c008, c009, c010, c011, c012, c013, c014, c015;
+        public byte c016, c017, c018, c019, c020, c021, c022, c023, c024, c025, c026, c027, c028, c029, c030, c031;
+        public byte c032, c033, c034, c035, c036, c037, c038, c039, c040, c041, c042, c043, c044, c045, c046, c047;
+        public byte c048, c049, c050, c051, c052, c053, c054, c055, c056, c057, c058, c059, c060, c061, c062, c063;
+        public byte c064, c065, c066, c067, c068, c069, c070, c071, c072, c073, c074, c075, c076, c077, c078, c079;
+        public byte c080, c081, c082, c083, c084, c085, c086, c087, c088, c089, c090, c091, c092, c093, c094, c095;
+        public byte c096, c097, c098, c099, c100, c101, c102, c103, c104, c105, c106, c107, c108, c109, c110, c111;
+        public byte c112, c113, c114, c115, c116, c117, c118, c119, c120, c121, c122, c123, c124, c125, c126, c127;
+        public byte c128, c129, c130, c131, c132, c133, c134, c135, c136, c137, c138, c139, c140, c141, c142, c143;
+        public byte c144, c145, c146, c147, c148, c149, c150, c151, c152, c153, c154, c155, c156, c157, c158, c159;
+        public byte c160, c161, c162, c163, c164, c165, c166, c167, c168, c169, c170, c171, c172, c173, c174, c175;
+        public byte c176, c177, c178, c179, c180, c181, c182, c183, c184, c185, c186, c187, c188, c189, c190, c191;
+        public byte c192, c193, c194, c195, c196, c197, c198, c199, c200, c201, c202, c203, c204, c205, c206, c207;
+        public byte c208, c209, c210, c211, c212, c213, c214, c215, c216, c217, c218, c219, c220, c221, c222, c223;
+        public byte c224, c225, c226, c227, c228, c229, c230, c231, c232, c233, c234, c235, c236, c237, c238, c239;
+        public byte c240, c241, c242, c243, c244, c245, c246, c247, c248, c249, c250, c251, c252, c253, c254, c255;
+        public byte c256, c257, c258, c259, c260, c261, c262, c263, c264, c265, c266, c267, c268, c269, c270, c271;
+        public byte c272, c273, c274, c275, c276, c277, c278, c279, c280, c281, c282, c283, c284, c285, c286, c287;
+        public byte c288, c289, c290, c291, c292, c293, c294, c295, c296, c297, c298, c299, c300, c301, c302, c303;
+        public byte c304, c305, c306, c307, c308, c309, c310, c311, c312, c313, c314, c315, c316, c317, c318, c319;
+        public byte c320, c321, c322, c323, c324, c325, c326, c327, c328, c329, c330, c331, c332, c333, c334, c335;
+        public byte c336, c337, c338, c339, c340, c341, c342, c343, c344, c345, c346, c347, c348, c349, c350, c351;
+        public byte c352, c353, c354, c355, c356, c357, c358, c359, c360, c361, c362, c363, c364, c365, c366, c367;
+        public byte c368, c369, c370, c371, c372, c373, c374, c375, c376, c377, c378, c379, c380, c381, c382, c383;
+        public byte c384, c385, c386, c387, c388, c389, c390, c391, c392, c393, c394, c395, c396, c397, c398, c399;
+        public byte c400, c401, c402, c403, c404, c405, c406, c407, c408, c409, c410, c411, c412, c413, c414, c415;
+        public byte c416, c417, c418, c419, c420, c421, c422, c423, c424, c425, c426, c427, c428, c429, c430, c431;
+        public byte c432, c433, c434, c435, c436, c437, c438, c439, c440, c441, c442, c443, c444, c445, c446, c447;
+        public byte c448, c449, c450, c451, c452, c453, c454, c455, c456, c457, c458, c459, c460, c461, c462, c463;
+        public byte c464, c465, c466, c467, c468, c469, c470, c471, c472, c473, c474, c475, c476, c477, c478, c479;
+        public byte c480, c481, c482, c483, c484, c485, c486, c487, c488, c489, c490, c491, c492, c493, c494, c495;
+        public byte c496, c497, c498, c499, c500, c501, c502, c503, c504, c505, c506, c507, c508, c509, c510, c511;
+
+        public const int Length = 512;
+
+        /// <summary>The bytes up to the first NUL (or all 512), decoded as UTF-8.</summary>
+        public override string ToString()
+        {
+            Span<byte> bytes = MemoryMarshal.AsBytes(MemoryMarshal.CreateSpan(ref this, 1));
+            int n = bytes.IndexOf((byte)0);
+            if (n < 0) n = bytes.Length;
+            return System.Text.Encoding.UTF8.GetString(bytes.Slice(0, n).ToArray());
+        }
+    }
+
     /// <summary>float[3] of the header.</summary>
     [StructLayout(LayoutKind.Sequential)]
     public struct Float3
@@ -409,6 +458,72 @@ namespace Pbf.Interop
         PBF_BACKEND_CPU = 1,
         PBF_BACKEND_CUDA = 2,
         PBF_BACKEND_FORCE32 = 0x7FFFFFFF,
+    }
+
+    /// <summary>
+    /// Whether a backend can run on this machine, and if not, why (pbf_get_backend_info). The CUDA
+    /// backend needs no CUDA toolkit or runtime: the library opens the NVIDIA driver itself at run
+    /// time (libcuda.so.1 / nvcuda.dll) and runs kernels embedded in it.
+    /// </summary>
+    public enum pbf_backend_status : int
+    {
+        PBF_BACKEND_STATUS_AVAILABLE = 0,
+        /// <summary>this library was built without the backend</summary>
+        PBF_BACKEND_STATUS_NOT_BUILT = 1,
+        /// <summary>no NVIDIA driver: its library was not found</summary>
+        PBF_BACKEND_STATUS_NO_DRIVER = 2,
+        /// <summary>older than required_driver_version</summary>
+        PBF_BACKEND_STATUS_DRIVER_TOO_OLD = 3,
+        /// <summary>a driver, but no CUDA device of that ordinal</summary>
+        PBF_BACKEND_STATUS_NO_DEVICE = 4,
+        /// <summary>
+        /// a GPU the kernels do not run on (before
+        /// compute capability 7.5)
+        /// </summary>
+        PBF_BACKEND_STATUS_DEVICE_UNSUPPORTED = 5,
+        /// <summary>
+        /// the driver failed to start, or to load the
+        /// kernels: the message gives its error
+        /// </summary>
+        PBF_BACKEND_STATUS_DRIVER_ERROR = 6,
+        PBF_BACKEND_STATUS_FORCE32 = 0x7FFFFFFF,
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct pbf_backend_info
+    {
+        public uint struct_size;
+        /// <summary>
+        /// the backend described; for AUTO, the one a world
+        /// created with AUTO on that device gets
+        /// </summary>
+        public pbf_backend backend;
+        public pbf_backend_status status;
+        /// <summary>the device described (CUDA); -1 for the CPU</summary>
+        public int cuda_device;
+        /// <summary>CUDA devices the driver reports (0 without a driver)</summary>
+        public int device_count;
+        /// <summary>
+        /// the driver's CUDA version, 1000·major + 10·minor (0
+        /// without a driver), e.g. 13000 for 13.0
+        /// </summary>
+        public int driver_version;
+        /// <summary>
+        /// the least driver version the kernels need (0 in a
+        /// build without CUDA)
+        /// </summary>
+        public int required_driver_version;
+        public uint reserved0;
+        /// <summary>
+        /// e.g. "NVIDIA GeForce RTX 4070" or "CPU (8 threads)";
+        /// empty where there is no such device
+        /// </summary>
+        public Char128 device_name;
+        /// <summary>
+        /// why the backend is unavailable (for AUTO: why CUDA was
+        /// not taken), or what was found
+        /// </summary>
+        public Char512 message;
     }
 
     [StructLayout(LayoutKind.Sequential)]
@@ -1267,6 +1382,19 @@ namespace Pbf.Interop
         }
 
         // ---- World
+        /// <summary>
+        /// Describes backend (AUTO, CPU or CUDA) on CUDA device cuda_device (ignored for the CPU) into
+        /// *out_info (struct_size set by the caller). Returns PBF_OK whether or not the backend is
+        /// available: out_info-&gt;status says which. The first call looking at a CUDA device opens the driver
+        /// and loads the kernels into that device's context (tens to hundreds of milliseconds); later calls
+        /// and world creations reuse them. Setting the environment variable PBF_CUDA_DRIVER to a library's
+        /// path makes the library open that one instead of the system's driver (diagnostics).
+        /// </summary>
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_get_backend_info(pbf_backend backend, int cuda_device, ref pbf_backend_info out_info);
+        [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
+        public static extern pbf_result pbf_get_backend_info(pbf_backend backend, int cuda_device, IntPtr out_info);
+
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_world_desc_init(ref pbf_world_desc desc, uint struct_size, uint header_version);
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
