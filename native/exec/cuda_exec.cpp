@@ -20,17 +20,16 @@ int bits_for(uint32_t max_key) {
     return bits;
 }
 
-// The sort's temporary storage: each tile's digit counts (scanned in place), then the scan's
-// partial sums over them.
+// The sort's temporary storage: each tile's digit counts (scanned in place, digit by digit),
+// then the digits' totals.
 struct SortLayout {
-    uint32_t tiles, counts, partials;
-    size_t bytes() const { return (size_t(counts) + partials + 4) * sizeof(uint32_t); }
+    uint32_t tiles, counts;
+    size_t bytes() const { return (size_t(counts) + kCudaRadixDigits + 4) * sizeof(uint32_t); }
 };
 SortLayout sort_layout(uint32_t n) {
     SortLayout l;
     l.tiles = std::max(1u, tiles_of(n));
     l.counts = l.tiles * uint32_t(kCudaRadixDigits);
-    l.partials = tiles_of(l.counts);
     return l;
 }
 
@@ -226,13 +225,14 @@ void CudaExec::sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, ui
     const SortLayout l = sort_layout(n);
     if (n > 0 && temp_bytes >= l.bytes()) {
         uint32_t* counts = static_cast<uint32_t*>(temp);
-        uint32_t* partials = counts + l.counts;
+        uint32_t* totals = counts + l.counts;
         uint32_t tiles = l.tiles;
         for (uint32_t shift = 0; shift < uint32_t(bits_for(max_key)); shift += kCudaRadixBits) {
             void* up[] = {&keys[sel], &n, &shift, &counts};
             launch(k_->radix_upsweep, tiles, kCudaScanBlock, up);
-            exclusive_scan(counts, counts, l.counts, partials, size_t(l.partials + 4) * sizeof(uint32_t));
-            void* down[] = {&keys[sel], &values[sel], &keys[1 - sel], &values[1 - sel], &n, &shift, &counts};
+            void* rows[] = {&counts, &tiles, &totals};
+            launch(k_->radix_scan_rows, kCudaRadixDigits, kCudaScanBlock, rows);
+            void* down[] = {&keys[sel], &values[sel], &keys[1 - sel], &values[1 - sel], &n, &shift, &counts, &totals};
             launch(k_->radix_downsweep, tiles, kCudaScanBlock, down);
             sel = 1 - sel;
         }

@@ -144,10 +144,12 @@ extern "C" __global__ void __launch_bounds__(kCudaScanBlock) pbf_scan_downsweep(
 }
 
 // ---- LSD radix sort of (key, value) pairs, kCudaRadixBits a pass ----------------------------
-// A pass: each tile counts its digits (counts[digit · tiles + tile]); the counts' exclusive scan
-// (the scan above) gives each tile's first slot per digit; each tile then ranks its pairs by the
-// digit, stably (CUB's block radix sort), and writes each to its digit's slots. Stable passes
-// from the lowest digit up sort by the whole key, equal keys in input order: deterministic.
+// A pass: each tile counts its digits (counts[digit · tiles + tile]); one block per digit scans
+// that digit's row across the tiles (each tile's first slot among the digit's pairs) and writes
+// the digit's total; each tile then ranks its pairs by the digit, stably (CUB's block radix
+// sort), and writes each to its digit's base (the totals' exclusive scan, which every tile
+// computes itself) + its tile's offset + its rank. Stable passes from the lowest digit up sort by
+// the whole key, equal keys in input order: deterministic.
 namespace {
 using RadixLoad = cub::BlockLoad<uint32_t, kCudaScanBlock, kCudaScanItems, cub::BLOCK_LOAD_WARP_TRANSPOSE>;
 using RadixSort = cub::BlockRadixSort<uint32_t, kCudaScanBlock, kCudaScanItems, uint32_t>;
@@ -156,6 +158,17 @@ static_assert(kCudaRadixDigits == kCudaScanBlock, "one digit counter per thread"
 
 __device__ __forceinline__ uint32_t digit_of(uint32_t key, uint32_t shift) {
     return (key >> shift) & (kCudaRadixDigits - 1);
+}
+
+// histogram[digit] += 1 for every lane with a digit (kNoDigit: none), one shared atomic per
+// distinct digit of the warp: the grid's keys arrive nearly sorted (the particles moved little
+// since the last sort), so most of a warp's keys share their higher digits, and per-lane
+// atomics on one counter would serialise.
+constexpr uint32_t kNoDigit = 0xFFFFFFFFu;
+__device__ __forceinline__ void count_digit(uint32_t* histogram, uint32_t digit) {
+    const uint32_t same = __match_any_sync(0xFFFFFFFFu, digit);
+    const uint32_t lane = threadIdx.x & 31u;
+    if (digit != kNoDigit && lane == uint32_t(__ffs(same) - 1)) atomicAdd(&histogram[digit], uint32_t(__popc(same)));
 }
 }  // namespace
 
@@ -168,21 +181,48 @@ extern "C" __global__ void __launch_bounds__(kCudaScanBlock) pbf_radix_upsweep(c
 #pragma unroll
     for (int k = 0; k < kCudaScanItems; ++k) {
         const uint64_t i = base + uint64_t(k) * kCudaScanBlock + threadIdx.x;
-        if (i < n) atomicAdd(&histogram[digit_of(keys[i], shift)], 1u);
+        count_digit(histogram, i < n ? digit_of(keys[i], shift) : kNoDigit);
     }
     __syncthreads();
     counts[uint64_t(threadIdx.x) * gridDim.x + blockIdx.x] = histogram[threadIdx.x];
 }
 
+// Block d: counts[d · tiles .. (d + 1) · tiles) := their exclusive scan; totals[d] := their sum.
+extern "C" __global__ void __launch_bounds__(kCudaScanBlock) pbf_radix_scan_rows(uint32_t* counts, uint32_t tiles,
+                                                                                 uint32_t* totals) {
+    __shared__ union {
+        typename ScanLoad::TempStorage load;
+        typename ScanStore::TempStorage store;
+        typename ScanBlock::TempStorage scan;
+    } temp;
+    uint32_t* row = counts + uint64_t(blockIdx.x) * tiles;
+    uint32_t carry = 0;
+    for (uint32_t base = 0; base < tiles; base += kCudaScanTile) {
+        const int valid = int(min(tiles - base, uint32_t(kCudaScanTile)));
+        uint32_t items[kCudaScanItems];
+        ScanLoad(temp.load).Load(row + base, items, valid, 0u);
+        __syncthreads();
+        uint32_t aggregate = 0;
+        ScanBlock(temp.scan).ExclusiveSum(items, items, aggregate);
+        __syncthreads();
+#pragma unroll
+        for (int k = 0; k < kCudaScanItems; ++k) items[k] += carry;
+        ScanStore(temp.store).Store(row + base, items, valid);
+        __syncthreads();
+        carry += aggregate;
+    }
+    if (threadIdx.x == 0) totals[blockIdx.x] = carry;
+}
+
 extern "C" __global__ void __launch_bounds__(kCudaScanBlock) pbf_radix_downsweep(
     const uint32_t* keys_in, const uint32_t* values_in, uint32_t* keys_out, uint32_t* values_out, uint32_t n,
-    uint32_t shift, const uint32_t* offsets) {
+    uint32_t shift, const uint32_t* offsets, const uint32_t* totals) {
     __shared__ union {
         typename RadixLoad::TempStorage load;
         typename RadixSort::TempStorage sort;
         typename DigitScan::TempStorage scan;
     } temp;
-    __shared__ uint32_t histogram[kCudaRadixDigits], first[kCudaRadixDigits];
+    __shared__ uint32_t histogram[kCudaRadixDigits], first[kCudaRadixDigits], slot_base[kCudaRadixDigits];
     const uint64_t base = uint64_t(blockIdx.x) * kCudaScanTile;
     const int valid = int(min(uint64_t(n) - base, uint64_t(kCudaScanTile)));
     uint32_t keys[kCudaScanItems], values[kCudaScanItems];
@@ -195,19 +235,23 @@ extern "C" __global__ void __launch_bounds__(kCudaScanBlock) pbf_radix_downsweep
     __syncthreads();
 #pragma unroll
     for (int k = 0; k < kCudaScanItems; ++k)
-        if (int(threadIdx.x) * kCudaScanItems + k < valid) atomicAdd(&histogram[digit_of(keys[k], shift)], 1u);
+        count_digit(histogram, int(threadIdx.x) * kCudaScanItems + k < valid ? digit_of(keys[k], shift) : kNoDigit);
     RadixSort(temp.sort).Sort(keys, values, int(shift), int(shift) + kCudaRadixBits);
     __syncthreads();
-    uint32_t start = 0;
+    // Thread t owns digit t: its first slot in this tile's sorted order, and in the output.
+    uint32_t start = 0, digit_base = 0;
     DigitScan(temp.scan).ExclusiveSum(histogram[threadIdx.x], start);
+    __syncthreads();
+    DigitScan(temp.scan).ExclusiveSum(totals[threadIdx.x], digit_base);
     first[threadIdx.x] = start;
+    slot_base[threadIdx.x] = digit_base + offsets[uint64_t(threadIdx.x) * gridDim.x + blockIdx.x];
     __syncthreads();
 #pragma unroll
     for (int k = 0; k < kCudaScanItems; ++k) {
         const uint32_t d = digit_of(keys[k], shift);
         const uint32_t rank = threadIdx.x * kCudaScanItems + k - first[d];
         if (rank < histogram[d]) {
-            const uint32_t slot = offsets[uint64_t(d) * gridDim.x + blockIdx.x] + rank;
+            const uint32_t slot = slot_base[d] + rank;
             keys_out[slot] = keys[k];
             values_out[slot] = values[k];
         }

@@ -109,6 +109,7 @@ constexpr int kCudaReduceBlock = 256;
     X(scan_spine)                   \
     X(scan_downsweep)               \
     X(radix_upsweep)                \
+    X(radix_scan_rows)              \
     X(radix_downsweep)              \
     X(reduce_stats)                 \
     X(sum_error)                    \
