@@ -160,16 +160,6 @@ __device__ __forceinline__ uint32_t digit_of(uint32_t key, uint32_t shift) {
     return (key >> shift) & (kCudaRadixDigits - 1);
 }
 
-// histogram[digit] += 1 for every lane with a digit (kNoDigit: none), one shared atomic per
-// distinct digit of the warp: the grid's keys arrive nearly sorted (the particles moved little
-// since the last sort), so most of a warp's keys share their higher digits, and per-lane
-// atomics on one counter would serialise.
-constexpr uint32_t kNoDigit = 0xFFFFFFFFu;
-__device__ __forceinline__ void count_digit(uint32_t* histogram, uint32_t digit) {
-    const uint32_t same = __match_any_sync(0xFFFFFFFFu, digit);
-    const uint32_t lane = threadIdx.x & 31u;
-    if (digit != kNoDigit && lane == uint32_t(__ffs(same) - 1)) atomicAdd(&histogram[digit], uint32_t(__popc(same)));
-}
 }  // namespace
 
 extern "C" __global__ void __launch_bounds__(kCudaScanBlock) pbf_radix_upsweep(const uint32_t* keys, uint32_t n,
@@ -181,7 +171,7 @@ extern "C" __global__ void __launch_bounds__(kCudaScanBlock) pbf_radix_upsweep(c
 #pragma unroll
     for (int k = 0; k < kCudaScanItems; ++k) {
         const uint64_t i = base + uint64_t(k) * kCudaScanBlock + threadIdx.x;
-        count_digit(histogram, i < n ? digit_of(keys[i], shift) : kNoDigit);
+        if (i < n) atomicAdd(&histogram[digit_of(keys[i], shift)], 1u);
     }
     __syncthreads();
     counts[uint64_t(threadIdx.x) * gridDim.x + blockIdx.x] = histogram[threadIdx.x];
@@ -235,7 +225,7 @@ extern "C" __global__ void __launch_bounds__(kCudaScanBlock) pbf_radix_downsweep
     __syncthreads();
 #pragma unroll
     for (int k = 0; k < kCudaScanItems; ++k)
-        count_digit(histogram, int(threadIdx.x) * kCudaScanItems + k < valid ? digit_of(keys[k], shift) : kNoDigit);
+        if (int(threadIdx.x) * kCudaScanItems + k < valid) atomicAdd(&histogram[digit_of(keys[k], shift)], 1u);
     RadixSort(temp.sort).Sort(keys, values, int(shift), int(shift) + kCudaRadixBits);
     __syncthreads();
     // Thread t owns digit t: its first slot in this tile's sorted order, and in the output.
