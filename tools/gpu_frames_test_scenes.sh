@@ -13,8 +13,8 @@
 # repository root), the logs beside it; a SUMMARY last, with what each scene's test measures,
 # measured at the end of the drawn run ("measured:" lines).
 #
-#   OUT=/tmp/out bash tools/gpu_frames_issue13_16.sh                 # configures and builds build-gpu
-#   PBF_PREBUILT=.gpu-bin OUT=... bash tools/gpu_frames_issue13_16.sh  # binaries built elsewhere
+#   OUT=/tmp/out bash tools/gpu_frames_test_scenes.sh                 # configures and builds build-gpu
+#   PBF_PREBUILT=.gpu-bin OUT=... bash tools/gpu_frames_test_scenes.sh  # binaries built elsewhere
 #       (as tools/gpu_render.sh: the folder holds samples/render/pbf_render_gl and lib/)
 #   PBF_BACKEND=cpu ...   runs the same on the CPU backend (the copy path; how the committed frames
 #       of a session without a GPU were made, at PBF_SIZE=960x540)
