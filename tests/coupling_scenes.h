@@ -1,4 +1,4 @@
-// Two-way coupling scenes (issue 13), shared by the CPU suite (test_coupling.cpp) and its [gpu]
+// Two-way coupling scenes, shared by the CPU suite (test_coupling.cpp) and its [gpu]
 // twin (test_gpu_coupling.cpp): a box in a pool at rest (Archimedes), boxes released in a pool
 // and integrated by the test the way an engine integrates its rigid bodies, and a paddle.
 // Black-box: only the public header. Particle radius 0.02 m (spacing 0.04 m, h = 0.08 m), or a

@@ -1,4 +1,4 @@
-// Mesh colliders on the CPU backend (issue 13), through the C ABI: the calls and their refusals,
+// Mesh colliders on the CPU backend, through the C ABI: the calls and their refusals,
 // water at rest in a box-mesh container against the same water in the domain's walls, an open
 // plane holding a pool, and the leak test of a fast container. The scenes are in mesh_scenes.h
 // ([gpu] twins in test_gpu_mesh_colliders.cpp); the field's accuracy is checked white-box in

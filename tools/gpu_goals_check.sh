@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # One call on the GPU machine with binaries built elsewhere (.gpu-bin: lib/, tests/, samples/,
 # samples/render/; see tools/gpu_perf.sh): the [gpu] suite of every test binary, pbf_bench for the
-# materials / render / diffuse / mesh-collider goals at 1M, and the frames of issues 13 and 16.
+# materials / render / diffuse / mesh-collider goals at 1M, and the frames of the tests' scenes.
 # Everything lands in one tar, $OUT/all.tar (the device tool returns only a few files).
 set -uo pipefail
 OUT=${OUT:-/tmp/out}; mkdir -p "$OUT"

@@ -140,7 +140,7 @@ void scene_create(pbf_egl* e, scene* s, const scene_options* o) {
     }
     if (o->surface) desc.render.flags = PBF_RENDER_SMOOTHED_POSITIONS | PBF_RENDER_ANISOTROPY;
 #ifdef PBF_RENDER_HAVE_DIFFUSE
-    /* Diffuse particles in issue 15's scenes; the tests' scenes run without them, as the tests. */
+    /* Diffuse particles in the dam and pool scenes; the tests' scenes run without them, as the tests. */
     if (o->kind == SCENE_DAM_BREAK || o->kind == SCENE_POOL) {
         diffuse_enable(&desc, desc.max_particles / 2);
         s->has_diffuse = 1;
