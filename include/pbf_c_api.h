@@ -116,7 +116,7 @@ typedef struct pbf_solver_params {
                                    the fastest particle moves at most substep_travel·h per substep,
                                    gravity alone moves a resting one at most substep_travel·h/64,
                                    and a resting column as deep as the fluid's extent along gravity
-                                   compresses at most ~10 % at its bottom (README, Physics), up to
+                                   compresses at most ~10 % at its bottom (docs/physics.md), up to
                                    max_substeps. 1..64: exactly that many. */
     float relaxation;           /* ε of λ (constraint force mixing), relative to the constraint
                                    gradient norm of a particle at rest density; > 0 (default 1).
@@ -296,7 +296,7 @@ typedef struct pbf_world_desc {
                                    no box (domain_min/max are ignored); the fluid stops only at
                                    colliders. Particle centres are still held within |x| <=
                                    2^17·h on each axis (h = 4·radius: 5.2 km at radius 0.01 m),
-                                   where float spacing reaches h/64 (README, Physics). The
+                                   where float spacing reaches h/64 (docs/physics.md). The
                                    neighbour grid is then hashed: its memory follows max_particles,
                                    not the level's extent (pbf_world_info.grid_bytes). */
     uint32_t hashed_grid;       /* 0 (default): a dense grid over the walls' box while it has at
@@ -370,7 +370,7 @@ typedef struct pbf_world_info {
     uint32_t grid_hashed;       /* 0: a dense grid over the domain box; 1: a hashed grid of
                                    grid_cells = the power of two >= max_particles (at least 4096)
                                    keys, used without walls and for boxes of more than 4 cells
-                                   per hashed key (README, Performance) */
+                                   per hashed key (docs/perf.md, Open levels) */
     uint32_t reserved2;
     uint64_t grid_bytes;        /* part of device_bytes the grid's cell table takes (4 B a key) */
 } pbf_world_info;
@@ -564,7 +564,7 @@ typedef struct pbf_collider_desc {
                                    (pbf_collider_get_force); the engine integrates its body and
                                    moves it (motion KINEMATIC, pbf_collider_set_target_pose). A STATIC
                                    dynamic collider only measures (a load on a fixed wall).
-                                   Accuracy (README, Physics, Two-way coupling): buoyancy within
+                                   Accuracy (docs/physics.md, Two-way coupling): buoyancy within
                                    3 % with the body >= 12 particle diameters across and the
                                    density held near rest (adaptive_error_target 0.003). */
     float center_of_mass[3];    /* dynamic: the point torques are taken about, in the collider's
@@ -582,8 +582,8 @@ static inline pbf_collider_desc pbf_collider_desc_default(void) {
 }
 /* A collider created where fluid is (or teleported there, or a block emitted into one) did not
  * move into it: the next step's first substep moves the particles inside it out and settles
- * what that piles at its surface, in their positions only, so the water is not flung (README,
- * Physics, Overlaps; that substep runs at least 32 extra constraint iterations). */
+ * what that piles at its surface, in their positions only, so the water is not flung
+ * (docs/physics.md, Overlaps; that substep runs at least 32 extra constraint iterations). */
 PBF_API pbf_result PBF_CALL pbf_world_create_collider(pbf_world_id world, const pbf_collider_desc* desc,
                                                       pbf_collider_id* out_collider);
 PBF_API pbf_result PBF_CALL pbf_world_destroy_collider(pbf_world_id world, pbf_collider_id collider);
@@ -621,7 +621,7 @@ PBF_API pbf_result PBF_CALL pbf_collider_get_force(pbf_world_id world, pbf_colli
  * every world starts with: the world's rest_density and its solver parameters' xsph_c and
  * ldc_gain (setting its viscosity or ldc_gain sets those; its rest density is the world's), no
  * surface tension, cohesion or adhesion. A world that never creates a material runs exactly as
- * before. README, "Materials", gives the model, units and approximations. */
+ * before. docs/materials.md gives the model, units and approximations. */
 #define PBF_MAX_MATERIALS 8
 typedef struct pbf_material_desc {
     uint32_t struct_size;

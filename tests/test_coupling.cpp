@@ -76,7 +76,7 @@ TEST_CASE("coupling: 256 dynamic kinematic boxes each record their own push, and
     check_many_boxes(PBF_BACKEND_CPU);
 }
 
-// The same checks where README (Physics, Two-way coupling) says buoyancy is accurate: the box 12
+// The same checks where docs/physics.md (Two-way coupling) says buoyancy is accurate: the box 12
 // particle diameters across (radius 0.01 m) and the fluid held within 0.3 % of its rest density
 // (adaptive iterations, up to 16). The [gpu] twins also run at 24 diameters.
 TEST_CASE("coupling: resolved (12 particle diameters, density held within 0.3 %), a submerged box feels rho g V within 5 %",
