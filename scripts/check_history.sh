@@ -3,8 +3,9 @@
 # issue, session or work period a change came from (that history belongs in CHANGELOG.md and the
 # commit messages, which this check leaves alone). Fails, listing file:line and the text, where a
 # tracked file's contents or name cite an issue number ("issue 13", "issue #7", "issues 13 and 16"),
-# a session ("session 7", "this session's runs"), a work period, or carry a work-period suffix
-# ("h100_gpu_suite_s9.log", "h100_s5_diffuse.csv": name a log by what it measures and its commit).
+# a session ("session 7", "this session's runs") or a work period ("work period 9"), or carry a
+# work-period suffix ("h100_gpu_suite_s9.log", "h100_s5_diffuse.csv": name a log by what it
+# measures and its commit).
 #
 #   bash scripts/check_history.sh     # from anywhere in the repository; about a second
 #
@@ -16,8 +17,10 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root" || exit 1
 allow_file="scripts/check_history.allow"
 
-# Case-insensitive: issue and session numbers, sessions and work periods named in prose.
-words='(^|[^[:alnum:]])(issues?[ _#-]*[0-9]|sessions?[ _#-]*[0-9]|(this|that|next|last|previous|same|earlier|a) session([^[:alnum:]]|$)|work[ -]periods?)'
+# Case-insensitive: an issue, session or work-period number, or a session or work period pointed
+# at ("this session's runs", "in the same work period").
+period='(this|that|next|last|previous|same|earlier|a) (session|work[ -]period)([^[:alnum:]]|$)'
+words="(^|[^[:alnum:]])(issues?[ _#-]*[0-9]|sessions?[ _#-]*[0-9]|work[ -]periods?[ _#-]*[0-9]|$period)"
 # Case-sensitive: a work-period suffix in a file name (_s9.log, _s5_open.log, h100_s5_mesh.csv).
 suffix='_s[0-9]+(_[[:alnum:]]+)*\.(log|csv|txt|json|png)|_s[0-9]+_'
 
