@@ -181,7 +181,7 @@ Mesh without_lid(const Mesh& m, float e) {
     for (size_t t = 0; t < m.i.size(); t += 3) {
         bool top = true;
         for (size_t c = 0; c < 3; ++c) top = top && m.v[3 * size_t(m.i[t + c]) + 1] == e;
-        if (!top) open.i.insert(open.i.end(), m.i.begin() + long(t), m.i.begin() + long(t + 3));
+        if (!top) open.i.insert(open.i.end(), m.i.begin() + std::ptrdiff_t(t), m.i.begin() + std::ptrdiff_t(t + 3));
     }
     return open;
 }
