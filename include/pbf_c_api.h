@@ -1,6 +1,6 @@
 /*
  * libpbf: real-time Position Based Fluids (with Local Density Calibration) for game engines.
- * Public C ABI, version 2. Pure C99.
+ * Public C ABI, pure C99; its version is PBF_VERSION_MAJOR.MINOR.PATCH below.
  *
  * Conventions
  * - Every fallible call returns a pbf_result. On failure, pbf_last_error_message() returns a
@@ -116,7 +116,7 @@ typedef struct pbf_solver_params {
                                    the fastest particle moves at most substep_travel·h per substep,
                                    gravity alone moves a resting one at most substep_travel·h/64,
                                    and a resting column as deep as the fluid's extent along gravity
-                                   compresses at most ~10 % at its bottom (README, Physics), up to
+                                   compresses at most ~10 % at its bottom (docs/physics.md), up to
                                    max_substeps. 1..64: exactly that many. */
     float relaxation;           /* ε of λ (constraint force mixing), relative to the constraint
                                    gradient norm of a particle at rest density; > 0 (default 1).
@@ -238,12 +238,12 @@ typedef struct pbf_diffuse_params {
     float trapped_air_max;      /*   (m/s; W = 1 - r/h) that starts and saturates generation
                                    (defaults 2 and 8) */
     float wave_crest_min;       /* τ_wc: wave-crest potential Σ_j (1 - n̂_i·n̂_j) W_ij of surface */
-    float wave_crest_max;       /*   particles moving along their normal (defaults 0.5 and 2) */
+    float wave_crest_max;       /*   particles moving along their normal (defaults 1 and 4) */
     float energy_min;           /* τ_k: kinetic energy per unit mass ½|v|² (J/kg) that starts */
-    float energy_max;           /*   and saturates generation (defaults 0.5 and 5) */
+    float energy_max;           /*   and saturates generation (defaults 0.5 and 4) */
     float trapped_air_rate;     /* k_ta: diffuse particles per second per fluid particle at full
-                                   trapped-air and energy potentials, 0..1e4 (default 40) */
-    float wave_crest_rate;      /* k_wc: the same for wave crests, 0..1e4 (default 40) */
+                                   trapped-air and energy potentials, 0..1e4 (default 200) */
+    float wave_crest_rate;      /* k_wc: the same for wave crests, 0..1e4 (default 200) */
     float lifetime;             /* s, (0, 1e4]: foam and spray live (0.5..1) x this (default 2) */
     uint32_t spray_max_neighbors;  /* fewer fluid neighbours within h: spray (default 6) */
     uint32_t bubble_min_neighbors; /* more: a bubble; between: foam (default 20; a full
@@ -264,7 +264,9 @@ static inline pbf_diffuse_params pbf_diffuse_params_default(void) {
 
 /* ---- World -------------------------------------------------------------------------------- */
 typedef enum pbf_backend {
-    PBF_BACKEND_AUTO = 0,  /* CUDA when built in and a device exists, else CPU */
+    PBF_BACKEND_AUTO = 0,  /* CUDA when built in and a device exists, else CPU. The library reads
+                              no environment variable: the PBF_BACKEND variable of the samples
+                              and tools is theirs, turned into this field */
     PBF_BACKEND_CPU = 1,
     PBF_BACKEND_CUDA = 2,
     PBF_BACKEND_FORCE32 = 0x7FFFFFFF
@@ -337,7 +339,7 @@ typedef struct pbf_world_desc {
                                    no box (domain_min/max are ignored); the fluid stops only at
                                    colliders. Particle centres are still held within |x| <=
                                    2^17·h on each axis (h = 4·radius: 5.2 km at radius 0.01 m),
-                                   where float spacing reaches h/64 (README, Physics). The
+                                   where float spacing reaches h/64 (docs/physics.md). The
                                    neighbour grid is then hashed: its memory follows max_particles,
                                    not the level's extent (pbf_world_info.grid_bytes). */
     uint32_t hashed_grid;       /* 0 (default): a dense grid over the walls' box while it has at
@@ -411,7 +413,7 @@ typedef struct pbf_world_info {
     uint32_t grid_hashed;       /* 0: a dense grid over the domain box; 1: a hashed grid of
                                    grid_cells = the power of two >= max_particles (at least 4096)
                                    keys, used without walls and for boxes of more than 4 cells
-                                   per hashed key (README, Performance) */
+                                   per hashed key (docs/perf.md, Open levels) */
     uint32_t reserved2;
     uint64_t grid_bytes;        /* part of device_bytes the grid's cell table takes (4 B a key) */
 } pbf_world_info;
@@ -540,13 +542,19 @@ typedef struct pbf_mesh_desc {
                                    pose places it), engine units (metres) */
     uint32_t vertex_count;      /* 3 .. 2^24 */
     const uint32_t* indices;    /* triangle_count x 3, each < vertex_count; counter-clockwise seen
-                                   from outside (the right-hand normal points out of the solid) */
+                                   from outside (the right-hand normal points out of the solid).
+                                   A closed mesh wound inside out is accepted, not reported: its
+                                   winding number inside is -1, so no point is inside and it acts
+                                   as a surface without a solid behind it */
     uint32_t triangle_count;    /* 1 .. 2^22; degenerate (zero-area) triangles are skipped, a mesh of
-                                   only degenerate ones is refused */
+                                   only degenerate ones is refused (PBF_ERROR_INVALID_ARGUMENT) */
     uint32_t closed;            /* 1 (default): watertight, inside by the generalised winding number
                                    (small holes and overlaps tolerated); 0: open (terrain pieces,
                                    single-sided planes): solid within thickness/2 of the surface on
-                                   both sides, whatever its winding */
+                                   both sides, whatever its winding. A container is an open shell
+                                   (closed 0, e.g. a box without its lid) or a closed hollow mesh
+                                   (an outer surface and an inner one wound inward); a closed box
+                                   is solid and pushes water emitted inside it out */
     float thickness;            /* open meshes: the shell's thickness (0, the default: 2 particle
                                    radii; fluid then rests thickness/2 + 1 radius from the surface) */
     float cell_size;            /* the field's grid spacing (0, the default: the particle radius) */
@@ -599,7 +607,7 @@ typedef struct pbf_collider_desc {
                                    (pbf_collider_get_force); the engine integrates its body and
                                    moves it (motion KINEMATIC, pbf_collider_set_target_pose). A STATIC
                                    dynamic collider only measures (a load on a fixed wall).
-                                   Accuracy (README, Physics, Two-way coupling): buoyancy within
+                                   Accuracy (docs/physics.md, Two-way coupling): buoyancy within
                                    3 % with the body >= 12 particle diameters across and the
                                    density held near rest (adaptive_error_target 0.003). */
     float center_of_mass[3];    /* dynamic: the point torques are taken about, in the collider's
@@ -617,8 +625,8 @@ static inline pbf_collider_desc pbf_collider_desc_default(void) {
 }
 /* A collider created where fluid is (or teleported there, or a block emitted into one) did not
  * move into it: the next step's first substep moves the particles inside it out and settles
- * what that piles at its surface, in their positions only, so the water is not flung (README,
- * Physics, Overlaps; that substep runs at least 32 extra constraint iterations). */
+ * what that piles at its surface, in their positions only, so the water is not flung
+ * (docs/physics.md, Overlaps; that substep runs at least 32 extra constraint iterations). */
 PBF_API pbf_result PBF_CALL pbf_world_create_collider(pbf_world_id world, const pbf_collider_desc* desc,
                                                       pbf_collider_id* out_collider);
 PBF_API pbf_result PBF_CALL pbf_world_destroy_collider(pbf_world_id world, pbf_collider_id collider);
@@ -656,7 +664,7 @@ PBF_API pbf_result PBF_CALL pbf_collider_get_force(pbf_world_id world, pbf_colli
  * every world starts with: the world's rest_density and its solver parameters' xsph_c and
  * ldc_gain (setting its viscosity or ldc_gain sets those; its rest density is the world's), no
  * surface tension, cohesion or adhesion. A world that never creates a material runs exactly as
- * before. README, "Materials", gives the model, units and approximations. */
+ * before. docs/materials.md gives the model, units and approximations. */
 #define PBF_MAX_MATERIALS 8
 typedef struct pbf_material_desc {
     uint32_t struct_size;
@@ -738,7 +746,8 @@ typedef enum pbf_buffer {
     PBF_BUFFER_FORCE32 = 0x7FFFFFFF
 } pbf_buffer;
 /* Copies min(count, out_bytes / element size) particles of one buffer into out (element sizes
- * above; out_bytes must be a multiple of the element size). Works on both backends. A render
+ * above; out_bytes must be a multiple of the element size, else PBF_ERROR_INVALID_ARGUMENT).
+ * Works on both backends. A render
  * buffer the world does not compute (desc.render.flags), or a diffuse buffer in a world without
  * a diffuse capacity, is refused with PBF_ERROR_INVALID_STATE. The diffuse buffers copy
  * min(diffuse_count, ...) diffuse particles. */

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Reliability checks (issue 7), for CI after the main tests (.ci/run calls it), or by hand:
+# Reliability checks, for CI after the main tests (.ci/run calls it), or by hand:
 #
 #   bash scripts/ci_reliability.sh
 #

@@ -1,4 +1,4 @@
-// Two-way coupling scenes (issue 13), shared by the CPU suite (test_coupling.cpp) and its [gpu]
+// Two-way coupling scenes, shared by the CPU suite (test_coupling.cpp) and its [gpu]
 // twin (test_gpu_coupling.cpp): a box in a pool at rest (Archimedes), boxes released in a pool
 // and integrated by the test the way an engine integrates its rigid bodies, and a paddle.
 // Black-box: only the public header. Particle radius 0.02 m (spacing 0.04 m, h = 0.08 m), or a
@@ -126,7 +126,7 @@ struct Setup {
 // The defaults at radius 0.02 m: the 0.24 m box spans 6 particle diameters.
 inline Setup coarse(bool ldc = true) { return Setup{kR, solver(ldc)}; }
 
-// What README (Physics, Two-way coupling) asks of a scene whose buoyancy should be accurate: the
+// What docs/physics.md (Two-way coupling) asks of a scene whose buoyancy should be accurate: the
 // body at least 12 particle diameters across (radius r <= 0.01 m for the 0.24 m box), and the
 // fluid held near its rest density (adaptive iterations to a 0.3 % mean compression, up to 16
 // per substep), since a body feels the weight of the fluid it displaces, compressed or not.

@@ -1,4 +1,4 @@
-// Fluid materials scenes (issue 16), shared by the CPU suite (test_materials.cpp) and its [gpu]
+// Fluid materials scenes, shared by the CPU suite (test_materials.cpp) and its [gpu]
 // twin (test_gpu_materials.cpp): a cube relaxing to a sphere under surface tension, two fluids
 // stratifying, a drop hanging under a sphere by adhesion, and viscosity at two substep counts.
 // Black-box: only the public header. Particle radius 0.02 m (spacing 0.04 m, h = 0.08 m), a few

@@ -1,4 +1,4 @@
-// Mesh collider scenes (issue 13), shared by the CPU suite (test_mesh_colliders.cpp) and its
+// Mesh collider scenes, shared by the CPU suite (test_mesh_colliders.cpp) and its
 // [gpu] twin (test_gpu_mesh_colliders.cpp): triangle meshes built by the tests (boxes, a hollow
 // box container, an icosphere, an open plane), water resting in a box-mesh container against
 // the same water in the domain's own walls, an open plane holding a pool, and the leak test of
@@ -238,7 +238,7 @@ inline float closest_to_sphere(pbf_backend backend, bool as_mesh) {
     return closest;
 }
 
-// ---- the leak test (issue 13 "Fast containers do not leak") ----------------------------------
+// ---- the leak test: fast containers do not leak --------------------------------------------
 // A closed hollow-box mesh, cavity 0.32 x 0.24 x 0.32 m, walls 2 r thick, half full of water,
 // moved by the engine every frame (1/60 s) along a circle by `travel` particle radii (a chord)
 // and turned by `degrees` about a tilted axis. Counts the particles outside the cavity (in the
@@ -341,7 +341,7 @@ inline void check_open_plane(pbf_backend backend) {
     CHECK(r.lowest - 0.2f == Approx(2 * kR).margin(0.5f * kR));
 }
 
-// Issue 13's leak test: 20 particle radii and 30 degrees per frame, 600 frames.
+// The leak test: 20 particle radii and 30 degrees per frame, 600 frames.
 inline void check_no_leak(pbf_backend backend) {
     const LeakResult r = shaken_container(backend, 20.0f, 30.0f, 600);
     INFO("particles " << r.count << ", most outside " << r.outside_max << ", first loss at frame " << r.first_frame);

@@ -1,4 +1,4 @@
-// Open levels (issue 13): scenes shared by the CPU suite (test_open_levels.cpp) and its [gpu]
+// Open levels: scenes shared by the CPU suite (test_open_levels.cpp) and its [gpu]
 // twin (test_gpu_open_levels.cpp). A block of water collapses into a puddle inside a 2 m box:
 // once held by the world's walls, once in an open level (walls 0) 1 km across, 300-450 m from
 // the origin, held by five plane colliders where the walls were. Black-box: only the public

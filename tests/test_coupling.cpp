@@ -1,49 +1,15 @@
-// Two-way coupling on the CPU backend (issue 13): the fluid's force on dynamic colliders, read
-// through pbf_collider_get_force, against Archimedes, floating and sinking boxes, and the
-// momentum a paddle gives the water. The scenes and checks are in coupling_scenes.h ([gpu]
-// twins in test_gpu_coupling.cpp).
+// Two-way coupling on the CPU backend: the fluid's force on dynamic colliders, read through
+// pbf_collider_get_force, against Archimedes, floating and sinking boxes, and the momentum a
+// paddle gives the water. The scenes and checks are in coupling_scenes.h ([gpu] twins in
+// test_gpu_coupling.cpp).
 //
-// Known failures, tagged [!shouldfail] (they pass while the bound fails; remove the tag when the
-// physics meets it), with the box 6 particle diameters across. Both errors shrink with the
-// particle size; the "resolved" cases at the end (12 diameters, density held within 0.3 %) pass:
-// Archimedes 1.03 ρ0gV, floating 0.49 (README, Physics, Two-way coupling, has the table from 6
-// to 24 diameters). Measured on this branch, CPU backend, defaults (LDC on, its boundary part's
-// reaction given to the colliders: passes.h record_ldc_reaction); the CPU runs are chaotic, so
-// repeated runs of the floating scene spread by about ±0.005:
-// - Archimedes: 140.0 N for rho g V = 135.6 N (1.032, within 5 %; a white-box run of the same
-//   scene: 1.031 with LDC, 0.986 without), but the largest |torque| over the last second is
-//   0.50 N m for a bound of 0.163, and the torque's mean over that second is 0.20 N m with LDC,
-//   0.18 without, 0.31 with vorticity confinement off (with a mean sideways force of 1-3 N): not
-//   only step-to-step noise, so the statistic is kept. It is torque about the vertical axis
-//   (tau_y 0.2-0.6 N m, decaying slowly over 6 s; 0.12-0.29 with vorticity confinement off,
-//   0.23-0.27 with XSPH, and so the boundary viscosity, off), while the water has no net swirl
-//   (its angular momentum about the box's axis over its sum of m r^2 stays within +-0.002 rad/s)
-//   and jitters at a v_rms of 2 cm/s: normal forces of a stress the particle packing holds, not
-//   a circulation (white-box runs, 1 thread).
-// - Floating at 500 kg/m3: submerged fraction 0.462-0.468 (before the box edge term,
-//   collide.h box_boundary: 0.464-0.472; the term fixed the share beyond the bottom edges,
-//   which had pushed the water off them: held still at half depth without LDC the box felt
-//   1.071 rho g V_sub before it, 0.994 after). Two causes remain, measured with the box held
-//   still or released from inside the water instead of dropped:
-//   * LDC: a box emitted in place at half depth and released floats 0.504 submerged without LDC
-//     but 0.459-0.462 with it (1-thread white-box runs; 0.481 at half LDC's gain: the error scales
-//     with it). Not LDC's reaction: with LDC the box and a floor collider carry 1.0056 of the
-//     water's weight, the excess being LDC's unreacted own parts at the free surface and static
-//     walls (< 1 N of them next to the box), and the surface level does not move (0.3557 m with
-//     LDC, 0.3546 without). It is the boundary's pressure: Eq. 1 over fluid neighbours alone makes
-//     a boundary mirror each particle's P, and the position solve leaves the layer under a box's
-//     bottom ~0.13 % denser than the water at its depth and the layer on its top ~0.12 % lighter
-//     (with or without LDC), which the mirror passes to the box as pressure (the size fits).
-//     Tried (branch float2, reverted): boundaries as Eq. 1's neighbours at rest density (P_b = 0,
-//     reacted) float it 0.506 (Archimedes 1.014, this dropped box 0.470) but pull compressed
-//     fluid toward every wall: the two-fluid stratification fell to 0.947-0.949 of the light fluid
-//     above the interface (bound 0.95; 0.967-0.970 before). No LDC push next to boundaries: 0.516
-//     (Archimedes 0.992). P extrapolated linearly into the boundary (Adami et al. 2012's wall
-//     pressure): 0.452-0.454, no help, since the bias is in the layer's own P.
-//   * the drop: released from 1 cm above the water as here, without LDC, it floats 0.465-0.479
-//     (0.504 from inside the water); held still where it came to rest it feels 1.065 times
-//     rho g A times its depth: the water it pushed down stays packed under it (with the rest
-//     density boundary above, still 0.467 after 12 s: it does not relax).
+// Two cases are tagged [!shouldfail]: with the box 6 particle diameters across the physics misses
+// their bounds (Archimedes' torque, the floating fraction). The bounds are what the library owes,
+// so they stay as they are; the tag keeps the suite green while they fail and turns it red once
+// they pass (then remove the tag). Both errors shrink with the particle size, and the "resolved"
+// cases at the end (12 diameters, density held within 0.3 %) pass. docs/physics.md (Two-way
+// coupling) has the figures from 6 to 24 diameters, docs/perf.md ("Two-way coupling at 6
+// diameters") what was measured and tried.
 #include "coupling_scenes.h"
 
 using namespace coupling;
@@ -110,7 +76,7 @@ TEST_CASE("coupling: 256 dynamic kinematic boxes each record their own push, and
     check_many_boxes(PBF_BACKEND_CPU);
 }
 
-// The same checks where README (Physics, Two-way coupling) says buoyancy is accurate: the box 12
+// The same checks where docs/physics.md (Two-way coupling) says buoyancy is accurate: the box 12
 // particle diameters across (radius 0.01 m) and the fluid held within 0.3 % of its rest density
 // (adaptive iterations, up to 16). The [gpu] twins also run at 24 diameters.
 TEST_CASE("coupling: resolved (12 particle diameters, density held within 0.3 %), a submerged box feels rho g V within 5 %",

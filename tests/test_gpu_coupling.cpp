@@ -19,7 +19,7 @@ TEST_CASE("coupling on CUDA: a box of 500 kg/m3 floats half submerged within 5 %
     check_floating(PBF_BACKEND_CUDA);
 }
 
-// Resolved (README, Physics, Two-way coupling): the fluid held within 0.3 % of rest density, the
+// Resolved (docs/physics.md, Two-way coupling): the fluid held within 0.3 % of rest density, the
 // box 24 particle diameters across (radius 0.005 m: 276k particles around the submerged box,
 // 187k under the floating one) and 12 (0.01 m, the CPU suite's).
 TEST_CASE("coupling on CUDA: resolved at 24 diameters, a submerged box feels rho g V within 5 %", "[gpu][coupling]") {
@@ -34,7 +34,7 @@ TEST_CASE("coupling on CUDA: resolved at 24 diameters, a box of 500 kg/m3 floats
 // May fail ([!mayfail]: reported, not fatal): at 12 diameters on CUDA the force is within 1-2 %
 // (136.9 N for 135.6 N), but one run's largest |torque| over the last second was 0.218 N m
 // (bound 0.163), its mean 0.17 N m about x, a stress the resting packing holds, while the next
-// run (after the first step began settling the new box's boundary: README, Physics, Overlaps)
+// run (after the first step began settling the new box's boundary: docs/physics.md, Overlaps)
 // stayed under the bound: the scene is chaotic. The CPU run of it stays under; 24 diameters,
 // above, stay under 0.06 N m. H100.
 TEST_CASE("coupling on CUDA: resolved at 12 diameters, a submerged box feels rho g V within 5 %",

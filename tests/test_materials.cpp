@@ -1,4 +1,4 @@
-// Fluid materials on the CPU backend (issue 16): the scenes of materials_scenes.h ([gpu] twins
+// Fluid materials on the CPU backend: the scenes of materials_scenes.h ([gpu] twins
 // in test_gpu_materials.cpp) and the API: defaults, the default material, per-particle read-back,
 // refusals, and that a world without materials runs exactly as before.
 //

@@ -1,6 +1,7 @@
-// Mesh colliders on the CPU backend (issue 13), through the C ABI: the calls and their refusals,
-// water at rest in a box-mesh container against the same water in the domain's walls, an open
-// plane holding a pool, and the leak test of a fast container. The scenes are in mesh_scenes.h
+// Mesh colliders on the CPU backend, through the C ABI: the calls and their refusals,
+// which meshes hold water emitted inside them (the container recipe of docs/api.md), water at
+// rest in a box-mesh container against the same water in the domain's walls, an open plane
+// holding a pool, and the leak test of a fast container. The scenes are in mesh_scenes.h
 // ([gpu] twins in test_gpu_mesh_colliders.cpp); the field's accuracy is checked white-box in
 // test_sdf.cpp.
 #include "mesh_scenes.h"
@@ -151,6 +152,67 @@ TEST_CASE("mesh: water on a sphere mesh keeps the distance it keeps from the ana
 
 TEST_CASE("mesh: an open plane holds a pool on its shell", "[mesh][physics]") {
     check_open_plane(PBF_BACKEND_CPU);
+}
+
+namespace {
+// The container recipe of docs/api.md: a block of water emitted inside a box mesh 0.6 m across
+// (its floor 0.2 m above the tank's), stepped 0.5 s; returns how many particle centres are still
+// inside the box, and the count emitted.
+std::pair<uint32_t, uint32_t> kept_inside(const Mesh& m, bool closed) {
+    pbf_world_id w = scene::create(scene::tank(PBF_BACKEND_CPU, kR, 2.0f, 1.6f, 2.0f, 4096));
+    const float e = 0.3f, at[3] = {1.0f, 0.5f, 1.0f};
+    mesh_collider(w, create_mesh(w, m.desc(closed)), at);
+    const uint32_t emitted = scene::fill(w, 0.8f, 0.32f, 0.8f, 1.2f, 0.6f, 1.2f);
+    for (int k = 0; k < 30; ++k) REQUIRE_PBF(pbf_world_step(w, kDt));
+    const scene::Particles p = scene::read(w);
+    uint32_t inside = 0;
+    for (uint32_t k = 0; k < p.count; ++k) {
+        const float* x = &p.pos[4 * size_t(k)];
+        inside += std::fabs(x[0] - at[0]) < e && std::fabs(x[2] - at[2]) < e && x[1] > at[1] - e && x[1] < at[1] + e;
+    }
+    REQUIRE_PBF(pbf_world_destroy(w));
+    return {inside, emitted};
+}
+
+// The box without the triangles of its top face (all three corners at y = +e).
+Mesh without_lid(const Mesh& m, float e) {
+    Mesh open;
+    open.v = m.v;
+    for (size_t t = 0; t < m.i.size(); t += 3) {
+        bool top = true;
+        for (size_t c = 0; c < 3; ++c) top = top && m.v[3 * size_t(m.i[t + c]) + 1] == e;
+        if (!top) open.i.insert(open.i.end(), m.i.begin() + std::ptrdiff_t(t), m.i.begin() + std::ptrdiff_t(t + 3));
+    }
+    return open;
+}
+}  // namespace
+
+// A closed mesh is solid inside: a closed box pushes water emitted inside it out, as any
+// collider it overlaps. An open shell (closed = 0, with or without its lid) and a hollow box
+// (an inner surface wound inward) are containers. A closed box wound inside out has no inside
+// (its winding number there is -1): a surface without a solid behind it, which holds the water.
+TEST_CASE("mesh: a closed box is solid; an open shell or a hollow box holds water emitted inside", "[mesh][physics]") {
+    const float e = 0.3f;
+    Mesh inverted;
+    const float half[3] = {e, e, e};
+    add_box(inverted, half, true);
+    const struct {
+        const char* what;
+        Mesh mesh;
+        bool closed, holds;
+    } cases[] = {
+        {"closed box", box(e, e, e), true, false},
+        {"box as an open shell", box(e, e, e), false, true},
+        {"box without its lid, open shell", without_lid(box(e, e, e), e), false, true},
+        {"hollow box, walls 2 radii thick", hollow_box(e, e, e, 2 * kR), true, true},
+        {"closed box wound inside out", inverted, true, true},
+    };
+    for (const auto& c : cases) {
+        INFO(c.what);
+        const auto [inside, emitted] = kept_inside(c.mesh, c.closed);
+        REQUIRE(emitted == 700u);
+        CHECK(inside == (c.holds ? emitted : 0u));
+    }
 }
 
 TEST_CASE("mesh: a closed container moved 20 radii and turned 30 degrees per frame keeps its water",

@@ -1,4 +1,4 @@
-// Open levels (issue 13): worlds without walls, the hashed neighbour grid through the C ABI, its
+// Open levels: worlds without walls, the hashed neighbour grid through the C ABI, its
 // memory, far and non-finite positions, emitters and drains far from the origin, and the
 // features that read the walls or the grid (coupling, materials, diffuse, render, meshes). The
 // scenes shared with the [gpu] twin live in open_level_scenes.h and open_level_features.h; the

@@ -80,7 +80,7 @@ TEST_CASE("a settled pool stays calm after one step of any dt from 1e-5 to 1/30 
 // 1/60 s gives it. Measured: 0.27 m/s with LDC on and off. Before, with LDC off the emitted
 // particles' error counted as new and went in one substep: 16.9 m/s within 2 ms. With s_corr
 // (default k = 0.1) the block reached 12.7 m/s while s_corr pushed k/(1 + γ) per substep (a force
-// growing as 1/Δt); below Δt = τ it now pushes k/(2γ²), bounded as Δt → 0 (README, Physics).
+// growing as 1/Δt); below Δt = τ it now pushes k/(2γ²), bounded as Δt → 0 (docs/physics.md).
 TEST_CASE("a freshly emitted block stays calm through 200 steps of 1e-5 s, with and without s_corr", "[realtime]") {
     for (float scorr_k : {0.0f, pbf_solver_params_default().scorr_k}) {
         with_and_without_ldc([&](pbf_world_id w, uint32_t ldc) {
@@ -105,7 +105,7 @@ TEST_CASE("a freshly emitted block stays calm through 200 steps of 1e-5 s, with 
 // on the CPU (radius 0.02 m, 0.72 x 0.36 x 0.72 m, LDC off, after 1 s): 4 substeps top particle
 // 0.363 m, mean height 0.1790 m for the lattice's 0.1800; 16 substeps 0.398 m and 0.1816 m (close
 // to both bounds). While s_corr pushed k/(1 + γ) per substep at any Δt, 16 substeps threw
-// particles to 0.47 m and left the pool 6 % expanded (README, Physics).
+// particles to 0.47 m and left the pool 6 % expanded (docs/physics.md).
 TEST_CASE("a pool emitted at rest stays at rest with a fixed substep count of 4 or 16", "[realtime]") {
     const float r = 0.02f, side = 0.72f, depth = 0.36f;
     for (uint32_t substeps : {4u, 16u}) {
@@ -297,7 +297,7 @@ TEST_CASE("a thin paddle swept through the fluid faster than its thickness per s
 // A collider that appears in the fluid (created there, or teleported from elsewhere; the scene is
 // in overlap_scenes.h) did not move into it: its first step moves the particles inside it out,
 // and settles what that piles at its surface, in x itself, so none of it becomes velocity
-// (Solver::settle; README, Physics, Overlaps). What the
+// (Solver::settle; docs/physics.md, Overlaps). What the
 // settling leaves relaxes over τ, at about error · sound_speed. Scene: a 0.2 m box appearing
 // half in a settled pool 0.36 m deep (0.02 m particles), its top 4 cm above the water. Measured
 // (CPU, fastest particle over 0.1 s, created / teleported): 1/60 s: 1.28 / 1.48 m/s (the water

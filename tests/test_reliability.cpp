@@ -74,8 +74,8 @@ pbf_emitter_id add_nozzle(pbf_world_id w, float radius, float pps, const float p
 
 // ---- fuzz findings ------------------------------------------------------------------------------
 // Finding 1: World::create formatted the refused grid's cell count through a uint64_t cast, out of
-// range (undefined) when the domain is astronomically large for the radius. Since open levels
-// (issue 13) a big box gets a hashed grid; what still refuses it is its extent from the origin
+// range (undefined) when the domain is astronomically large for the radius. Since open levels,
+// a big box gets a hashed grid; what still refuses it is its extent from the origin
 // (validation check WORLD_DOMAIN_EXTENT), where float no longer resolves h.
 TEST_CASE("fuzz: a domain of more than 2^64 grid cells is refused for its extent", "[reliability][fuzz]") {
     for (float extent : {1e8f, 1e20f, 1e30f, 3e38f}) {  // 3e38: max - min overflows to Inf

@@ -1,4 +1,4 @@
-// White-box tests of mesh distance fields (issue 13): the field that core/sdf.h's ops build on
+// White-box tests of mesh distance fields: the field that core/sdf.h's ops build on
 // the CPU executor, against the analytic sphere and box the mesh approximates, within one cell
 // (the design's bound). The [gpu] suite checks the CUDA build through the physics it feeds
 // (test_gpu_mesh_colliders.cpp).

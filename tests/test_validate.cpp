@@ -118,8 +118,8 @@ TEST_CASE("validate: world desc and solver parameters name the failed check", "[
     CHECK(std::string(pbf_last_error_message()).find(expected) != std::string::npos);
 }
 
-// Converted from test_c_api.cpp ("emitter desc: ... out-of-range"), where these compared
-// message substrings.
+// Each case names the check that refuses it, not a substring of its message, so rewording a
+// message does not break the test.
 TEST_CASE("validate: emitter descs and transforms name the failed check", "[api][validate][emitter]") {
     TestWorld w;
     struct Case {

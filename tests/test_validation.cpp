@@ -8,7 +8,7 @@
 // Front: the 99th percentile of x among particles within two diameters of the floor, plus one
 // radius. Z = front / a, T = t·sqrt(2g/a).
 //
-// Criteria (issue 6):
+// Criteria:
 // - Z(T) within ±10 % of the experiment at every tabulated T in [0.5, 3], allowing one time
 //   shift δ in [0, 0.2] (Z_exp(T) against Z_sim(T − δ)). Why a shift: the experiment's clock
 //   starts at the release of a gate, which takes a finite time to clear the column, so the

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Zero-copy rendering on the GPU machine (issue 4), in one call from the repository root:
+# Zero-copy rendering on the GPU machine, in one call from the repository root:
 #   - configures build-gpu (sm_90, Release) if it is not there, then builds it (incremental);
 #   - runs the [interop] tests of pbf_gpu_tests (GL buffers, Vulkan external memory, device
 #     pointers, the transfer counter);

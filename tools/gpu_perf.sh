@@ -29,7 +29,7 @@ PBF_BACKEND=cuda "$B/samples/dam_break" 262144 100 4 > "$OUT/sample_256k_it4.log
   --ldc 0,1 --csv "$OUT/bench_sizes.csv" > "$OUT/bench_sizes.md" 2>&1; echo "bench sizes rc=$?"
 "$B/samples/pbf_bench" --backend cuda --scene dam --particles 1000000 --iterations 1,2,3,4,5,6 --ldc 0,1 --stages \
   --csv "$OUT/bench_iters.csv" > "$OUT/bench_iters.md" 2>&1; echo "bench iters rc=$?"
-# Open levels (issue 13): a puddle in a walled 2 m box (dense grid) and 1 km out in an open level
+# Open levels: a puddle in a walled 2 m box (dense grid) and 1 km out in an open level
 # (hashed grid, five planes), and the walled box on the hashed grid.
 "$B/samples/pbf_bench" --backend cuda --scene puddle --particles 100000,1000000 --iterations 4 --ldc 0 \
   --level-size 0,1000 --grid auto,hashed --csv "$OUT/bench_open.csv" > "$OUT/bench_open.md" 2>&1; echo "bench open rc=$?"

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# GPU side of issue 7 (reliability), for the machine with the CUDA device. Assumes build-gpu/
+# GPU side of the reliability checks, for the machine with the CUDA device. Assumes build-gpu/
 # is configured with the CUDA backend (tools/gpu_run.sh makes it); rebuilds pbf_gpu_tests
 # incrementally (it now includes tests/test_gpu_reliability.cpp), then:
 #

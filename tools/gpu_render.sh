@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The frames of docs/render and the README (issue 15), in one call on the GPU machine from the
+# The frames of docs/render and the README, in one call on the GPU machine from the
 # repository root (expected about a minute on an H100; the runs' time limits add up to under 4 minutes):
 #   - a dam break and a nozzle filling a pool drawn as a screen-space surface (smoothed positions
 #     + anisotropy, plus diffuse particles where libpbf has them), 1280x720, through the

@@ -57,7 +57,7 @@ struct Config {
     uint32_t render;  // 1: smoothed positions and anisotropy each step (pbf_render_params)
     uint32_t diffuse;  // diffuse capacity (pbf_diffuse_params.max_diffuse); 0: off
     uint32_t materials = 1;  // 2: two fluids (the default and one of half its density), both with
-                             // surface tension and cohesion (issue 16)
+                             // surface tension and cohesion
     float surface_tension = 0, cohesion = 0;
     std::string collider = "none";  // none, box or mesh
     uint32_t mesh_triangles = 0;

@@ -1,4 +1,4 @@
-/* Fluids of several materials (issue 16): each particle's material colour reaches the surface
+/* Fluids of several materials: each particle's material colour reaches the surface
  * through its id. PBF_BUFFER_MATERIALS cannot be copied into a GL buffer (include/pbf_c_api.h),
  * but the ids can, and a particle keeps its id and its material for life: so the ids stream into
  * a GL buffer with the other render data (zero-copy), and a table id -> material index, built once
@@ -6,7 +6,7 @@
  * splat shader reads. Particles emitted after this call (a nozzle of a coloured material) would
  * need the table rebuilt; the scenes that use it emit everything first.
  *
- * Optics. The default material's colour (0.2, 0.45, 0.9) gives the water of issue 15: absorption
+ * Optics. The default material's colour (0.2, 0.45, 0.9) gives the water of the dam and pool scenes: absorption
  * k = (6, 2.2, 1.1) /m and deep colour (0.02, 0.12, 0.20). Another colour c scales them per
  * channel: k_c = k_water · ln c / ln c_water (a channel the colour keeps is absorbed less) and
  * deep_c = deep_water · c / c_water, with c clamped to 0.02..0.98. The surface pass sums k·chord

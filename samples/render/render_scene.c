@@ -50,7 +50,7 @@ static void pool_fill(scene* s, float spacing, long particles, long frames) {
     memcpy(n.direction, dir, sizeof dir);
     n.speed = speed;
     n.particles_per_second = ((float)particles - (float)s->emitted) / pour_s;
-    /* The disc must carry the rate at rest spacing (README, Conventions): π r² v / s³ ≥ rate,
+    /* The disc must carry the rate at rest spacing (docs/physics.md, Walls): π r² v / s³ ≥ rate,
      * with 30 % to spare. */
     n.radius = sqrtf(1.3f * n.particles_per_second * spacing * spacing * spacing / (3.14159265f * speed));
     CHECK(pbf_world_create_emitter(s->world, &n, &s->nozzle));
@@ -140,7 +140,7 @@ void scene_create(pbf_egl* e, scene* s, const scene_options* o) {
     }
     if (o->surface) desc.render.flags = PBF_RENDER_SMOOTHED_POSITIONS | PBF_RENDER_ANISOTROPY;
 #ifdef PBF_RENDER_HAVE_DIFFUSE
-    /* Diffuse particles in issue 15's scenes; the tests' scenes run without them, as the tests. */
+    /* Diffuse particles in the dam and pool scenes; the tests' scenes run without them, as the tests. */
     if (o->kind == SCENE_DAM_BREAK || o->kind == SCENE_POOL) {
         diffuse_enable(&desc, desc.max_particles / 2);
         s->has_diffuse = 1;

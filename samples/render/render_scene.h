@@ -11,11 +11,11 @@
 
 #include "render_common.h"
 
-/* dam, pool: issue 15's scenes, sized by --particles. The others are the scenes of the tests, at
+/* dam, pool: the water-surface scenes, sized by --particles. The others are the scenes of the tests, at
  * the tests' sizes (particle radius 0.02 m): two fluids stratifying, a cube of fluid relaxing to a
- * sphere in zero gravity and drops hanging under spheres (tests/materials_scenes.h, issue 16); a
+ * sphere in zero gravity and drops hanging under spheres (tests/materials_scenes.h); a
  * closed box mesh moved and turned by the engine and boxes floating and sinking
- * (tests/mesh_scenes.h, tests/coupling_scenes.h, issue 13). */
+ * (tests/mesh_scenes.h, tests/coupling_scenes.h). */
 typedef enum scene_kind {
     SCENE_DAM_BREAK,
     SCENE_POOL,

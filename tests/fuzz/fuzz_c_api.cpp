@@ -707,8 +707,9 @@ void op_emit_block(Reader& in, State& s) {
         FUZZ_ASSERT(r != PBF_OK);
         return;
     }
-    // An emit that adds particles ends a mapping. A refused emit (world full) also ends it today
-    // (tests/test_c_api.cpp "a failed emit leaves a mapping in place", [known-bug]): tolerated.
+    // An emit that adds particles ends a mapping; a refused one (world full) must leave it in place
+    // (tests/test_api_particles.cpp, "a failed emit leaves a mapping in place"). The model accepts
+    // either after a refusal, so it asserts nothing the API tests own.
     if (valid_desc && w->mapped != kNotMapped) w->mapped = r == PBF_OK ? kNotMapped : kMaybeMapped;
     const uint32_t after = count_of(*w);
     if (r == PBF_OK) {

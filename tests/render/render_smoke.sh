@@ -17,13 +17,13 @@ rc=$?
 "$coverage" "$out/surface/frame_0010.png" "$out/surface/background.png" 0.02 0.6 || exit 1
 # No amber in one-material water (the negative control of the material check below).
 "$coverage" "$out/surface/frame_0010.png" "$out/surface/background.png" 0 0.002 warm || exit 1
-# Two materials (issue 16): the amber 500 kg/m³ fluid beside the water in the lock exchange shows
+# Two materials: the amber 500 kg/m³ fluid beside the water in the lock exchange shows
 # amber (through the ids -> material table), and the water stays blue.
 "$renderer" "$out/materials" --backend cpu --scene two_fluids --frames 2 --save 2 --size 128x96 --write-background \
   || { echo "render smoke test: pbf_render_gl (two_fluids) failed"; exit 1; }
 "$coverage" "$out/materials/frame_0002.png" "$out/materials/background.png" 0.02 0.4 warm || exit 1
 "$coverage" "$out/materials/frame_0002.png" "$out/materials/background.png" 0.02 0.4 cool || exit 1
-# Colliders (issue 13): the glass mesh container with its water, moved by the engine.
+# Colliders: the glass mesh container with its water, moved by the engine.
 "$renderer" "$out/container" --backend cpu --scene container --frames 2 --save 2 --size 128x96 --write-background \
   || { echo "render smoke test: pbf_render_gl (container) failed"; exit 1; }
 "$coverage" "$out/container/frame_0002.png" "$out/container/background.png" 0.002 0.3 || exit 1

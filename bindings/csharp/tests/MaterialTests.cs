@@ -7,7 +7,7 @@ using Pbf.Interop;
 
 namespace Pbf.Tests
 {
-    /// <summary>Fluid materials (issue 16) through the C# mirror: defaults, the default material,
+    /// <summary>Fluid materials through the C# mirror: defaults, the default material,
     /// per-particle read-back, refusals.</summary>
     [TestFixture]
     public class MaterialTests

@@ -6,7 +6,7 @@ using Pbf.Interop;
 
 namespace Pbf.Tests
 {
-    /// <summary>Open levels (issue 13): WorldDesc.Walls and HashedGrid, WorldInfo.GridHashed and GridBytes.</summary>
+    /// <summary>Open levels: WorldDesc.Walls and HashedGrid, WorldInfo.GridHashed and GridBytes.</summary>
     [TestFixture]
     public class OpenLevelTests
     {

@@ -1,23 +1,23 @@
 #!/usr/bin/env bash
-# The frames of issues 13 and 16 (docs/render/<scene>/), in one call on the GPU machine from the
+# The frames of the tests' scenes (docs/render/<scene>/), in one call on the GPU machine from the
 # repository root: the tests' scenes drawn by pbf_render_gl as a screen-space surface, coloured
 # by material, with the colliders at their pose, 1280x720, through the zero-copy path:
-#   issue 16: two_fluids (500 and 1000 kg/m³ stratifying, 4 s), droplet (a cube relaxing to a
+#   materials: two_fluids (500 and 1000 kg/m³ stratifying, 4 s), droplet (a cube relaxing to a
 #             sphere in zero gravity, 3 s), hanging_drops (with and without adhesion, 2 s);
-#   issue 13: container (a closed box mesh moved 20 radii and turned 30° per frame, the leak
+#   colliders: container (a closed box mesh moved 20 radii and turned 30° per frame, the leak
 #             test's motion, 10 s), floating_boxes (500 and 2000 kg/m³ boxes on a pool, the engine
 #             integrating them from the force and torque read back, 4 s).
 # The scenes are small (the tests' sizes, at most ~5k particles): expected well under a minute on
 # an H100; the runs' time limits add up to under 4 minutes. The PNGs go into one tar,
-# $OUT/frames_issue13_16.tar, laid out as docs/render/<scene>/frame_NNNN.png (extract it at the
+# $OUT/frames_test_scenes.tar, laid out as docs/render/<scene>/frame_NNNN.png (extract it at the
 # repository root), the logs beside it; a SUMMARY last, with what each scene's test measures,
 # measured at the end of the drawn run ("measured:" lines).
 #
-#   OUT=/tmp/out bash tools/gpu_frames_issue13_16.sh                 # configures and builds build-gpu
-#   PBF_PREBUILT=.gpu-bin OUT=... bash tools/gpu_frames_issue13_16.sh  # binaries built elsewhere
+#   OUT=/tmp/out bash tools/gpu_frames_test_scenes.sh                 # configures and builds build-gpu
+#   PBF_PREBUILT=.gpu-bin OUT=... bash tools/gpu_frames_test_scenes.sh  # binaries built elsewhere
 #       (as tools/gpu_render.sh: the folder holds samples/render/pbf_render_gl and lib/)
-#   PBF_BACKEND=cpu ...   runs the same on the CPU backend (the copy path; how the committed frames
-#       of a session without a GPU were made, at PBF_SIZE=960x540)
+#   PBF_BACKEND=cpu ...   runs the same on the CPU backend (the copy path; how frames were made
+#       on a machine without a GPU, at PBF_SIZE=960x540)
 # Exit code 0 when every run passed (and, on CUDA, took the zero-copy path).
 set -uo pipefail
 OUT=${OUT:-/tmp/out}
@@ -76,11 +76,11 @@ run hanging_drops 40 120 1,15,30,60,120
 run container 60 600 1,2,3,4,5,6,300,600
 run floating_boxes 60 240 1,20,40,60,120,240
 
-tar -cf "$OUT/frames_issue13_16.tar" -C "$STAGE" docs 2> /dev/null
-pngs=$(tar -tf "$OUT/frames_issue13_16.tar" 2> /dev/null | grep -c '\.png$')
+tar -cf "$OUT/frames_test_scenes.tar" -C "$STAGE" docs 2> /dev/null
+pngs=$(tar -tf "$OUT/frames_test_scenes.tar" 2> /dev/null | grep -c '\.png$')
 rm -rf "$STAGE"
 echo
-echo "SUMMARY (device: $device; $SIZE; $pngs PNGs in \$OUT/frames_issue13_16.tar, extract at the repository root):"
+echo "SUMMARY (device: $device; $SIZE; $pngs PNGs in \$OUT/frames_test_scenes.tar, extract at the repository root):"
 for r in "${results[@]}"; do echo "  $r"; done
 echo "  result: $([ $fail = 0 ] && echo PASS || echo FAIL)"
 exit $fail
