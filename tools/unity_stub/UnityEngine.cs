@@ -55,6 +55,8 @@ namespace UnityEngine
         public static Color cyan; }
     public static class Gizmos { public static Color color; public static void DrawWireCube(Vector3 c, Vector3 s) {} public static void DrawRay(Vector3 from, Vector3 direction) {} }
     public static class Graphics { public static void DrawMeshInstancedProcedural(Mesh m, int sub, Material mat, Bounds b, int n, MaterialPropertyBlock p) {} }
+    public struct Rect { public Rect(float x, float y, float width, float height) {} }
+    public static class GUI { public static void Label(Rect position, string text) {} }
     public static class Debug { public static void Log(object o) {} public static void LogError(object o) {} public static void LogWarning(object o) {} }
     public static class Mathf { public const float PI = 3.14159265f; public const float Rad2Deg = 57.29578f; public static float Abs(float f) { return f; } public static float Clamp(float v, float lo, float hi) { return v; } }
     public static class Physics { public static Vector3 gravity; }

@@ -142,6 +142,7 @@ namespace Pbf.Tests
                 Tuple.Create(typeof(pbf_result), typeof(Result)),
                 Tuple.Create(typeof(pbf_log_level), typeof(LogLevel)),
                 Tuple.Create(typeof(pbf_backend), typeof(Backend)),
+                Tuple.Create(typeof(pbf_backend_status), typeof(BackendStatus)),
                 Tuple.Create(typeof(pbf_emitter_type), typeof(EmitterType)),
                 Tuple.Create(typeof(pbf_collider_shape), typeof(ColliderShape)),
                 Tuple.Create(typeof(pbf_collider_motion), typeof(ColliderMotion)),

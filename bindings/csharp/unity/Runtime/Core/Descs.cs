@@ -591,4 +591,51 @@ namespace Pbf
         /// <summary>Diffuse passes run so far (one per step when on; 0 when off).</summary>
         public long DiffuseUpdates { get { return (long)_raw.diffuse_updates; } }
     }
+
+    /// <summary>Whether a backend can run on this machine, and if not, why (pbf_backend_info,
+    /// from <see cref="Library.GetBackendInfo"/>).</summary>
+    public struct BackendInfo
+    {
+        readonly pbf_backend_info _raw;
+        readonly string _deviceName;
+        readonly string _message;
+
+        public BackendInfo(pbf_backend_info raw)
+        {
+            _raw = raw;
+            _deviceName = raw.device_name.ToString();
+            _message = raw.message.ToString();
+        }
+
+        public pbf_backend_info ToNative() { return _raw; }
+
+        /// <summary>The backend described: Cpu or Cuda; for Auto, the one a world created with
+        /// Auto on that device gets (never Auto).</summary>
+        public Backend Backend { get { return (Backend)_raw.backend; } }
+        /// <summary>Available, or why <see cref="Backend"/> cannot run here.</summary>
+        public BackendStatus Status { get { return (BackendStatus)_raw.status; } }
+        public bool IsAvailable { get { return Status == BackendStatus.Available; } }
+        /// <summary>The CUDA device described; -1 for the CPU.</summary>
+        public int CudaDevice { get { return _raw.cuda_device; } }
+        /// <summary>CUDA devices the driver reports (0 without a driver).</summary>
+        public int DeviceCount { get { return _raw.device_count; } }
+        /// <summary>The driver's CUDA version, 1000·major + 10·minor (13000 for 13.0; 0 without a
+        /// driver).</summary>
+        public int DriverVersion { get { return _raw.driver_version; } }
+        /// <summary>The least driver version the kernels need (0 in a build without CUDA).</summary>
+        public int RequiredDriverVersion { get { return _raw.required_driver_version; } }
+        /// <summary>e.g. "NVIDIA GeForce RTX 4070" or "CPU (8 threads)"; "" where there is no such device.</summary>
+        public string DeviceName { get { return _deviceName ?? string.Empty; } }
+        /// <summary>Why the backend is unavailable (for Auto on the CPU: why CUDA was not taken,
+        /// starting "CUDA not taken: "), or what was found.</summary>
+        public string Message { get { return _message ?? string.Empty; } }
+
+        /// <summary>"13.0" for 13000 (a driver version as the CUDA driver API reports it).</summary>
+        public static string VersionString(int driverVersion)
+        {
+            return (driverVersion / 1000) + "." + (driverVersion % 1000 / 10);
+        }
+
+        public override string ToString() { return Backend + " (" + Status + "): " + Message; }
+    }
 }

@@ -36,6 +36,25 @@ namespace Pbf
         Cuda = 2,
     }
 
+    /// <summary>pbf_backend_status: whether a backend can run on this machine, and if not, why
+    /// (<see cref="Library.GetBackendInfo"/>).</summary>
+    public enum BackendStatus
+    {
+        Available = 0,
+        /// <summary>This libpbf was built without the backend.</summary>
+        NotBuilt = 1,
+        /// <summary>No NVIDIA driver: its library (libcuda.so.1 / nvcuda.dll) was not found.</summary>
+        NoDriver = 2,
+        /// <summary>The driver is older than <see cref="BackendInfo.RequiredDriverVersion"/>.</summary>
+        DriverTooOld = 3,
+        /// <summary>A driver, but no CUDA device of that ordinal.</summary>
+        NoDevice = 4,
+        /// <summary>A GPU the kernels do not run on (before compute capability 7.5).</summary>
+        DeviceUnsupported = 5,
+        /// <summary>The driver failed to start, or to load the kernels: the message gives its error.</summary>
+        DriverError = 6,
+    }
+
     /// <summary>pbf_log_level.</summary>
     public enum LogLevel
     {

@@ -10,7 +10,7 @@ namespace Pbf
     /// log again and wait on that lock forever).</remarks>
     public delegate void LogHandler(LogLevel level, string message);
 
-    /// <summary>Process-wide parts of libpbf: versions and logging.</summary>
+    /// <summary>Process-wide parts of libpbf: versions, backends and logging.</summary>
     public static partial class Library
     {
         /// <summary>PBF_VERSION of the header these bindings mirror.</summary>
@@ -31,6 +31,23 @@ namespace Pbf
         {
             return Native.PBF_VERSION_GET_MAJOR(version) + "." + Native.PBF_VERSION_GET_MINOR(version) + "." +
                    Native.PBF_VERSION_GET_PATCH(version);
+        }
+
+        /// <summary>
+        /// pbf_get_backend_info(): whether backend can run on this machine (on CUDA device
+        /// cudaDevice; ignored for the CPU), and if not, why. For <see cref="Backend.Auto"/>, the
+        /// backend a world created with Auto on that device gets, and when that is the CPU, why
+        /// CUDA was not taken. Unavailable is an answer, not an error: it throws only for bad
+        /// arguments (<see cref="Result.InvalidArgument"/>: a backend outside the enum, a negative
+        /// cudaDevice for Auto or Cuda). The first call that looks at a CUDA device opens the
+        /// NVIDIA driver and loads the kernels (tens to hundreds of milliseconds); later calls and
+        /// world creations reuse them, but a failure is tried again at each call.
+        /// </summary>
+        public static BackendInfo GetBackendInfo(Backend backend = Backend.Auto, int cudaDevice = 0)
+        {
+            var info = new pbf_backend_info { struct_size = Native.SizeOf<pbf_backend_info>() };
+            PbfException.Check(Native.pbf_get_backend_info((pbf_backend)backend, cudaDevice, ref info));
+            return new BackendInfo(info);
         }
 
         /// <summary>pbf_result_string(): the static name of a result, e.g. "PBF_ERROR_INVALID_HANDLE".</summary>

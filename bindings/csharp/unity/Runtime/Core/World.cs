@@ -17,9 +17,32 @@ namespace Pbf
     public sealed partial class World : IDisposable
     {
         readonly pbf_world_id _id;
+        readonly Backend _backend;
+        readonly string _cudaNotTakenReason;
         int _disposed;
 
-        World(pbf_world_id id) { _id = id; }
+        World(pbf_world_id id, Backend requested, int cudaDevice)
+        {
+            _id = id;
+            RequestedBackend = requested;
+            CudaDevice = cudaDevice;
+            var info = new pbf_world_info { struct_size = Native.SizeOf<pbf_world_info>() };
+            // The world was just created by this thread: reading its info can fail only on a bug.
+            PbfException.Check(Native.pbf_world_get_info(id, ref info));
+            _backend = (Backend)info.backend;
+            _cudaNotTakenReason = _backend == Backend.Cuda ? string.Empty : CudaNotTaken(requested, cudaDevice);
+        }
+
+        // Asked right after creation, so that it is what creation found: the library tries the
+        // driver again at each call after a failure.
+        static string CudaNotTaken(Backend requested, int cudaDevice)
+        {
+            if (requested == Backend.Cpu) return "CUDA not taken: the world asked for the CPU backend";
+            BackendInfo auto = Library.GetBackendInfo(Backend.Auto, cudaDevice);
+            if (auto.Backend == Backend.Cpu) return auto.Message;
+            // CUDA failed for the creation and came up for the next call (a transient driver error).
+            return "CUDA not taken: CUDA device " + cudaDevice + " was unavailable when the world was created; now: " + auto.Message;
+        }
 
         /// <summary>A world of the library's defaults (see <see cref="WorldDesc"/>).</summary>
         public static World Create() { return Create(new WorldDesc()); }
@@ -32,7 +55,15 @@ namespace Pbf
             pbf_world_desc raw = desc.ToNative();
             pbf_world_id id;
             PbfException.Check(Native.pbf_world_create(ref raw, out id));
-            return new World(id);
+            try
+            {
+                return new World(id, desc.Backend, desc.CudaDevice);
+            }
+            catch
+            {
+                Native.pbf_world_destroy(id);
+                throw;
+            }
         }
 
         ~World() { Destroy(); }
@@ -60,7 +91,7 @@ namespace Pbf
         {
             get
             {
-                if (Volatile.Read(ref _disposed) != 0) throw new ObjectDisposedException("Pbf.World");
+                ThrowIfDisposed();
                 return _id;
             }
         }
@@ -142,6 +173,31 @@ namespace Pbf
         {
             Float3 g = Convert3.ToNative(gravity);
             PbfException.Check(Native.pbf_world_set_gravity(Handle, ref g));
+        }
+
+        // ---- backend ---------------------------------------------------------------------------
+        /// <summary>The backend in use: Cpu or Cuda, never Auto (<see cref="WorldInfo.Backend"/>).</summary>
+        public Backend Backend { get { ThrowIfDisposed(); return _backend; } }
+
+        /// <summary>The backend the world's desc asked for (Auto, Cpu or Cuda).</summary>
+        public Backend RequestedBackend { get; }
+
+        /// <summary>The CUDA device ordinal of the world's desc (used only when it runs on CUDA).</summary>
+        public int CudaDevice { get; }
+
+        /// <summary>
+        /// Why the world runs on the CPU rather than on CUDA; "" when it runs on CUDA. Created with
+        /// <see cref="Backend.Auto"/>: the library's reason, as <see cref="Library.GetBackendInfo"/>
+        /// for Auto on <see cref="CudaDevice"/> reported it when the world was created, e.g. "CUDA
+        /// not taken: this libpbf was built without CUDA (PBF_WITH_CUDA=OFF)". Created with
+        /// <see cref="Backend.Cpu"/>: "CUDA not taken: the world asked for the CPU backend".
+        /// Always starts "CUDA not taken: " on the CPU. No native call: it is kept from creation.
+        /// </summary>
+        public string CudaNotTakenReason { get { ThrowIfDisposed(); return _cudaNotTakenReason; } }
+
+        void ThrowIfDisposed()
+        {
+            if (Volatile.Read(ref _disposed) != 0) throw new ObjectDisposedException("Pbf.World");
         }
 
         /// <summary>Backend, device, capacity and particle constants of this world.</summary>

@@ -7,7 +7,8 @@
 // instanced spheres by the "Pbf/Particles" shader, each in its material's colour, brighter where
 // compressed. With "Anisotropic" on (the default) the world also computes smoothed positions and
 // anisotropy (Yu & Turk 2013), and each sphere is drawn as its particle's ellipsoid: flat along
-// the surface, so the water reads as a surface, not beads.
+// the surface, so the water reads as a surface, not beads. A label in the corner says which
+// backend the world runs on, on which device, and when on the CPU, why CUDA was not taken.
 //
 // Setup: open FluidDemo.unity (beside this file) and press Play. Or add this component to any
 // GameObject: it uses the assigned material, else one made from the Pbf/Particles shader
@@ -71,6 +72,8 @@ public sealed class PbfFluidDemo : MonoBehaviour
     public Mesh particleMesh;
     [Tooltip("Draw each particle as its ellipsoid (smoothed position + anisotropy); fixed when the world is created.")]
     public bool anisotropic = true;
+    [Tooltip("Show the backend, its device and, on the CPU, why CUDA was not taken.")]
+    public bool showBackend = true;
 
     World _world;
     Emitter _nozzle;
@@ -87,6 +90,7 @@ public sealed class PbfFluidDemo : MonoBehaviour
     int _count;
     bool _nozzleOn;
     MaterialPropertyBlock _props;
+    string _backendText;  // made once the world exists: OnGUI runs several times a frame
 
     static readonly int PositionsId = Shader.PropertyToID("_PbfPositions");
     static readonly int RadiusId = Shader.PropertyToID("_Radius");
@@ -163,7 +167,9 @@ public sealed class PbfFluidDemo : MonoBehaviour
         }
 
         WorldInfo info = _world.Info;
-        Debug.Log("libpbf " + Library.VersionString(Library.Version) + " on " + info.DeviceName + " (" + info.Backend + ")");
+        _backendText = "libpbf " + Library.VersionString(Library.Version) + ": " + info.Backend + " on " + info.DeviceName;
+        if (info.Backend != Backend.Cuda) _backendText += "\n" + _world.CudaNotTakenReason;
+        Debug.Log(_backendText);
 
         _positions = new Vector4[maxParticles];
         _positionsBuffer = new GraphicsBuffer(GraphicsBuffer.Target.Structured, maxParticles, 16);
@@ -277,6 +283,11 @@ public sealed class PbfFluidDemo : MonoBehaviour
         Graphics.DrawMeshInstancedProcedural(particleMesh, 0, particleMaterial, bounds, _count, _props);
     }
 
+    void OnGUI()
+    {
+        if (showBackend && _backendText != null) GUI.Label(new Rect(10, 10, 1000, 60), _backendText);
+    }
+
     void OnDisable()
     {
         foreach (PbfFloatingBody body in floatingBodies)
@@ -293,6 +304,7 @@ public sealed class PbfFluidDemo : MonoBehaviour
         _materialsBuffer = null;
         if (_tank != null) Destroy(_tank);
         _tank = null;
+        _backendText = null;
         PbfUnityLog.Uninstall();
     }
 
