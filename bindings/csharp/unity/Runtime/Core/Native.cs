@@ -280,7 +280,7 @@ namespace Pbf.Interop
         /// the fastest particle moves at most substep_travel·h per substep,
         /// gravity alone moves a resting one at most substep_travel·h/64,
         /// and a resting column as deep as the fluid's extent along gravity
-        /// compresses at most ~10 % at its bottom (README, Physics), up to
+        /// compresses at most ~10 % at its bottom (docs/physics.md), up to
         /// max_substeps. 1..64: exactly that many.
         /// </summary>
         public uint substeps;
@@ -417,18 +417,18 @@ namespace Pbf.Interop
         public float trapped_air_max;
         /// <summary>τ_wc: wave-crest potential Σ_j (1 - n̂_i·n̂_j) W_ij of surface</summary>
         public float wave_crest_min;
-        /// <summary>particles moving along their normal (defaults 0.5 and 2)</summary>
+        /// <summary>particles moving along their normal (defaults 1 and 4)</summary>
         public float wave_crest_max;
         /// <summary>τ_k: kinetic energy per unit mass ½|v|² (J/kg) that starts</summary>
         public float energy_min;
-        /// <summary>and saturates generation (defaults 0.5 and 5)</summary>
+        /// <summary>and saturates generation (defaults 0.5 and 4)</summary>
         public float energy_max;
         /// <summary>
         /// k_ta: diffuse particles per second per fluid particle at full
-        /// trapped-air and energy potentials, 0..1e4 (default 40)
+        /// trapped-air and energy potentials, 0..1e4 (default 200)
         /// </summary>
         public float trapped_air_rate;
-        /// <summary>k_wc: the same for wave crests, 0..1e4 (default 40)</summary>
+        /// <summary>k_wc: the same for wave crests, 0..1e4 (default 200)</summary>
         public float wave_crest_rate;
         /// <summary>s, (0, 1e4]: foam and spray live (0.5..1) x this (default 2)</summary>
         public float lifetime;
@@ -453,7 +453,11 @@ namespace Pbf.Interop
     // ---- World
     public enum pbf_backend : int
     {
-        /// <summary>CUDA when built in and a device exists, else CPU</summary>
+        /// <summary>
+        /// CUDA when built in and a device exists, else CPU. The library reads
+        /// no environment variable: the PBF_BACKEND variable of the samples
+        /// and tools is theirs, turned into this field
+        /// </summary>
         PBF_BACKEND_AUTO = 0,
         PBF_BACKEND_CPU = 1,
         PBF_BACKEND_CUDA = 2,
@@ -567,7 +571,7 @@ namespace Pbf.Interop
         /// no box (domain_min/max are ignored); the fluid stops only at
         /// colliders. Particle centres are still held within |x| &lt;=
         /// 2^17·h on each axis (h = 4·radius: 5.2 km at radius 0.01 m),
-        /// where float spacing reaches h/64 (README, Physics). The
+        /// where float spacing reaches h/64 (docs/physics.md). The
         /// neighbour grid is then hashed: its memory follows max_particles,
         /// not the level's extent (pbf_world_info.grid_bytes).
         /// </summary>
@@ -624,7 +628,7 @@ namespace Pbf.Interop
         /// 0: a dense grid over the domain box; 1: a hashed grid of
         /// grid_cells = the power of two &gt;= max_particles (at least 4096)
         /// keys, used without walls and for boxes of more than 4 cells
-        /// per hashed key (README, Performance)
+        /// per hashed key (docs/perf.md, Open levels)
         /// </summary>
         public uint grid_hashed;
         public uint reserved2;
@@ -779,19 +783,25 @@ namespace Pbf.Interop
         public uint vertex_count;
         /// <summary>
         /// triangle_count x 3, each &lt; vertex_count; counter-clockwise seen
-        /// from outside (the right-hand normal points out of the solid)
+        /// from outside (the right-hand normal points out of the solid).
+        /// A closed mesh wound inside out is accepted, not reported: its
+        /// winding number inside is -1, so no point is inside and it acts
+        /// as a surface without a solid behind it
         /// </summary>
         public IntPtr indices;
         /// <summary>
         /// 1 .. 2^22; degenerate (zero-area) triangles are skipped, a mesh of
-        /// only degenerate ones is refused
+        /// only degenerate ones is refused (PBF_ERROR_INVALID_ARGUMENT)
         /// </summary>
         public uint triangle_count;
         /// <summary>
         /// 1 (default): watertight, inside by the generalised winding number
         /// (small holes and overlaps tolerated); 0: open (terrain pieces,
         /// single-sided planes): solid within thickness/2 of the surface on
-        /// both sides, whatever its winding
+        /// both sides, whatever its winding. A container is an open shell
+        /// (closed 0, e.g. a box without its lid) or a closed hollow mesh
+        /// (an outer surface and an inner one wound inward); a closed box
+        /// is solid and pushes water emitted inside it out
         /// </summary>
         public uint closed;
         /// <summary>
@@ -865,7 +875,7 @@ namespace Pbf.Interop
         /// (pbf_collider_get_force); the engine integrates its body and
         /// moves it (motion KINEMATIC, pbf_collider_set_target_pose). A STATIC
         /// dynamic collider only measures (a load on a fixed wall).
-        /// Accuracy (README, Physics, Two-way coupling): buoyancy within
+        /// Accuracy (docs/physics.md, Two-way coupling): buoyancy within
         /// 3 % with the body &gt;= 12 particle diameters across and the
         /// density held near rest (adaptive_error_target 0.003).
         /// </summary>
@@ -1646,8 +1656,8 @@ namespace Pbf.Interop
         /// <summary>
         /// A collider created where fluid is (or teleported there, or a block emitted into one) did not
         /// move into it: the next step's first substep moves the particles inside it out and settles
-        /// what that piles at its surface, in their positions only, so the water is not flung (README,
-        /// Physics, Overlaps; that substep runs at least 32 extra constraint iterations).
+        /// what that piles at its surface, in their positions only, so the water is not flung
+        /// (docs/physics.md, Overlaps; that substep runs at least 32 extra constraint iterations).
         /// </summary>
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_world_create_collider(pbf_world_id world, ref pbf_collider_desc desc, out pbf_collider_id out_collider);
@@ -1711,7 +1721,7 @@ namespace Pbf.Interop
         // every world starts with: the world's rest_density and its solver parameters' xsph_c and
         // ldc_gain (setting its viscosity or ldc_gain sets those; its rest density is the world's), no
         // surface tension, cohesion or adhesion. A world that never creates a material runs exactly as
-        // before. README, "Materials", gives the model, units and approximations.
+        // before. docs/materials.md gives the model, units and approximations.
         public const int PBF_MAX_MATERIALS = 8;
 
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
@@ -1817,7 +1827,8 @@ namespace Pbf.Interop
 
         /// <summary>
         /// Copies min(count, out_bytes / element size) particles of one buffer into out (element sizes
-        /// above; out_bytes must be a multiple of the element size). Works on both backends. A render
+        /// above; out_bytes must be a multiple of the element size, else PBF_ERROR_INVALID_ARGUMENT).
+        /// Works on both backends. A render
         /// buffer the world does not compute (desc.render.flags), or a diffuse buffer in a world without
         /// a diffuse capacity, is refused with PBF_ERROR_INVALID_STATE. The diffuse buffers copy
         /// min(diffuse_count, ...) diffuse particles.
