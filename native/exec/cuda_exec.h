@@ -72,11 +72,14 @@ public:
         if (n > 0) launch_op(CudaOp<Op>::index, n, &op);
     }
 
-    // Stable sort of (key, value) pairs by key, keys in 0..max_key: LSD radix passes of
-    // kCudaRadixBits over the bits max_key needs; the result is in buffers [*key_sel], [*value_sel].
+    // The grid's sort: (cell, slot) pairs by cell, cells in 0..max_key (the world's cell count,
+    // its dead particles' key), slots in increasing order in each cell: a counting sort into the
+    // cells, each cell's few slots then put back in input order (cuda_kernels.cu). The pairs of
+    // key max_key come last in no particular order. Result in buffers [*key_sel], [*value_sel].
     void sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
                     int* value_sel);
-    // The same sort and scan for builds outside a step (a mesh's field), of any length, with
+    // A stable sort of any (key, value) pairs for builds outside a step (a mesh's field): LSD
+    // radix passes of kCudaRadixBits over the bits max_key needs; and a scan; of any length, with
     // temporary storage the caller allocates (alloc) of the size these return.
     size_t sort_temp_bytes(uint32_t n, uint32_t max_key) const;
     size_t scan_temp_bytes(uint32_t n) const;
@@ -116,6 +119,7 @@ private:
     static constexpr int kStagingSlots = 8;
     static constexpr size_t kStagingBytes = 256 * 1024;
     void launch_op(uint32_t index, uint32_t n, const void* op);
+    size_t counting_temp_bytes(uint32_t max_key) const;
     void launch(CUfunction f, uint32_t blocks, uint32_t threads, void** params);
     void* alloc_bytes(size_t bytes);
     void* try_alloc_bytes(size_t bytes);

@@ -248,6 +248,41 @@ extern "C" __global__ void __launch_bounds__(kCudaScanBlock) pbf_radix_downsweep
     }
 }
 
+// ---- counting sort of the grid's (cell, slot) pairs ---------------------------------------------
+// Keys are cells (0..max_key, max_key: the dead) and values the slots in their current order.
+// counts[k] = pairs of key k; their exclusive scan gives each key's first slot, one past it the
+// next key's; the scatter takes slots from the end of each key's range down (atomicSub), which
+// leaves begin[k + 1] = the first slot of key k; each key's few pairs are then put back in input
+// order by their values (an insertion sort per key: a cell holds a handful of particles).
+extern "C" __global__ void pbf_count_keys(const uint32_t* keys, uint32_t n, uint32_t* counts) {
+    const uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i < n) atomicAdd(&counts[keys[i]], 1u);
+}
+
+extern "C" __global__ void pbf_scatter_keys(const uint32_t* keys_in, const uint32_t* values_in, uint32_t* keys_out,
+                                            uint32_t* values_out, uint32_t n, uint32_t* begin) {
+    const uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n) return;
+    const uint32_t key = keys_in[i];
+    const uint32_t slot = atomicSub(&begin[key + 1], 1u) - 1u;
+    keys_out[slot] = key;
+    values_out[slot] = values_in[i];
+}
+
+// Thread k < max_key: the pairs of key k, [begin[k + 1], begin[k + 2]), in value order. The dead
+// (max_key) stay in scatter order: nothing reads them.
+extern "C" __global__ void pbf_order_keys(const uint32_t* begin, uint32_t max_key, uint32_t* values) {
+    const uint32_t k = blockIdx.x * blockDim.x + threadIdx.x;
+    if (k >= max_key) return;
+    const uint32_t first = begin[k + 1], end = begin[k + 2];
+    for (uint32_t i = first + 1; i < end; ++i) {
+        const uint32_t v = values[i];
+        uint32_t j = i;
+        for (; j > first && values[j - 1] > v; --j) values[j] = values[j - 1];
+        values[j] = v;
+    }
+}
+
 // ---- reductions ---------------------------------------------------------------------------------
 namespace {
 using ReduceD = cub::BlockReduce<double, kCudaReduceBlock>;

@@ -111,6 +111,9 @@ constexpr int kCudaReduceBlock = 256;
     X(radix_upsweep)                \
     X(radix_scan_rows)              \
     X(radix_downsweep)              \
+    X(count_keys)                   \
+    X(scatter_keys)                 \
+    X(order_keys)                   \
     X(reduce_stats)                 \
     X(sum_error)                    \
     X(feedback)                     \
