@@ -34,12 +34,11 @@ static uint64_t physical_memory_bytes() {
 #endif
 }
 
-Status CpuExec::init(uint32_t, uint32_t num_cells) {
+Status CpuExec::init(uint32_t, uint32_t) {
     // Refuse worlds that would not fit in physical memory rather than let the OS kill the
     // process later when the pages are touched.
     const uint64_t physical = physical_memory_bytes();
     byte_limit_ = physical > 0 ? physical / 4 * 3 : UINT64_MAX;
-    histogram_.assign(size_t(num_cells) + 2, 0);
     return Status{};
 }
 
@@ -104,10 +103,9 @@ void counting_sort(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t*
 }
 }  // namespace
 
-void CpuExec::sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
-                         int* value_sel) {
-    (void)max_key;
-    counting_sort(keys, values, n, histogram_.data(), histogram_.size());
+void CpuExec::sort_cells(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t num_cells, uint32_t* counters,
+                         int* key_sel, int* value_sel) {
+    counting_sort(keys, values, n, counters, size_t(num_cells) + 2);
     *key_sel = *value_sel = 1;
 }
 

@@ -58,10 +58,11 @@ public:
         for (int64_t i = 0; i < count; ++i) op(static_cast<uint32_t>(i));
     }
 
-    // Stable counting sort of (key, value) pairs, keys in 0..max_key; result in buffers [1].
-    void sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
-                    int* value_sel);
-    // The same sort and scan for builds outside a step (a mesh's field), of any length, with
+    // The grid's sort: (cell, slot) pairs by cell, cells in 0..num_cells, a stable counting sort
+    // with `counters` (num_cells + 2 words, clobbered) as its histogram; result in buffers [1].
+    void sort_cells(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t num_cells, uint32_t* counters,
+                    int* key_sel, int* value_sel);
+    // A stable sort and a scan for builds outside a step (a mesh's field), of any length, with
     // temporary storage the caller allocates (alloc) of the size these return.
     size_t sort_temp_bytes(uint32_t, uint32_t max_key) const { return (size_t(max_key) + 2) * sizeof(uint32_t); }
     size_t scan_temp_bytes(uint32_t) const { return 16; }
@@ -107,7 +108,6 @@ private:
     std::chrono::steady_clock::time_point mark_time_[kMaxMarks];
     uint64_t bytes_ = 0;
     uint64_t byte_limit_ = 0;
-    std::vector<uint32_t> histogram_;
     std::string last_error_;
     std::chrono::steady_clock::time_point t0_{};
     float last_ms_ = 0.0f;

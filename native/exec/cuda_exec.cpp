@@ -41,7 +41,7 @@ CudaExec::~CudaExec() {
     if (own_stream_) cu_->cuStreamSynchronize(own_stream_);
     for (CUevent e : mark_event_)
         if (e) cu_->cuEventDestroy(e);
-    release(sort_temp_);
+    release(grid_scan_temp_);
     release(scan_temp_);
     release(reduce_out_);
     for (int k = 0; k < kStagingSlots; ++k) {
@@ -54,8 +54,7 @@ CudaExec::~CudaExec() {
     if (context_retained_) cu_->cuDevicePrimaryCtxRelease(k_->device);
 }
 
-Status CudaExec::init(uint32_t capacity, uint32_t num_cells) {
-    (void)capacity;
+Status CudaExec::init(uint32_t, uint32_t num_cells) {
     CudaAvailability why;
     k_ = cuda::kernels(device_, &why);
     if (!k_) return Status::error(PBF_ERROR_BACKEND_UNAVAILABLE, why.message);
@@ -75,9 +74,9 @@ Status CudaExec::init(uint32_t capacity, uint32_t num_cells) {
         record(cu_->cuEventCreate(&staging_event_[k], CU_EVENT_DISABLE_TIMING));
         staging_[k] = alloc_host_bytes(kStagingBytes);
     }
-    // Temporary storage of the grid's counting sort (one counter per cell), allocated once.
-    sort_temp_bytes_ = counting_temp_bytes(num_cells);
-    sort_temp_ = alloc_bytes(sort_temp_bytes_);
+    // The scan of the grid sort's counters (the counters are the solver's: sort_cells).
+    grid_scan_temp_bytes_ = scan_temp_bytes(num_cells + 2);
+    grid_scan_temp_ = alloc_bytes(grid_scan_temp_bytes_);
     reduce_out_ = static_cast<double*>(alloc_bytes(3 * sizeof(double)));
     return check("CUDA initialisation");
 }
@@ -214,27 +213,20 @@ void CudaExec::exclusive_scan(const uint32_t* in, uint32_t* out, uint32_t n, voi
 
 size_t CudaExec::sort_temp_bytes(uint32_t n, uint32_t) const { return sort_layout(n).bytes(); }
 
-size_t CudaExec::counting_temp_bytes(uint32_t max_key) const {
-    return (size_t(max_key) + 2) * sizeof(uint32_t) + scan_temp_bytes(max_key + 2);
-}
-
-void CudaExec::sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
-                          int* value_sel) {
-    *key_sel = *value_sel = 0;
-    if (n == 0) return;
-    uint32_t words = max_key + 2;
-    if (counting_temp_bytes(max_key) > sort_temp_bytes_) return record(CUDA_ERROR_INVALID_VALUE);
-    uint32_t* begin = static_cast<uint32_t*>(sort_temp_);
-    record(cu_->cuMemsetD8Async(dptr(begin), 0, size_t(words) * sizeof(uint32_t), stream_));
-    const uint32_t blocks = (n + kBlock - 1) / kBlock;
-    void* count[] = {&keys[0], &n, &begin};
-    launch(k_->count_keys, blocks, kBlock, count);
-    exclusive_scan(begin, begin, words, begin + words, scan_temp_bytes(words));
-    void* scatter[] = {&keys[0], &values[0], &keys[1], &values[1], &n, &begin};
-    launch(k_->scatter_keys, blocks, kBlock, scatter);
-    void* order[] = {&begin, &max_key, &values[1]};
-    if (max_key > 0) launch(k_->order_keys, (max_key + kBlock - 1) / kBlock, kBlock, order);
+void CudaExec::sort_cells(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t num_cells, uint32_t* counters,
+                          int* key_sel, int* value_sel) {
     *key_sel = *value_sel = 1;
+    if (n == 0) return;
+    uint32_t words = num_cells + 2;
+    record(cu_->cuMemsetD8Async(dptr(counters), 0, size_t(words) * sizeof(uint32_t), stream_));
+    const uint32_t blocks = (n + kBlock - 1) / kBlock;
+    void* count[] = {&keys[0], &n, &counters};
+    launch(k_->count_keys, blocks, kBlock, count);
+    exclusive_scan(counters, counters, words, grid_scan_temp_, grid_scan_temp_bytes_);
+    void* scatter[] = {&keys[0], &values[0], &keys[1], &values[1], &n, &counters};
+    launch(k_->scatter_keys, blocks, kBlock, scatter);
+    void* order[] = {&counters, &num_cells, &values[1]};
+    if (num_cells > 0) launch(k_->order_keys, (num_cells + kBlock - 1) / kBlock, kBlock, order);
 }
 
 void CudaExec::sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,

@@ -72,12 +72,12 @@ public:
         if (n > 0) launch_op(CudaOp<Op>::index, n, &op);
     }
 
-    // The grid's sort: (cell, slot) pairs by cell, cells in 0..max_key (the world's cell count,
-    // its dead particles' key), slots in increasing order in each cell: a counting sort into the
-    // cells, each cell's few slots then put back in input order (cuda_kernels.cu). The pairs of
-    // key max_key come last in no particular order. Result in buffers [*key_sel], [*value_sel].
-    void sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
-                    int* value_sel);
+    // The grid's sort: (cell, slot) pairs by cell, cells in 0..num_cells (num_cells: the dead),
+    // slots in increasing order in each cell; `counters` (num_cells + 2 words, clobbered) count
+    // the cells: a counting sort into the cells, each cell's few slots then put back in input
+    // order (cuda_kernels.cu). The dead come last in no particular order. Result in buffers [1].
+    void sort_cells(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t num_cells, uint32_t* counters,
+                    int* key_sel, int* value_sel);
     // A stable sort of any (key, value) pairs for builds outside a step (a mesh's field): LSD
     // radix passes of kCudaRadixBits over the bits max_key needs; and a scan; of any length, with
     // temporary storage the caller allocates (alloc) of the size these return.
@@ -119,7 +119,6 @@ private:
     static constexpr int kStagingSlots = 8;
     static constexpr size_t kStagingBytes = 256 * 1024;
     void launch_op(uint32_t index, uint32_t n, const void* op);
-    size_t counting_temp_bytes(uint32_t max_key) const;
     void launch(CUfunction f, uint32_t blocks, uint32_t threads, void** params);
     void* alloc_bytes(size_t bytes);
     void* try_alloc_bytes(size_t bytes);
@@ -148,8 +147,8 @@ private:
     int marks_ = 0;
     int mark_stage_[kMaxMarks] = {};
     CUevent mark_event_[kMaxMarks] = {};
-    void* sort_temp_ = nullptr;
-    size_t sort_temp_bytes_ = 0;
+    void* grid_scan_temp_ = nullptr;  // the scan of the grid sort's counters
+    size_t grid_scan_temp_bytes_ = 0;
     void* scan_temp_ = nullptr;
     size_t scan_temp_bytes_ = 0;
     double* reduce_out_ = nullptr;  // [error_sum, kinetic_energy, error_max bits]

@@ -52,7 +52,7 @@ public:
         }
         alloc(masks_, n * kMaskRows);
         alloc(density_, n);
-        alloc(cell_begin_, size_t(config.grid.num_cells) + 1);
+        alloc(cell_begin_, size_t(config.grid.num_cells) + 2);  // + 1: the grid sort's counters (sort_cells)
         alloc(counters_, 1);
         const size_t colliders = config.max_colliders;
         alloc(collider_shapes_, colliders);
@@ -100,7 +100,7 @@ public:
         }
         exec_.zero(masks_, n * kMaskRows * sizeof(uint32_t));
         exec_.zero(density_, n * sizeof(float));
-        exec_.zero(cell_begin_, (size_t(config.grid.num_cells) + 1) * sizeof(uint32_t));
+        exec_.zero(cell_begin_, (size_t(config.grid.num_cells) + 2) * sizeof(uint32_t));
         exec_.zero(counters_, sizeof(DeviceCounters));
         exec_.zero(collider_impulses_, colliders * sizeof(ColliderForce));
         exec_.zero(collider_forces_, colliders * sizeof(ColliderForce));
@@ -603,7 +603,8 @@ private:
         const Vec4* binned = by_predicted ? pred_ : pos_;
         exec_.for_each(n, CellKeyOp{binned, ids_, &counters_->count, s.grid, keys_[0], order_[0]});
         int key_sel = 0, order_sel = 0;
-        exec_.sort_pairs(keys_, order_, n, s.grid.num_cells, &key_sel, &order_sel);
+        // cell_begin is the sort's counters until CellBeginOp writes it from the sorted keys.
+        exec_.sort_cells(keys_, order_, n, s.grid.num_cells, cell_begin_, &key_sel, &order_sel);
         exec_.for_each(n + 1, CellBeginOp{keys_[key_sel], n, s.grid.num_cells, cell_begin_, &counters_->count});
         sorted_keys_ = keys_[key_sel];
         // The sort's other key buffer is free until the next build: λ's denominators live there.
