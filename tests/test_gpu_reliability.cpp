@@ -6,7 +6,7 @@
 //   - N worlds stepped on N threads give bit-identical results to the same worlds stepped one
 //     after another; concurrent calls on one world; destroy racing with calls.
 // Runs only where a CUDA device is (gpu_main.cpp skips the suite otherwise); it compiles
-// everywhere. tools/gpu_reliability.sh runs it under compute-sanitizer.
+// everywhere. scripts/gpu/reliability.sh runs it under compute-sanitizer.
 #include <catch2/catch.hpp>
 
 #include <cstring>
@@ -127,7 +127,7 @@ TEST_CASE("CUDA threads: destroy racing with calls returns OK or INVALID_HANDLE"
 }
 
 // Every kernel path of a step, a few times each, on a small world: what compute-sanitizer's
-// slower tools (racecheck above all) run over in tools/gpu_reliability.sh. LDC on and off,
+// slower tools (racecheck above all) run over in scripts/gpu/reliability.sh. LDC on and off,
 // vorticity/XSPH on and off, adaptive iterations, 2 substeps, nozzle, drain, block, colliders of
 // every shape (one kinematic), stats, copies, map/unmap, device buffers.
 TEST_CASE("CUDA: every kernel path briefly (the compute-sanitizer run)", "[gpu][reliability][quick]") {

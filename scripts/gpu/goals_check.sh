@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # One call on the GPU machine with binaries built elsewhere (.gpu-bin: lib/, tests/, samples/,
-# samples/render/; see tools/gpu_perf.sh): the [gpu] suite of every test binary, pbf_bench for the
+# samples/render/; see scripts/gpu/perf.sh): the [gpu] suite of every test binary, pbf_bench for the
 # materials / render / diffuse / mesh-collider goals at 1M, and the frames of the tests' scenes.
 # Everything lands in one tar, $OUT/all.tar (the device tool returns only a few files).
 set -uo pipefail
@@ -18,7 +18,7 @@ timeout 150 $B/samples/pbf_bench --backend cuda --scene dam --particles 1000000 
 timeout 100 $B/samples/pbf_bench --backend cuda --scene dam --particles 1000000 --iterations 4 --ldc 1 --collider none,box,mesh --csv "$OUT/bench_mesh.csv" > "$OUT/bench_mesh.md" 2>&1; echo "bench mesh rc=$? $((SECONDS-t0))s"
 cat "$OUT/bench_materials.md" "$OUT/bench_diffuse.md" "$OUT/bench_mesh.md" | cut -c1-400
 if [ $((SECONDS-t0)) -lt 330 ]; then
-  PBF_PREBUILT=.gpu-bin OUT="$OUT/frames" timeout 200 bash tools/gpu_frames_test_scenes.sh > "$OUT/frames.txt" 2>&1; echo "frames rc=$?"; tail -25 "$OUT/frames.txt"
+  PBF_PREBUILT=.gpu-bin OUT="$OUT/frames" timeout 200 bash scripts/gpu/frames_test_scenes.sh > "$OUT/frames.txt" 2>&1; echo "frames rc=$?"; tail -25 "$OUT/frames.txt"
 fi
 cd "$OUT" && tar -cf all.tar --exclude=all.tar . && find . -mindepth 1 ! -name all.tar ! -name device.txt -delete
 echo "done $((SECONDS-t0))s: $OUT/all.tar"

@@ -13,9 +13,9 @@
 # repository root), the logs beside it; a SUMMARY last, with what each scene's test measures,
 # measured at the end of the drawn run ("measured:" lines).
 #
-#   OUT=/tmp/out bash tools/gpu_frames_test_scenes.sh                 # configures and builds build-gpu
-#   PBF_PREBUILT=.gpu-bin OUT=... bash tools/gpu_frames_test_scenes.sh  # binaries built elsewhere
-#       (as tools/gpu_render.sh: the folder holds samples/render/pbf_render_gl and lib/)
+#   OUT=/tmp/out bash scripts/gpu/frames_test_scenes.sh                 # configures and builds build-gpu
+#   PBF_PREBUILT=.gpu-bin OUT=... bash scripts/gpu/frames_test_scenes.sh  # binaries built elsewhere
+#       (as scripts/gpu/render.sh: the folder holds samples/render/pbf_render_gl and lib/)
 #   PBF_BACKEND=cpu ...   runs the same on the CPU backend (the copy path; how frames were made
 #       on a machine without a GPU, at PBF_SIZE=960x540)
 # Exit code 0 when every run passed (and, on CUDA, took the zero-copy path).
@@ -24,7 +24,7 @@ OUT=${OUT:-/tmp/out}
 BACKEND=${PBF_BACKEND:-cuda}
 SIZE=${PBF_SIZE:-1280x720}
 mkdir -p "$OUT"
-cd "$(dirname "${BASH_SOURCE[0]}")/.." || exit 1
+cd "$(dirname "${BASH_SOURCE[0]}")/../.." || exit 1
 if [ -f .gpu-debs/setup.sh ]; then
   # shellcheck disable=SC1091
   source .gpu-debs/setup.sh .gpu-debs > "$OUT/setup.log" 2>&1

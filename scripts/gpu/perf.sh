@@ -3,15 +3,15 @@
 # the per-stage iteration sweep), the 256k sample and, where built, variant builds of pbf_bench
 # at 1M; logs and CSVs to $OUT, a short table last.
 #
-#   OUT=/tmp/out bash tools/gpu_perf.sh                 # builds build-gpu there (sm_90) first
-#   PBF_PREBUILT=build-sm90 OUT=... bash tools/gpu_perf.sh
+#   OUT=/tmp/out bash scripts/gpu/perf.sh                 # builds build-gpu there (sm_90) first
+#   PBF_PREBUILT=build-sm90 OUT=... bash scripts/gpu/perf.sh
 #       uses binaries built on a machine without a GPU, configured with
 #       -DPBF_CUDA_ARCHITECTURES=90 -DCMAKE_BUILD_RPATH_USE_ORIGIN=ON (carry the folder);
 #   PBF_VARIANTS="build-sm90-flat ..."                   more builds whose pbf_bench runs at 1M.
 set -uo pipefail
 OUT=${OUT:-/tmp/out}
 mkdir -p "$OUT"
-cd "$(dirname "${BASH_SOURCE[0]}")/.." || exit 1
+cd "$(dirname "${BASH_SOURCE[0]}")/../.." || exit 1
 [ -f .gpu-debs/setup.sh ] && source .gpu-debs/setup.sh .gpu-debs > "$OUT/setup.log" 2>&1
 nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader | tee "$OUT/device.txt"
 B=${PBF_PREBUILT:-build-gpu}

@@ -5,7 +5,7 @@
 # each) so that clock drift weighs on both; world creation times (the first with the driver
 # opened and the kernels loaded); ldd of each library.
 #
-#   OUT=/tmp/out PBF_NEW=.gpu-bin/new PBF_OLD=.gpu-bin/old bash tools/gpu_driver_api.sh
+#   OUT=/tmp/out PBF_NEW=.gpu-bin/new PBF_OLD=.gpu-bin/old bash scripts/gpu/driver_api.sh
 #
 # PBF_NEW, PBF_OLD: CUDA builds (-DPBF_CUDA_ARCHITECTURES=90 -DCMAKE_BUILD_RPATH_USE_ORIGIN=ON;
 # targets pbf pbf_bench, and pbf_gpu_tests in the new one) carried to the machine; .gpu-debs
@@ -15,7 +15,7 @@ OUT=${OUT:-/tmp/out}
 NEW=${PBF_NEW:-.gpu-bin/new}
 OLD=${PBF_OLD:-.gpu-bin/old}
 mkdir -p "$OUT"
-cd "$(dirname "${BASH_SOURCE[0]}")/.." || exit 1
+cd "$(dirname "${BASH_SOURCE[0]}")/../.." || exit 1
 [ -f .gpu-debs/setup.sh ] && source .gpu-debs/setup.sh .gpu-debs > "$OUT/setup.log" 2>&1
 nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader | tee "$OUT/device.txt"
 for b in "$NEW" "$OLD"; do
@@ -50,7 +50,7 @@ fi
 if [ -n "${PBF_FRAMES:-}" ]; then
   for part in fine game 1m; do
     t0=$SECONDS
-    OUT="$OUT/frames" PBF_PREBUILT="$NEW" bash tools/frames/gpu_frames.sh "$part" > "$OUT/frames_$part.log" 2>&1
+    OUT="$OUT/frames" PBF_PREBUILT="$NEW" bash scripts/gpu/frames.sh "$part" > "$OUT/frames_$part.log" 2>&1
     echo "frames $part rc=$? ($((SECONDS - t0)) s)"; tail -3 "$OUT/frames_$part.log"
   done
 fi

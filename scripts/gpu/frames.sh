@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The frame benchmark on a GPU machine, in parts that each fit one 10-minute device call.
 #
-#   OUT=/tmp/out PBF_PREBUILT=build-cuda bash tools/frames/gpu_frames.sh PART
+#   OUT=/tmp/out PBF_PREBUILT=build-cuda bash scripts/gpu/frames.sh PART
 #
 # PBF_PREBUILT: a CUDA build of this tree (-DPBF_CUDA_ARCHITECTURES=90
 # -DCMAKE_BUILD_RPATH_USE_ORIGIN=ON, targets pbf_frames pbf_gpu_tests pbf_bench), carried to the

@@ -8,8 +8,8 @@
 #   - the render path's cost in surface mode at 1M particles (BENCH line);
 #   - PNGs and logs to $OUT, a summary last (the zero-copy and transfer lines of each run).
 #
-#   OUT=/tmp/out bash tools/gpu_render.sh                 # configures and builds build-gpu first
-#   PBF_PREBUILT=.gpu-bin OUT=... bash tools/gpu_render.sh
+#   OUT=/tmp/out bash scripts/gpu/render.sh                 # configures and builds build-gpu first
+#   PBF_PREBUILT=.gpu-bin OUT=... bash scripts/gpu/render.sh
 #       uses binaries built on a machine without a GPU (configured with
 #       -DPBF_CUDA_ARCHITECTURES=90 -DCMAKE_BUILD_RPATH_USE_ORIGIN=ON; target pbf_render_gl);
 #       the folder must hold samples/render/pbf_render_gl and lib/.
@@ -18,7 +18,7 @@
 set -uo pipefail
 OUT=${OUT:-/tmp/out}
 mkdir -p "$OUT"
-cd "$(dirname "${BASH_SOURCE[0]}")/.." || exit 1
+cd "$(dirname "${BASH_SOURCE[0]}")/../.." || exit 1
 if [ -f .gpu-debs/setup.sh ]; then
   # shellcheck disable=SC1091
   source .gpu-debs/setup.sh .gpu-debs > "$OUT/setup.log" 2>&1

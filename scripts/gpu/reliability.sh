@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # GPU side of the reliability checks, for the machine with the CUDA device. Assumes build-gpu/
-# is configured with the CUDA backend (tools/gpu_run.sh makes it); rebuilds pbf_gpu_tests
+# is configured with the CUDA backend (scripts/gpu/run.sh makes it); rebuilds pbf_gpu_tests
 # incrementally (it now includes tests/test_gpu_reliability.cpp), then:
 #
 #   1. the [gpu] suite once, plainly (baseline: results and time);
@@ -16,7 +16,7 @@
 #                                             it ran past 110 s on an H200)
 #   3. a one-line summary per tool: "ERROR SUMMARY: N errors", the Catch2 result, exit code, time.
 #
-#   OUT=/tmp/out bash tools/gpu_reliability.sh
+#   OUT=/tmp/out bash scripts/gpu/reliability.sh
 #
 # Environment:
 #   OUT                      where the logs go (default /tmp/out)
@@ -30,7 +30,7 @@
 set -uo pipefail
 OUT=${OUT:-/tmp/out}
 mkdir -p "$OUT"
-cd "$(dirname "${BASH_SOURCE[0]}")/.." || exit 1
+cd "$(dirname "${BASH_SOURCE[0]}")/../.." || exit 1
 [ -f .gpu-debs/setup.sh ] && source .gpu-debs/setup.sh .gpu-debs >"$OUT/rel_setup.log" 2>&1
 export PATH="$PATH:/usr/local/cuda/bin"
 tests=${PBF_GPU_TESTS:-build-gpu/tests/pbf_gpu_tests}
@@ -50,7 +50,7 @@ if [ "${PBF_GPU_NO_BUILD:-0}" != 1 ]; then
     exit 1
   fi
 fi
-[ -x "$tests" ] || { echo "gpu_reliability.sh: $tests not found (build build-gpu first: tools/gpu_run.sh)"; exit 1; }
+[ -x "$tests" ] || { echo "gpu_reliability.sh: $tests not found (build build-gpu first: scripts/gpu/run.sh)"; exit 1; }
 
 sanitizer=$(command -v compute-sanitizer || true)
 if [ -z "$sanitizer" ]; then
