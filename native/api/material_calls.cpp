@@ -1,4 +1,4 @@
-// The C ABI's material calls (issue 16): create, destroy, read and change a world's fluid
+// The C ABI's material calls: create, destroy, read and change a world's fluid
 // materials, and the table of their handles by per-particle index.
 #include <string>
 

@@ -1,4 +1,4 @@
-// The C ABI's mesh calls (issue 13): a triangle mesh becomes a distance field that mesh
+// The C ABI's mesh calls: a triangle mesh becomes a distance field that mesh
 // colliders (PBF_SHAPE_MESH) share.
 #include <string>
 

@@ -162,7 +162,7 @@ inline uint32_t element_alignment(pbf_buffer source) {
     X(COPY_SOURCE_GRAPHICS, PBF_ERROR_INVALID_ARGUMENT,                                                              \
       "PBF_BUFFER_MATERIALS (1 byte per particle) is not copied into graphics buffers: read it with "              \
       "pbf_world_copy_buffer or pbf_world_map_device_buffers")                                                       \
-    /* pbf_material_desc and material handles (issue 16) */                                                          \
+    /* pbf_material_desc and material handles */                                                          \
     X(MATERIAL_REST_DENSITY, PBF_ERROR_INVALID_ARGUMENT,                                                             \
       "rest_density must be finite and 0.1..10 times the world's rest_density")                                      \
     X(MATERIAL_DEFAULT_DENSITY, PBF_ERROR_INVALID_ARGUMENT,                                                          \

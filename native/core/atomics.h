@@ -36,9 +36,8 @@ PBF_HD void atomic_add_vec3(Vec3* addr, Vec3 v) {
 // atomic_add_vec3 of a and b for many threads adding to few rows (a collider's force and
 // torque): on the device the lanes of a warp that add to the same row (a_addr) sum first and
 // one of them adds the sums. Many particles beside one collider (neighbours in the sorted
-// order) otherwise queue their atomics on the same words (measured on the H100: 2M
-// same-address reductions per Δ pass with 256 colliders, the pass 2.6x slower); one match for
-// both vectors halves the grouping's cost. The sums' rounding order differs from the atomics'
+// order) otherwise queue their atomics on the same words (docs/perf.md, the colliders' broad
+// phase); one match for both vectors halves the grouping's cost. The sums' rounding order differs from the atomics'
 // (equally arbitrary).
 PBF_HD void atomic_add_vec3_pair_shared(Vec3* a_addr, Vec3 a, Vec3* b_addr, Vec3 b) {
 #if defined(__CUDA_ARCH__)

@@ -195,7 +195,7 @@ constexpr uint32_t kRowUnlisted = 0xFFFFFFFFu;
 struct NeighborMasks {
     // row[r][i]: particle i's mask for row r = (dz + 1) * 3 + (dy + 1). One base pointer per row
     // (rows lie capacity entries apart in one allocation) keeps the per-particle index 32-bit at
-    // any capacity: computing r * capacity + i in 64 bits cost 2 % of a 1M step on an H100.
+    // any capacity, where r * capacity + i would need 64-bit arithmetic in every pass.
     uint32_t* row[kMaskRows] = {};
     const uint32_t* keys = nullptr;  // sorted cell keys: the cell of x* each particle was binned in
     NeighborMasks() = default;
@@ -287,10 +287,8 @@ PBF_HD void for_each_neighbor_recording(const GridDims& g, const uint32_t* cell_
 
 // Calls visit(j) for every neighbour recorded for particle i (and every candidate of an
 // unlisted row). visit tests the distance itself, as with for_each_neighbor.
-// The row loop is unrolled so the 9 mask and row-start loads issue together (H100, 1M: Δp
-// pass 0.174 → 0.166 ms). Measured and dropped (docs/perf.md, version 5): visiting bits in
-// pairs, one loop over all rows' bits (with or without the rows opened first), untrimmed rows
-// when recording, masks anchored at each row's chord (fewer unlisted rows in a compressed tank).
+// The row loop is unrolled so the 9 mask and row-start loads issue together; the variants
+// measured against it are in docs/perf.md (version 5).
 #if defined(__CUDACC__)  // nvcc, both its device and host passes
 #define PBF_UNROLL _Pragma("unroll")
 #elif defined(__clang__)

@@ -1,4 +1,4 @@
-// Fluid materials (issue 16), written once for both executors: the inverse-mass weights of
+// Fluid materials, written once for both executors: the inverse-mass weights of
 // multiphase PBF, and surface tension, cohesion and adhesion as accelerations applied before the
 // constraint iterations (as LDC is).
 //

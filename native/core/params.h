@@ -108,7 +108,7 @@ struct ColliderView {
     ColliderGrid grid;                 // the broad phase over shapes' bounds
 };
 
-// ---- fluid materials (issue 16) -------------------------------------------------------------
+// ---- fluid materials -------------------------------------------------------------
 // A world holds up to kMaxMaterials materials; each particle carries its slot as one byte
 // (slot 0 is the default material: the world's rest density and solver parameters). Eight keep
 // the table small enough to travel by value with every op, and the byte keeps a particle at

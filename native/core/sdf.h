@@ -1,4 +1,4 @@
-// Triangle meshes as signed distance fields (issue 13): the field, its sampling (the collider
+// Triangle meshes as signed distance fields: the field, its sampling (the collider
 // code's) and one triangle's geometry; the build's ops are in sdf_build.h.
 //
 // The field is a dense grid (first version: no sparse bricks) of float distances and boundary

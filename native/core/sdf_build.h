@@ -1,4 +1,4 @@
-// The build of a mesh's distance field (issue 13): the per-triangle, per-brick and per-voxel ops
+// The build of a mesh's distance field: the per-triangle, per-brick and per-voxel ops
 // that solver/mesh_field.h launches in order on either executor (CpuExec, CudaExec), so the
 // whole build runs where the world runs.
 //

@@ -1,4 +1,4 @@
-// A triangle mesh on its way to the backend (issue 13): the world prepares it on the host
+// A triangle mesh on its way to the backend: the world prepares it on the host
 // (bounds, grid, non-degenerate triangles); the solver builds its distance field on the backend
 // with the ops of core/sdf_build.h (mesh_field.h) and keeps it in a row of its mesh table.
 #pragma once
