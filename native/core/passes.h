@@ -380,7 +380,7 @@ PBF_HD float scorr_power(float ratio, float n) {
 }
 
 // s_corr's (W(r)/W(Δq))^n is at most this: with Δq near h, W(Δq) is tiny and the term reached
-// 1e20 (a dam break at Δq = 0.7 h exploded; README, Physics). The defaults' largest value, at
+// 1e20 (a dam break at Δq = 0.7 h exploded; docs/physics.md). The defaults' largest value, at
 // r = 0, is 1.63 (below the cap: unchanged).
 constexpr float kScorrPowerCap = 2.0f;
 

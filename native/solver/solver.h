@@ -572,7 +572,7 @@ private:
     // added is removed, and none of it becomes velocity. The move gives no momentum to the
     // colliders (no impulses recorded) and s_corr stays out (it would move resting fluid). The
     // density pass of the substep then takes what is left as the error the particles start
-    // with, which relaxes over τ (measured: README, Physics).
+    // with, which relaxes over τ (docs/physics.md, Overlaps).
     void settle(const WorldConstants& s, const StepContext& ctx, uint32_t iterations) {
         if (ctx.colliders.count > 0) exec_.for_each(bound_, SettleOverlapOp{s, ctx.colliders, pos_});
         build_grid(s, false);
