@@ -9,6 +9,7 @@
 
 #include "../core/collide.h"
 #include "../core/grid.h"
+#include "../core/lattice.h"
 #include "../core/material_ops.h"
 #include "../core/sph.h"
 
@@ -49,76 +50,6 @@ GridDims choose_grid(const pbf_world_desc& desc, float h) {
 }
 
 }  // namespace
-
-LatticeCalibration calibrate_lattice(float spacing, float h) {
-    const double d = spacing, hh = h;
-    const int reach = static_cast<int>(std::ceil(hh / d));
-    const double poly6 = 315.0 / (64.0 * M_PI * std::pow(hh, 9));
-    const double spiky = 45.0 / (M_PI * std::pow(hh, 6));
-    LatticeCalibration c{0.0, 0.0};
-    for (int z = -reach; z <= reach; ++z)
-        for (int y = -reach; y <= reach; ++y)
-            for (int x = -reach; x <= reach; ++x) {
-                const double r = d * std::sqrt(double(x * x + y * y + z * z));
-                if (r >= hh) continue;
-                c.kernel_sum += poly6 * std::pow(hh * hh - r * r, 3);
-                if (r > 0) c.gradient_norm2 += std::pow(spiky * (hh - r) * (hh - r), 2);
-            }
-    return c;
-}
-
-float boundary_lattice_scale(float spacing, float h) {
-    // The first layer lies one radius (spacing / 2) from the wall; the layers it misses lie
-    // k·spacing below it (k >= 1), each a square lattice.
-    const double d = spacing, hh = h;
-    const int reach = static_cast<int>(std::ceil(hh / d));
-    double missing = 0.0;
-    for (int k = 1; k <= reach; ++k)
-        for (int z = -reach; z <= reach; ++z)
-            for (int x = -reach; x <= reach; ++x) {
-                const double r2 = d * d * double(x * x + k * k + z * z);
-                if (r2 < hh * hh) missing += std::pow(hh * hh - r2, 3);
-            }
-    const LatticeCalibration c = calibrate_lattice(spacing, h);
-    const double poly6 = 315.0 / (64.0 * M_PI * std::pow(hh, 9));
-    return static_cast<float>(missing * poly6 / c.kernel_sum / boundary_phi(0.5f * spacing / h));
-}
-
-float box_edge_scale(float spacing, float h, float gamma) {
-    // The lattice sites a particle at the edge's diagonal site misses: those beyond both faces
-    // (the edge's quadrant), at k·spacing and l·spacing (k, l >= 1) from it.
-    const double d = spacing, hh = h;
-    const int reach = static_cast<int>(std::ceil(hh / d));
-    double missing = 0.0;
-    for (int k = 1; k <= reach; ++k)
-        for (int l = 1; l <= reach; ++l)
-            for (int z = -reach; z <= reach; ++z) {
-                const double r2 = d * d * double(k * k + l * l + z * z);
-                if (r2 < hh * hh) missing += std::pow(hh * hh - r2, 3);
-            }
-    const LatticeCalibration c = calibrate_lattice(spacing, h);
-    const double poly6 = 315.0 / (64.0 * M_PI * std::pow(hh, 9));
-    // γ (Φ(t)² - κ g(t)²) = missing, t = radius / h (box_boundary's share there).
-    const float t = 0.5f * spacing / h;
-    float slope;
-    const double phi = boundary_phi(t), g = box_edge_term(0.5f * spacing, 1.0f / h, slope);
-    return static_cast<float>((phi * phi - missing * poly6 / c.kernel_sum / gamma) / (g * g));
-}
-
-double rest_render_variance(float spacing, float h) {
-    const double d = spacing, hh = h;
-    const int reach = static_cast<int>(std::ceil(hh / d));
-    double wsum = 0.0, wxx = 0.0;
-    for (int z = -reach; z <= reach; ++z)
-        for (int y = -reach; y <= reach; ++y)
-            for (int x = -reach; x <= reach; ++x) {
-                const double r2 = d * d * double(x * x + y * y + z * z);
-                const double w = render_weight(float(r2), float(hh * hh));
-                wsum += w;
-                wxx += w * d * d * double(x * x);
-            }
-    return wxx / wsum;
-}
 
 RenderConstants render_constants(const pbf_render_params& p, float radius, float h) {
     RenderConstants r;

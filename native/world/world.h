@@ -50,23 +50,6 @@ struct MaterialSlot {
     bool alive = false;
 };
 
-// Mass and ε scale for a rest lattice, so that a lattice at rest spacing has rest density.
-struct LatticeCalibration {
-    double kernel_sum;      // Σ_j W_poly6(|x_j|) over the lattice around one particle (incl. itself)
-    double gradient_norm2;  // Σ_j |∇W_ij|² around one particle
-};
-LatticeCalibration calibrate_lattice(float spacing, float h);
-// γ of the boundary density: the density a rest lattice's first layer misses at a wall (the
-// lattice layers beyond it), over the continuum half-space integral Φ at its distance (one
-// radius): so a rest lattice against a wall has rest density in its first layer.
-float boundary_lattice_scale(float spacing, float h);
-// κ of a box's edges (collide.h box_boundary): chosen so that a rest lattice around a box edge
-// has rest density at the edge's diagonal site (one radius outside both faces), as γ gives it at
-// a face. gamma: boundary_lattice_scale.
-float box_edge_scale(float spacing, float h, float gamma);
-// The eigenvalue (m²) of the render covariance of a rest lattice around one particle (isotropic
-// by the lattice's symmetry): the reference the render scale k_s is given against.
-double rest_render_variance(float spacing, float h);
 // XSPH's factor for a substep of sub_dt from c per 1/60 s: 1 - (1 - c)^(60 Δt).
 float xsph_factor(float c, float sub_dt);
 // The render pass's constants from the desc's render params.
