@@ -108,7 +108,7 @@ PBF_API pbf_result PBF_CALL pbf_world_set_gravity(pbf_world_id id, const float g
     return guarded(fn, [&]() -> pbf_result {
         PBF_VALIDATE(pbf::api::validate_gravity(g));
         PBF_LOCK_WORLD(w, id);
-        w->set_gravity(pbf::Vec3{g[0], g[1], g[2]});
+        w->set_gravity(g);
         return PBF_OK;
     });
 }

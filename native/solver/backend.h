@@ -52,13 +52,13 @@ struct SubstepInput {
 
 // One pbf_world_step: its substeps and the colliders they see. Each collider moves from its
 // key's start to its end over the step; the solver interpolates the substeps' poses on the
-// backend. dynamic_count: colliders flagged kColliderDynamic; step_dt: the step's length.
+// backend. dynamic_count: colliders flagged kColliderDynamic; frame_dt: the frame step's length.
 struct StepInput {
     std::vector<SubstepInput> substeps;
     std::vector<Collider> collider_shapes;
     std::vector<ColliderKey> collider_keys;
     uint32_t dynamic_count = 0;
-    float step_dt = 0.0f;
+    float frame_dt = 0.0f;
 };
 
 // Colliders standing still (between steps): keys whose start is their end.

@@ -9,7 +9,7 @@
 
 namespace pbf {
 
-MeshLayout World::mesh_layout(const pbf_mesh_desc& d) const { return pbf::mesh_layout(d, desc_.particle_radius, h_); }
+MeshLayout World::mesh_layout(const pbf_mesh_desc& d) const { return pbf::mesh_layout(d, desc_.particle_radius, scales_.h); }
 
 MeshLayout mesh_layout(const pbf_mesh_desc& d, float r, float h) {
     MeshLayout l;

@@ -4,7 +4,7 @@
 #include <memory>
 #include <vector>
 
-#include "../solver/backend.h"
+#include "../solver/step_plan.h"
 #include "../common/slot_table.h"
 
 namespace pbf {
@@ -43,19 +43,12 @@ struct EmitterEntry {
     uint32_t sequence = 0;
 };
 
-// A material slot (issue 16; world_materials.cpp). Slot 0 is the default material.
+// A material slot (world_materials.cpp). Slot 0 is the default material.
 struct MaterialSlot {
     pbf_material_desc desc{};
     uint32_t generation = 0;
     bool alive = false;
 };
-
-// XSPH's factor for a substep of sub_dt from c per 1/60 s: 1 - (1 - c)^(60 Δt).
-float xsph_factor(float c, float sub_dt);
-// The render pass's constants from the desc's render params.
-RenderConstants render_constants(const pbf_render_params& p, float radius, float h);
-// The diffuse pass's constants from the desc's diffuse params (world_diffuse.cpp).
-DiffuseConstants diffuse_constants(const pbf_diffuse_params& p);
 
 // State another layer keeps with a world (the interop layer, native/interop): told after each
 // successful step, destroyed with the world before its backend.
@@ -70,16 +63,13 @@ public:
     // desc is validated; *status says why creation failed.
     static std::unique_ptr<World> create(const pbf_world_desc& desc, Status* status);
 
-    Status step(float dt);
-    const pbf_solver_params& solver_params() const { return params_; }
-    void set_solver_params(const pbf_solver_params& p) {
-        params_ = p;
-        update_constants();
-    }
-    void set_gravity(Vec3 g) {
-        gravity_ = g;
-        update_constants();
-    }
+    ~World();
+
+    // Advances the world by one frame step of frame_dt seconds, in substeps (solver/step_plan.h).
+    Status step(float frame_dt);
+    const pbf_solver_params& solver_params() const { return desc_.solver; }
+    void set_solver_params(const pbf_solver_params& p);
+    void set_gravity(const float g[3]);
     void get_info(pbf_world_info* info) const;
     Status get_stats(pbf_step_stats* stats);
 
@@ -184,23 +174,23 @@ private:
     World() = default;
     void update_constants();
     void init_materials();
-    MaterialConstants material_constants();  // also keeps the default material's desc in step
-    void material_step_context(float sub_dt, StepContext* c) const;
+    // A material slot's desc as it is now (slot 0's viscosity and LDC gain: the solver
+    // parameters), and the table of them the step plan reads.
+    pbf_material_desc material_desc(int slot) const;
+    MaterialTable material_table() const;
     Status check_nozzle(const pbf_emitter_desc& d, Vec3 position) const;
     static void set_nozzle_direction(pbf_emitter_desc& d, Vec3 direction);
-    uint32_t substeps_for(float dt);
-    double depth_substep_rate(double g, double depth) const;
-    StepContext step_context(float sub_dt) const;
     Status colliders_changed();
     // The step's colliders: shapes (bounds over the motion from the current pose to the
     // target) and keys; returns how many are dynamic.
     uint32_t gather_colliders(bool moving, std::vector<Collider>* shapes, std::vector<ColliderKey>* keys);
 
-    WorldConstants constants_{};
+    // The world's parameters, one value each: the solver parameters, gravity, render and diffuse
+    // parameters as last set (the default material's viscosity and LDC gain are solver.xsph_c
+    // and solver.ldc_gain). constants_ is derived from them (update_constants).
     pbf_world_desc desc_{};
-    pbf_solver_params params_{};
-    Vec3 gravity_{};
-    float mass_ = 0.0f, h_ = 0.0f, gradient_norm2_ = 0.0f, boundary_scale_ = 0.0f, box_edge_scale_ = 0.0f;
+    FluidScales scales_;
+    WorldConstants constants_{};
     float emitted_speed_ = 0.0f;  // fastest particle emitted since the last step (block velocity)
     float emitted_depth_ = 0.0f;  // tallest block emitted since the last step, along gravity (m)
     // A collider created or teleported, or a block emitted, since the last step: particles may

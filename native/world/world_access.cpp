@@ -7,6 +7,8 @@
 
 #include "world.h"
 
+#include "../solver/step_plan.h"
+
 namespace pbf {
 
 bool World::cuda_available(int32_t device) { return cuda_device_available(device); }
@@ -91,7 +93,7 @@ Status World::map_particles(bool wait_for_count, Mapping* out) {
 
 void World::set_render_params(const pbf_render_params& params) {
     desc_.render = params;
-    backend_->set_render_constants(render_constants(params, desc_.particle_radius, h_));
+    backend_->set_render_constants(render_constants(params, desc_.particle_radius, scales_.h));
 }
 
 LiveBuffers World::live_buffers() { return backend_->live_buffers(); }
