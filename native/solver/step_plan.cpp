@@ -5,6 +5,7 @@
 #include <cfloat>
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "../core/collide.h"
 #include "../core/grid.h"
@@ -119,11 +120,18 @@ NozzleEmission nozzle_emission(EmitterState& e, const WorldConstants& c, float s
     return ne;
 }
 
-}  // namespace
+// What a world's particle radius and rest density fix for its life: the kernel radius and the
+// rest lattice's calibration.
+struct FluidScales {
+    float h = 0.0f;                    // kernel radius: 4 particle radii
+    float mass = 0.0f;                 // a particle's mass: a rest lattice has rest density
+    float rest_gradient_norm2 = 0.0f;  // Σ_k |∇_k C|² of a particle at rest density
+    float boundary_scale = 0.0f;       // γ of the walls' density
+    float box_edge_scale = 0.0f;       // κ of a box collider's edges
+};
 
-Status fluid_scales(float radius, float rest_density, FluidScales* out) {
+FluidScales fluid_scales(float radius, float rest_density) {
     FluidScales s;
-    s.radius = radius;
     s.h = 4.0f * radius;
     const float spacing = 2.0f * radius;
     const LatticeCalibration cal = calibrate_lattice(spacing, s.h);
@@ -133,6 +141,29 @@ Status fluid_scales(float radius, float rest_density, FluidScales* out) {
     s.rest_gradient_norm2 = static_cast<float>(cal.gradient_norm2 * m_over_rho * m_over_rho);
     s.boundary_scale = boundary_lattice_scale(spacing, s.h);
     s.box_edge_scale = box_edge_scale(spacing, s.h, s.boundary_scale);
+    return s;
+}
+
+// Dense over the domain box while its cells are at most 4 per key of the hashed grid the
+// capacity would get (at most 16 B of cell table per particle) and at most 2^30; hashed
+// otherwise (a level-sized box), and always without walls or when the desc asks (grid.h).
+GridDims choose_grid(const pbf_world_desc& desc, float h) {
+    const uint32_t bits = hashed_grid_bits(desc.max_particles);
+    const float inv_cell = 1.0f / h;
+    if (!desc.walls) return hashed_grid(Vec3{0.0f, 0.0f, 0.0f}, inv_cell, bits);
+    const double cells[3] = {std::max(1.0, double(std::ceil((desc.domain_max[0] - desc.domain_min[0]) / h))),
+                             std::max(1.0, double(std::ceil((desc.domain_max[1] - desc.domain_min[1]) / h))),
+                             std::max(1.0, double(std::ceil((desc.domain_max[2] - desc.domain_min[2]) / h)))};
+    const Vec3 origin = to_vec3(desc.domain_min);
+    const double dense_limit = std::min(4.0 * double(uint64_t(1) << bits), double(1u << 30));
+    if (desc.hashed_grid || cells[0] * cells[1] * cells[2] > dense_limit) return hashed_grid(origin, inv_cell, bits);
+    return dense_grid(origin, inv_cell, int32_t(cells[0]), int32_t(cells[1]), int32_t(cells[2]));
+}
+
+}  // namespace
+
+Status check_fluid(float radius, float rest_density) {
+    const FluidScales s = fluid_scales(radius, rest_density);
     // Every constant the kernels use must be a normal float: a radius or rest density so extreme
     // that one over- or underflows (a denormal rest density, a radius of 1e20 m) would make every
     // density and velocity NaN.
@@ -153,28 +184,11 @@ Status fluid_scales(float radius, float rest_density, FluidScales* out) {
                                  std::string(text) + " give SPH constants outside the range of float");
         }
     }
-    *out = s;
     return Status{};
 }
 
-// Dense over the domain box while its cells are at most 4 per key of the hashed grid the
-// capacity would get (at most 16 B of cell table per particle) and at most 2^30; hashed
-// otherwise (a level-sized box), and always without walls or when the desc asks (grid.h).
-GridDims choose_grid(const pbf_world_desc& desc, float h) {
-    const uint32_t bits = hashed_grid_bits(desc.max_particles);
-    const float inv_cell = 1.0f / h;
-    if (!desc.walls) return hashed_grid(Vec3{0.0f, 0.0f, 0.0f}, inv_cell, bits);
-    const double cells[3] = {std::max(1.0, double(std::ceil((desc.domain_max[0] - desc.domain_min[0]) / h))),
-                             std::max(1.0, double(std::ceil((desc.domain_max[1] - desc.domain_min[1]) / h))),
-                             std::max(1.0, double(std::ceil((desc.domain_max[2] - desc.domain_min[2]) / h)))};
-    const Vec3 origin = to_vec3(desc.domain_min);
-    const double dense_limit = std::min(4.0 * double(uint64_t(1) << bits), double(1u << 30));
-    if (desc.hashed_grid || cells[0] * cells[1] * cells[2] > dense_limit) return hashed_grid(origin, inv_cell, bits);
-    return dense_grid(origin, inv_cell, int32_t(cells[0]), int32_t(cells[1]), int32_t(cells[2]));
-}
-
-WorldConstants derive_constants(const pbf_world_desc& desc, const FluidScales& scales, const GridDims& grid,
-                                const MaterialTable& materials) {
+WorldConstants derive_constants(const pbf_world_desc& desc, const MaterialTable& materials) {
+    const FluidScales scales = fluid_scales(desc.particle_radius, desc.rest_density);
     const pbf_solver_params& p = desc.solver;
     const float h = scales.h;
     WorldConstants s{};
@@ -216,7 +230,7 @@ WorldConstants derive_constants(const pbf_world_desc& desc, const FluidScales& s
     }
     s.boundary_scale = scales.boundary_scale;
     s.box_edge_scale = scales.box_edge_scale;
-    s.grid = grid;
+    s.grid = choose_grid(desc, h);
     s.capacity = desc.max_particles;
     s.materials = material_constants(desc.rest_density, materials);
     return s;

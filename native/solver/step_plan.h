@@ -12,22 +12,9 @@
 
 namespace pbf {
 
-// What a world's particle radius and rest density fix for its life: the kernel radius and the
-// rest lattice's calibration (core/lattice.h).
-struct FluidScales {
-    float radius = 0.0f;
-    float h = 0.0f;                    // kernel radius: 4 particle radii
-    float mass = 0.0f;                 // a particle's mass: a rest lattice has rest density
-    float rest_gradient_norm2 = 0.0f;  // Σ_k |∇_k C|² of a particle at rest density
-    float boundary_scale = 0.0f;       // γ of the walls' density
-    float box_edge_scale = 0.0f;       // κ of a box collider's edges
-};
-// INVALID_ARGUMENT when a radius or rest density so extreme that a constant the kernels use is
-// not a normal float (every density and velocity would be NaN).
-Status fluid_scales(float radius, float rest_density, FluidScales* out);
-
-// The neighbour grid of a world (dense over its walls' box, or hashed; grid.h).
-GridDims choose_grid(const pbf_world_desc& desc, float h);
+// INVALID_ARGUMENT when a particle radius or rest density is so extreme that a constant the
+// kernels use is not a normal float (every density and velocity would be NaN).
+Status check_fluid(float radius, float rest_density);
 
 // The materials as the solver sees them. Slot 0 is the default material: the world's rest
 // density, and its viscosity and LDC gain are the solver parameters' xsph_c and ldc_gain.
@@ -36,10 +23,9 @@ struct MaterialTable {
     pbf_material_desc desc[kMaxMaterials] = {};
 };
 
-// The world's constants from its desc (the solver parameters and gravity it holds now), its
-// scales, grid and materials.
-WorldConstants derive_constants(const pbf_world_desc& desc, const FluidScales& scales, const GridDims& grid,
-                                const MaterialTable& materials);
+// The world's constants from its desc (the solver parameters and gravity it holds now) and its
+// materials: the rest lattice's calibration (core/lattice.h) and the neighbour grid included.
+WorldConstants derive_constants(const pbf_world_desc& desc, const MaterialTable& materials);
 // The render pass's constants from the desc's render params.
 RenderConstants render_constants(const pbf_render_params& p, float radius, float h);
 // The diffuse pass's constants from the desc's diffuse params.

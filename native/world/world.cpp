@@ -3,7 +3,9 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <string>
 
 #include "../solver/step_plan.h"
 
@@ -21,18 +23,18 @@ Quat quat_of(const float q[4]) { return Quat{q[0], q[1], q[2], q[3]}; }
 std::unique_ptr<World> World::create(const pbf_world_desc& desc, Status* status) {
     std::unique_ptr<World> w(new World());
     w->desc_ = desc;
-    *status = fluid_scales(desc.particle_radius, desc.rest_density, &w->scales_);
+    *status = check_fluid(desc.particle_radius, desc.rest_density);
     if (!status->ok()) return nullptr;
-    w->grid_ = choose_grid(desc, w->scales_.h);
-    BackendConfig config{desc.max_particles, desc.max_colliders, w->grid_, desc.cuda_device,
-                         render_constants(desc.render, desc.particle_radius, w->scales_.h),
-                         diffuse_constants(desc.diffuse), w->scales_.h};
+    w->init_materials();
+    w->update_constants();
+    const WorldConstants& c = w->constants_;
+    BackendConfig config{desc.max_particles, desc.max_colliders, c.grid, desc.cuda_device,
+                         render_constants(desc.render, desc.particle_radius, c.h), diffuse_constants(desc.diffuse),
+                         c.h};
     pbf_backend kind = desc.backend;
     if (kind == PBF_BACKEND_AUTO) kind = cuda_device_available(desc.cuda_device) ? PBF_BACKEND_CUDA : PBF_BACKEND_CPU;
     w->backend_ = kind == PBF_BACKEND_CUDA ? create_cuda_backend(config, status) : create_cpu_backend(config, status);
     if (!w->backend_) return nullptr;
-    w->init_materials();
-    w->update_constants();
     return w;
 }
 
@@ -48,7 +50,7 @@ void World::set_gravity(const float g[3]) {
     update_constants();
 }
 
-void World::update_constants() { constants_ = derive_constants(desc_, scales_, grid_, material_table()); }
+void World::update_constants() { constants_ = derive_constants(desc_, material_table()); }
 
 uint32_t World::gather_colliders(bool moving, std::vector<Collider>* shapes, std::vector<ColliderKey>* keys) {
     uint32_t dynamic = 0;
@@ -124,9 +126,9 @@ void World::get_info(pbf_world_info* info) const {
     info->max_particles = desc_.max_particles;
     info->particle_radius = desc_.particle_radius;
     info->rest_spacing = rest_spacing();
-    info->kernel_radius = scales_.h;
-    info->particle_mass = scales_.mass;
-    info->grid_cells = grid_.num_cells;
+    info->kernel_radius = constants_.h;
+    info->particle_mass = constants_.mass;
+    info->grid_cells = constants_.grid.num_cells;
     info->device_bytes = backend_->device_bytes();
     const std::string name = backend_->device_name();
     std::memset(info->device_name, 0, sizeof info->device_name);
@@ -139,9 +141,9 @@ void World::get_info(pbf_world_info* info) const {
     info->reserved1 = 0;
     info->diffuse_bytes = backend_->diffuse_bytes();
     info->diffuse_updates = backend_->diffuse_updates();
-    info->grid_hashed = grid_.hashed;
+    info->grid_hashed = constants_.grid.hashed;
     info->reserved2 = 0;
-    info->grid_bytes = (uint64_t(grid_.num_cells) + 1) * sizeof(uint32_t);  // the solver's cell_begin
+    info->grid_bytes = (uint64_t(constants_.grid.num_cells) + 1) * sizeof(uint32_t);  // the solver's cell_begin
 }
 
 Status World::get_stats(pbf_step_stats* out) {

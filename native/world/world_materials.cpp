@@ -8,6 +8,8 @@
 
 #include "world.h"
 
+#include "../solver/step_plan.h"
+
 namespace pbf {
 
 void World::init_materials() {
@@ -108,7 +110,7 @@ Status World::set_material(pbf_material_id id, const pbf_material_desc& desc) {
     return Status{};
 }
 
-void World::material_handles(pbf_material_id out[kMaxMaterials]) const {
+void World::material_handles(pbf_material_id out[PBF_MAX_MATERIALS]) const {
     for (uint32_t k = 0; k < kMaxMaterials; ++k)
         out[k] = materials_[k].alive ? pbf_material_id{k, materials_[k].generation} : pbf_material_id{0, 0};
 }

@@ -673,6 +673,14 @@ namespace Pbf.Interop
         public const int PBF_RENDER_EVENT_ALL_WORLDS = 0;
         /// <summary>Materials a world holds at most (the default one included).</summary>
         public const int PBF_MAX_MATERIALS = 8;
+        /// <summary>The most substeps a step runs (solver substeps and max_substeps).</summary>
+        public const uint PBF_MAX_SUBSTEPS = 64;
+        /// <summary>The largest pbf_world_desc.max_colliders.</summary>
+        public const uint PBF_MAX_COLLIDERS = 2048;
+        /// <summary>Meshes a world holds at most.</summary>
+        public const uint PBF_MAX_MESHES = 256;
+        /// <summary>The largest distance field of one mesh, in bytes.</summary>
+        public const uint PBF_MAX_MESH_FIELD_BYTES = 268435456;
 
         // Version, errors, logging
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
