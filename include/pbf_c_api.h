@@ -107,6 +107,8 @@ typedef struct pbf_collider_id { uint32_t index; uint32_t generation; } pbf_coll
 typedef struct pbf_material_id { uint32_t index; uint32_t generation; } pbf_material_id;
 
 /* ---- Solver parameters -------------------------------------------------------------------- */
+/* The most substeps a pbf_world_step runs (solver.substeps, solver.max_substeps). */
+#define PBF_MAX_SUBSTEPS 64
 typedef struct pbf_solver_params {
     uint32_t struct_size;
     uint32_t iterations;        /* density-constraint iterations per substep, 1..64 (default 4) */
@@ -117,7 +119,7 @@ typedef struct pbf_solver_params {
                                    gravity alone moves a resting one at most substep_travel·h/64,
                                    and a resting column as deep as the fluid's extent along gravity
                                    compresses at most ~10 % at its bottom (docs/physics.md), up to
-                                   max_substeps. 1..64: exactly that many. */
+                                   max_substeps. 1..PBF_MAX_SUBSTEPS: exactly that many. */
     float relaxation;           /* ε of λ (constraint force mixing), relative to the constraint
                                    gradient norm of a particle at rest density; > 0 (default 1).
                                    Smaller converges faster per iteration but a Jacobi sweep
@@ -144,9 +146,10 @@ typedef struct pbf_solver_params {
                                    0.01 = 1 %), with `iterations` as the cap; 0..1. A substep runs at
                                    least one iteration. Decided on the device: the step still never
                                    waits. Stats report iterations run. */
-    uint32_t max_substeps;      /* cap of the automatic substep count, 1..64 (default 16). A step that
-                                   would need more runs this many, and the h/Δt speed limit keeps
-                                   every particle within h per substep (stats count the cuts). */
+    uint32_t max_substeps;      /* cap of the automatic substep count, 1..PBF_MAX_SUBSTEPS (default
+                                   16). A step that would need more runs this many, and the h/Δt
+                                   speed limit keeps every particle within h per substep (stats
+                                   count the cuts). */
     float substep_travel;       /* automatic substeps: the fastest particle's travel per substep, as a
                                    fraction of h, 0.05..1 (default 0.5) */
     float sound_speed;          /* m/s, >= 10 (default 40): the response speed of the density
@@ -263,10 +266,13 @@ static inline pbf_diffuse_params pbf_diffuse_params_default(void) {
 }
 
 /* ---- World -------------------------------------------------------------------------------- */
+/* The largest pbf_world_desc.max_colliders. */
+#define PBF_MAX_COLLIDERS 2048
 typedef enum pbf_backend {
-    PBF_BACKEND_AUTO = 0,  /* CUDA when built in and a device exists, else CPU. The library reads
-                              no environment variable: the PBF_BACKEND variable of the samples
-                              and tools is theirs, turned into this field */
+    PBF_BACKEND_AUTO = 0,  /* CUDA when the library can run it here (pbf_get_backend_info),
+                              else CPU. The PBF_BACKEND variable of the samples and tools is
+                              theirs, turned into this field: the library reads no environment
+                              variable but PBF_CUDA_DRIVER (pbf_get_backend_info) */
     PBF_BACKEND_CPU = 1,
     PBF_BACKEND_CUDA = 2,
     PBF_BACKEND_FORCE32 = 0x7FFFFFFF
@@ -328,8 +334,8 @@ typedef struct pbf_world_desc {
     float domain_max[3];        /* (default -1,0,-1 .. 1,2,1); within 2^17·h of the origin */
     pbf_solver_params solver;
     pbf_render_params render;   /* render data (default: none) */
-    uint32_t max_colliders;     /* collider capacity, 1..2048, allocated up front (default 256).
-                                   Each collider costs about 0.3 KB of backend memory (shape,
+    uint32_t max_colliders;     /* collider capacity, 1..PBF_MAX_COLLIDERS, allocated up front
+                                   (default 256). Each collider costs about 0.3 KB of backend memory (shape,
                                    start/end keys, two pose rows, force rows) and up to 32 entries
                                    of the broad phase's lists: with more than 8 colliders each
                                    particle tests only those listed in its coarse cell. */
@@ -531,10 +537,12 @@ PBF_API pbf_result PBF_CALL pbf_emitter_set_drain_box(pbf_world_id world, pbf_em
  * free them on return. Memory: a dense grid over the mesh's bounds grown by a pad, 8 bytes per
  * grid point (a distance and the solid's share of a particle's kernel, for boundary density):
  * nx·ny·nz·8 bytes, nx = ceil((extent_x + 2·pad) / cell_size) + 1, pad = h + 4·cell_size +
- * thickness/2 (h = 4 particle radii); at most 256 MB per mesh (more: PBF_ERROR_CAPACITY naming
- * the voxel count), 256 meshes per world. Distances are exact at the grid points and trilinear
- * between them: a flat face is honoured to well under a cell, a convex edge or corner is rounded
- * by up to about one cell. */
+ * thickness/2 (h = 4 particle radii); at most PBF_MAX_MESH_FIELD_BYTES (256 MiB) per mesh (more:
+ * PBF_ERROR_CAPACITY naming the voxel count), PBF_MAX_MESHES per world. Distances are exact at
+ * the grid points and trilinear between them: a flat face is honoured to well under a cell, a
+ * convex edge or corner is rounded by up to about one cell. */
+#define PBF_MAX_MESHES 256
+#define PBF_MAX_MESH_FIELD_BYTES 268435456
 typedef struct pbf_mesh_id { uint32_t index; uint32_t generation; } pbf_mesh_id;
 typedef struct pbf_mesh_desc {
     uint32_t struct_size;

@@ -13,7 +13,14 @@
 # A file may include its own layer, common/, and the layers named in `reach` below: the API
 # reaches the world and interop only (never the solver or an executor), the world reaches the
 # solver (and core/ for its constants), the solver its executors. include/pbf_c_api.h (the public header) may be included from anywhere; tests/, tools/ and
-# samples/ are outside the layers. Usage: scripts/check_layers.sh [REPO_ROOT]
+# samples/ are outside the layers.
+#
+# Includes are not the only way around a door: a name the solver declares can reach the API
+# through a header the world includes. So the names native/solver/*.h declare at namespace
+# scope (types, enum constants, constants, free functions) must not be used in native/api/;
+# a use qualified by another scope (World::stage_name) is that scope's name. The uses still in
+# native/interop/ are listed as notes until interop reaches the world only through its own
+# names. Usage: scripts/check_layers.sh [REPO_ROOT]
 set -euo pipefail
 root="${1:-$(cd "$(dirname "$0")/.." && pwd)}"
 if ! command -v python3 >/dev/null; then
@@ -65,9 +72,77 @@ for dirpath, _, names in os.walk(native):
                     bad.append(f"{os.path.relpath(path, root)}:{lineno}: {line.strip()}  "
                                f"({here} -> {there}: {why})")
 
+# ---- names the solver declares, used above the world ----------------------------------------
+def strip_code(text):
+    """The text without comments, string and character literals (line breaks kept)."""
+    out = re.sub(r'//[^\n]*|/\*.*?\*/|"(?:\\.|[^"\\\n])*"|\'(?:\\.|[^\'\\\n])*\'',
+                 lambda m: re.sub(r"[^\n]", " ", m.group(0)), text, flags=re.S)
+    return out
+
+type_def = re.compile(r"^(?:template\s*<[^>]*>\s*)?(?:struct|class|union|enum(?:\s+class)?)\s+(\w+)\b(?!\s*;)")
+constant = re.compile(r"^(?:inline\s+|static\s+)*constexpr\s+[\w:<>]+\s+(\w+)\s*[={]")
+function = re.compile(r"^(?:template\s*<[^>]*>\s*)?(?:inline\s+|static\s+|PBF_HD\s+)*(?:[\w:<>]+[\s*&]+)+(\w+)\s*\(")
+enumerator = re.compile(r"^\s+(k\w+)\b")
+solver_dir = os.path.join(native, "solver")
+declared = {}
+for n in sorted(os.listdir(solver_dir)):
+    if not n.endswith((".h", ".cuh")):
+        continue
+    with open(os.path.join(solver_dir, n), encoding="utf-8", errors="replace") as f:
+        lines = strip_code(f.read()).splitlines()
+    in_enum = False
+    for line in lines:
+        if in_enum:
+            m = enumerator.match(line)
+            if m:
+                declared.setdefault(m.group(1), n)
+            if "}" in line:
+                in_enum = False
+            continue
+        for pattern in (type_def, constant, function):
+            m = pattern.match(line)
+            if m and m.group(1) not in ("operator",):
+                declared.setdefault(m.group(1), n)
+                break
+        if re.match(r"^enum\b", line) and "{" in line and "}" not in line:
+            in_enum = True
+
+token = re.compile(r"(\.|->|(\w+)\s*::)?\s*\b([A-Za-z_]\w*)\b")
+def solver_names_in(layer):
+    uses = []
+    top = os.path.join(native, layer)
+    for dirpath, _, names in os.walk(top):
+        for n in sorted(names):
+            if not n.endswith((".h", ".hpp", ".c", ".cpp", ".cu", ".cuh")):
+                continue
+            path = os.path.join(dirpath, n)
+            with open(path, encoding="utf-8", errors="replace") as f:
+                text = strip_code(f.read())
+            for lineno, line in enumerate(text.splitlines(), 1):
+                if line.lstrip().startswith("#"):
+                    continue
+                for m in token.finditer(line):
+                    qualifier, scope, name = m.group(1), m.group(2), m.group(3)
+                    if qualifier and scope != "pbf":
+                        continue  # a member, or a name of another scope
+                    if name in declared:
+                        uses.append(f"{os.path.relpath(path, root)}:{lineno}: {name} (solver/{declared[name]})")
+    return uses
+
+if os.environ.get("CHECK_LAYERS_LIST_SOLVER_NAMES"):
+    print(" ".join(sorted(declared)))
+api_uses = solver_names_in("api")
+for use in api_uses:
+    bad.append(f"{use}: a solver name above the world")
+interop_uses = solver_names_in("interop")
+
 if bad:
     print("check_layers: includes against the layering (api > interop > world > solver > exec > core > common):")
     print("\n".join("  " + b for b in bad))
     sys.exit(1)
-print(f"check_layers: {files} files under native/, every include points down through a door")
+print(f"check_layers: {files} files under native/, every include points down through a door; "
+      f"native/api/ uses none of the {len(declared)} names native/solver/ declares")
+if interop_uses:
+    print(f"check_layers: note: native/interop/ still uses {len(interop_uses)} solver names:")
+    print("\n".join("  " + u for u in interop_uses))
 PY

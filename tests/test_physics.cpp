@@ -6,8 +6,8 @@
 #include <random>
 #include <vector>
 
+#include "core/lattice.h"
 #include "core/passes.h"
-#include "world/world.h"
 
 using namespace pbf;
 

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <random>
 
+#include "core/lattice.h"
 #include "core/render_ops.h"
-#include "world/world.h"
 
 using pbf::Sym3;
 using pbf::Vec3;

@@ -2,8 +2,8 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
+#include "core/lattice.h"
 #include "core/sph.h"
-#include "world/world.h"
 
 using namespace pbf;
 

@@ -105,8 +105,8 @@ Verdict validate_world_desc(const pbf_world_desc& d) {
             V(std::fabs(double(d.domain_min[a])) <= limit && std::fabs(double(d.domain_max[a])) <= limit,
               WORLD_DOMAIN_EXTENT);
     }
-    if (d.max_colliders < 1 || d.max_colliders > kMaxColliderCapacity)
-        return Verdict{Check::WORLD_MAX_COLLIDERS, kMaxColliderCapacity};
+    if (d.max_colliders < 1 || d.max_colliders > PBF_MAX_COLLIDERS)
+        return Verdict{Check::WORLD_MAX_COLLIDERS, PBF_MAX_COLLIDERS};
     return {};
 }
 
@@ -148,7 +148,8 @@ Verdict validate_diffuse_rows(const float* positions, const float* velocities, u
 
 Verdict validate_copy_out(const pbf_buffer& source, uint64_t out_bytes) {
     V(valid_source(source), COPY_SOURCE);
-    if (out_bytes % element_bytes(source) != 0) return Verdict{Check::COPY_OUT_SIZE, element_bytes(source)};
+    const uint32_t elem = World::element_bytes(source);  // source is valid
+    if (out_bytes % elem != 0) return Verdict{Check::COPY_OUT_SIZE, elem};
     return {};
 }
 
@@ -243,7 +244,7 @@ Verdict validate_mesh_desc(const pbf_mesh_desc& d) {
 }
 
 Verdict validate_mesh_voxels(uint64_t voxels) {
-    if (voxels * 8 > pbf::kMaxMeshFieldBytes || voxels > (uint64_t(1) << 40))
+    if (voxels * 8 > PBF_MAX_MESH_FIELD_BYTES || voxels > (uint64_t(1) << 40))
         return Verdict{Check::MESH_VOXELS, voxels, voxels > (uint64_t(1) << 40) ? ~uint64_t(0) : voxels * 8 >> 20};
     return {};
 }
@@ -271,7 +272,7 @@ Verdict validate_external_buffer_desc(const pbf_external_buffer_desc& d) {
     V(valid_mode(d.mode), COPY_MODE);
     V(d.size_bytes > 0, EXTERNAL_SIZE);
     V(d.capacity > 0, COPY_CAPACITY);
-    const uint64_t elem = element_bytes(d.source);
+    const uint64_t elem = World::element_bytes(d.source);
     if (d.offset_bytes % element_alignment(d.source) != 0)
         return Verdict{Check::COPY_OFFSET_ALIGN, element_alignment(d.source)};
     const uint64_t bytes = uint64_t(d.capacity) * elem;

@@ -22,14 +22,8 @@ int32_t raw(const E& e) {
     return v;
 }
 
-// Bytes per element of a copy source (uint32 ids, 3 vec4 of anisotropy, else one vec4), and the
-// alignment its destination offset needs (4 for ids, else 16).
-inline uint32_t element_bytes(pbf_buffer source) {
-    return raw(source) == PBF_BUFFER_MATERIALS ? 1u
-           : raw(source) == PBF_BUFFER_IDS     ? 4u
-           : raw(source) == PBF_BUFFER_ANISOTROPY ? 48u
-                                               : 16u;
-}
+// The alignment a copy destination's offset needs (1 for materials, 4 for ids, else 16); the
+// bytes per element are the world's (World::element_bytes).
 inline uint32_t element_alignment(pbf_buffer source) {
     return raw(source) == PBF_BUFFER_MATERIALS ? 1u : raw(source) == PBF_BUFFER_IDS ? 4u : 16u;
 }

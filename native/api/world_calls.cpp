@@ -115,7 +115,7 @@ PBF_API pbf_result PBF_CALL pbf_world_set_gravity(pbf_world_id id, const float g
     return guarded(fn, [&]() -> pbf_result {
         PBF_VALIDATE(pbf::api::validate_gravity(g));
         PBF_LOCK_WORLD(w, id);
-        w->set_gravity(pbf::Vec3{g[0], g[1], g[2]});
+        w->set_gravity(g);
         return PBF_OK;
     });
 }
@@ -193,18 +193,12 @@ PBF_API pbf_result PBF_CALL pbf_world_get_profile(pbf_world_id id, pbf_step_prof
     return guarded(fn, [&]() -> pbf_result {
         PBF_CHECK_STRUCT(pbf_step_profile, out);
         PBF_LOCK_WORLD(w, id);
-        pbf::StageTimes times;
-        const pbf_result r = fail(w->stage_times(&times));
-        if (r != PBF_OK) return r;
-        static_assert(pbf::kStageCount <= PBF_PROFILE_MAX_STAGES, "pbf_step_profile holds every stage");
-        out->stage_count = pbf::kStageCount;
-        for (int k = 0; k < PBF_PROFILE_MAX_STAGES; ++k) out->stage_ms[k] = k < pbf::kStageCount ? times.ms[k] : 0.0f;
-        return PBF_OK;
+        return fail(w->get_profile(out));
     });
 }
 
 PBF_API const char* PBF_CALL pbf_profile_stage_name(uint32_t stage) {
-    return stage < static_cast<uint32_t>(pbf::kStageCount) ? pbf::World::stage_name(static_cast<int>(stage)) : nullptr;
+    return pbf::World::stage_name(stage);
 }
 
 // ---- particles -------------------------------------------------------------------------------
@@ -239,7 +233,7 @@ PBF_API pbf_result PBF_CALL pbf_world_copy_buffer(pbf_world_id id, pbf_buffer so
         PBF_REQUIRE_ARG(out != nullptr || out_bytes == 0, "out is NULL");
         PBF_LOCK_WORLD(w, id);
         if (pbf_result r = pbf::api::require_buffer(fn, *w, source); r != PBF_OK) return r;
-        const uint64_t fit = out_bytes / pbf::api::element_bytes(source);
+        const uint64_t fit = out_bytes / World::element_bytes(source);
         uint32_t n = 0;
         const pbf_result r = fail(fn, w->copy_buffer(source, out, uint32_t(std::min<uint64_t>(fit, UINT32_MAX)), &n));
         if (written) *written = n;

@@ -3,6 +3,7 @@
 // context of one substep (Δt and everything derived from it), built by the world per substep.
 #pragma once
 #include <cstdint>
+#include "limits.h"
 #include "vec.h"
 
 namespace pbf {
@@ -108,12 +109,10 @@ struct ColliderView {
     ColliderGrid grid;                 // the broad phase over shapes' bounds
 };
 
-// ---- fluid materials -------------------------------------------------------------
-// A world holds up to kMaxMaterials materials; each particle carries its slot as one byte
-// (slot 0 is the default material: the world's rest density and solver parameters). Eight keep
-// the table small enough to travel by value with every op, and the byte keeps a particle at
-// capacity within 128 B.
-constexpr uint32_t kMaxMaterials = 8;
+// ---- fluid materials -------------------------------------------------------------------------
+// A world holds up to kMaxMaterials materials (limits.h); each particle carries its slot as one
+// byte (slot 0 is the default material: the world's rest density and solver parameters), which
+// keeps a particle at capacity within 128 B.
 constexpr uint32_t kMaterialMultiphase = 1u;  // some material's rest density differs from slot 0's
 constexpr uint32_t kMaterialSurface = 2u;     // some material has surface tension, cohesion or adhesion
 struct MaterialConstants {

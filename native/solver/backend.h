@@ -10,10 +10,12 @@
 
 #include "../exec/exec_common.h"
 #include "../common/status.h"
+#include "../core/limits.h"
 #include "../core/params.h"
 #include "../core/diffuse_ops.h"
 #include "../core/render_ops.h"
 #include "../core/step_ops.h"
+#include "live_buffers.h"
 #include "mesh_input.h"
 #include "pbf_c_api.h"
 
@@ -32,15 +34,6 @@ struct DrainBox {
     Vec3 box_min, box_max;
 };
 
-// Substeps per step.
-constexpr uint32_t kMaxSubsteps = 64;
-// The largest max_colliders a world may ask for. Each step uploads its colliders' shapes (76 B
-// each) and start and end poses (56 B each) through pinned staging slots of 256 KB without a
-// host wait: 2048 keep each upload within one slot. On the backend a world holds 2 pose rows
-// of 48 B per collider (a substep's start and end, interpolated as the substeps run: 196 KB at
-// 2048); every particle pass tests the colliders its coarse cell lists (collider_grid.h).
-constexpr uint32_t kMaxColliderCapacity = 2048;
-
 // Everything one substep needs; built by the world on the host. The solver points
 // ctx.colliders at the substep's poses in backend memory.
 struct SubstepInput {
@@ -53,13 +46,13 @@ struct SubstepInput {
 
 // One pbf_world_step: its substeps and the colliders they see. Each collider moves from its
 // key's start to its end over the step; the solver interpolates the substeps' poses on the
-// backend. dynamic_count: colliders flagged kColliderDynamic; step_dt: the step's length.
+// backend. dynamic_count: colliders flagged kColliderDynamic; frame_dt: the frame step's length.
 struct StepInput {
     std::vector<SubstepInput> substeps;
     std::vector<Collider> collider_shapes;
     std::vector<ColliderKey> collider_keys;
     uint32_t dynamic_count = 0;
-    float step_dt = 0.0f;
+    float frame_dt = 0.0f;
 };
 
 // Colliders standing still (between steps): keys whose start is their end.
@@ -95,58 +88,11 @@ enum Stage : int {
     kStageDiffuseAdvect,   // diffuse particles moved, generated and packed (diffuse capacity only)
     kStageCount
 };
+static_assert(kStageCount <= PBF_PROFILE_MAX_STAGES, "pbf_step_profile holds every stage");
 const char* stage_name(int stage);
 struct StageTimes {
     float ms[kStageCount] = {};
 };
-
-// Backend memory of the live particles (device memory on CUDA, host memory on the CPU).
-struct LiveBuffers {
-    void* positions = nullptr;        // Vec4 x, y, z, density ratio
-    void* velocities = nullptr;       // Vec4 vx, vy, vz, 0
-    uint32_t* ids = nullptr;
-    void* smoothed_positions = nullptr;  // Vec4 x̄, ȳ, z̄, density ratio; null when not computed
-    void* anisotropy = nullptr;          // 3 Vec4 per particle (axis, radius); null when not computed
-    uint8_t* materials = nullptr;     // one byte per particle: its material slot
-    const uint32_t* count = nullptr;  // the live count, in the same memory
-    uint32_t capacity = 0;
-    int32_t cuda_device = -1;         // -1 on the CPU
-    // Diffuse particles (null without a diffuse capacity): Vec4 x, y, z, kind and vx, vy, vz,
-    // remaining lifetime; their own count and capacity.
-    void* diffuse_positions = nullptr;
-    void* diffuse_velocities = nullptr;
-    const uint32_t* diffuse_count = nullptr;
-    uint32_t diffuse_capacity = 0;
-};
-
-// The buffer of source (a pbf_buffer) in b; null when the world does not compute it.
-inline const void* live_buffer(const LiveBuffers& b, pbf_buffer source) {
-    switch (source) {
-        case PBF_BUFFER_POSITIONS: return b.positions;
-        case PBF_BUFFER_VELOCITIES: return b.velocities;
-        case PBF_BUFFER_IDS: return b.ids;
-        case PBF_BUFFER_SMOOTHED_POSITIONS: return b.smoothed_positions;
-        case PBF_BUFFER_ANISOTROPY: return b.anisotropy;
-        case PBF_BUFFER_DIFFUSE_POSITIONS: return b.diffuse_positions;
-        case PBF_BUFFER_DIFFUSE_VELOCITIES: return b.diffuse_velocities;
-        case PBF_BUFFER_MATERIALS: return b.materials;
-        default: return nullptr;
-    }
-}
-inline bool is_diffuse_buffer(pbf_buffer source) {
-    return source == PBF_BUFFER_DIFFUSE_POSITIONS || source == PBF_BUFFER_DIFFUSE_VELOCITIES;
-}
-// The live count of source's particles (the diffuse count for the diffuse buffers).
-inline const uint32_t* live_count(const LiveBuffers& b, pbf_buffer source) {
-    return is_diffuse_buffer(source) ? b.diffuse_count : b.count;
-}
-// Bytes per particle of source: 1 (materials), 4 (ids), 48 (anisotropy) or 16.
-inline uint32_t buffer_element_bytes(pbf_buffer source) {
-    return source == PBF_BUFFER_MATERIALS ? 1u
-           : source == PBF_BUFFER_IDS     ? 4u
-           : source == PBF_BUFFER_ANISOTROPY ? 48u
-                                          : 16u;
-}
 
 struct BackendConfig {
     uint32_t capacity;

@@ -5,16 +5,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "../core/limits.h"
 #include "../core/sdf_build.h"
 
 namespace pbf {
-
-// Rows of a world's mesh table (MeshView, 48 B each, allocated with the world): meshes alive at
-// once. The fields themselves are allocated per mesh at its creation.
-constexpr uint32_t kMaxMeshes = 256;
-// The largest field a mesh may have (8 bytes per voxel: a distance and a boundary share; its build also holds its triangles and their
-// brick lists for the time of the build).
-constexpr uint64_t kMaxMeshFieldBytes = 256ull << 20;
 
 struct MeshBuild {
     MeshView grid{};                // values null: the backend allocates them

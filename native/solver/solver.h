@@ -159,13 +159,13 @@ public:
         const ColliderPose* reached = collider_poses_ + (substeps % 2) * count;
         rest_colliders_ = colliders_view(reached, reached, count, grid);
         if (dynamic)
-            exec_.for_each(count, ColliderForceOp{collider_shapes_, collider_impulses_, collider_forces_, 1.0f / in.step_dt});
+            exec_.for_each(count, ColliderForceOp{collider_shapes_, collider_impulses_, collider_forces_, 1.0f / in.frame_dt});
         host_forces_valid_ = false;
         const HeightFrame frame = height_frame(s);
         exec_.reduce_feedback(frame, pos_, vel_, &counters_->count, bound_, &counters_->feedback);
         exec_.for_each(1, PublishFeedbackOp{counters_, frame, feedback_});
         exec_.feedback_published();
-        update_diffuse(s, in.step_dt);
+        update_diffuse(s, in.frame_dt);
         update_render_data(s);  // last, so its stage time is the pass alone
         exec_.profile_mark(kStageCount);
         exec_.timer_end();

@@ -1,4 +1,4 @@
-// Meshes of a world (issue 13): the layout of a mesh's distance field, the host's part of its
+// Meshes of a world: the layout of a mesh's distance field, the host's part of its
 // build (bounds, the non-degenerate triangles; the backend bins and builds), and the mesh
 // table's slots.
 #include <algorithm>
@@ -7,9 +7,11 @@
 
 #include "world.h"
 
+#include "../solver/backend.h"
+
 namespace pbf {
 
-MeshLayout World::mesh_layout(const pbf_mesh_desc& d) const { return pbf::mesh_layout(d, desc_.particle_radius, h_); }
+MeshLayout World::mesh_layout(const pbf_mesh_desc& d) const { return pbf::mesh_layout(d, desc_.particle_radius, constants_.h); }
 
 MeshLayout mesh_layout(const pbf_mesh_desc& d, float r, float h) {
     MeshLayout l;

@@ -1,13 +1,24 @@
-// A world on the host side: parameters, emitters, colliders and the backend that holds the
-// particles. Inputs arrive validated by the C API layer; the world only applies them.
+// A world on the host side: its handles (emitters, colliders, materials, meshes) and their
+// lifecycle, its parameters, and the backend that holds the particles. Inputs arrive validated
+// by the C API layer; the world only applies them. The physics of a step (constants, substeps,
+// emission) is the step plan's (solver/step_plan.h); this header names the solver only by
+// forward declarations, and passes on the live buffers (solver/live_buffers.h) to interop.
 #pragma once
 #include <memory>
 #include <vector>
 
-#include "../solver/backend.h"
 #include "../common/slot_table.h"
+#include "../common/status.h"
+#include "../core/params.h"
+#include "../core/sdf.h"
+#include "../solver/live_buffers.h"
+#include "pbf_c_api.h"
 
 namespace pbf {
+
+class Backend;
+struct MaterialTable;
+struct MeshBuild;
 
 struct ColliderEntry {
     Collider collider;   // shape data; its poses are computed per substep
@@ -43,36 +54,12 @@ struct EmitterEntry {
     uint32_t sequence = 0;
 };
 
-// A material slot (issue 16; world_materials.cpp). Slot 0 is the default material.
+// A material slot (world_materials.cpp). Slot 0 is the default material.
 struct MaterialSlot {
     pbf_material_desc desc{};
     uint32_t generation = 0;
     bool alive = false;
 };
-
-// Mass and ε scale for a rest lattice, so that a lattice at rest spacing has rest density.
-struct LatticeCalibration {
-    double kernel_sum;      // Σ_j W_poly6(|x_j|) over the lattice around one particle (incl. itself)
-    double gradient_norm2;  // Σ_j |∇W_ij|² around one particle
-};
-LatticeCalibration calibrate_lattice(float spacing, float h);
-// γ of the boundary density: the density a rest lattice's first layer misses at a wall (the
-// lattice layers beyond it), over the continuum half-space integral Φ at its distance (one
-// radius): so a rest lattice against a wall has rest density in its first layer.
-float boundary_lattice_scale(float spacing, float h);
-// κ of a box's edges (collide.h box_boundary): chosen so that a rest lattice around a box edge
-// has rest density at the edge's diagonal site (one radius outside both faces), as γ gives it at
-// a face. gamma: boundary_lattice_scale.
-float box_edge_scale(float spacing, float h, float gamma);
-// The eigenvalue (m²) of the render covariance of a rest lattice around one particle (isotropic
-// by the lattice's symmetry): the reference the render scale k_s is given against.
-double rest_render_variance(float spacing, float h);
-// XSPH's factor for a substep of sub_dt from c per 1/60 s: 1 - (1 - c)^(60 Δt).
-float xsph_factor(float c, float sub_dt);
-// The render pass's constants from the desc's render params.
-RenderConstants render_constants(const pbf_render_params& p, float radius, float h);
-// The diffuse pass's constants from the desc's diffuse params (world_diffuse.cpp).
-DiffuseConstants diffuse_constants(const pbf_diffuse_params& p);
 
 // State another layer keeps with a world (the interop layer, native/interop): told after each
 // successful step, destroyed with the world before its backend.
@@ -87,16 +74,13 @@ public:
     // desc is validated; *status says why creation failed.
     static std::unique_ptr<World> create(const pbf_world_desc& desc, Status* status);
 
-    Status step(float dt);
-    const pbf_solver_params& solver_params() const { return params_; }
-    void set_solver_params(const pbf_solver_params& p) {
-        params_ = p;
-        update_constants();
-    }
-    void set_gravity(Vec3 g) {
-        gravity_ = g;
-        update_constants();
-    }
+    ~World();
+
+    // Advances the world by one frame step of frame_dt seconds, in substeps (solver/step_plan.h).
+    Status step(float frame_dt);
+    const pbf_solver_params& solver_params() const { return desc_.solver; }
+    void set_solver_params(const pbf_solver_params& p);
+    void set_gravity(const float g[3]);
     void get_info(pbf_world_info* info) const;
     Status get_stats(pbf_step_stats* stats);
 
@@ -111,7 +95,7 @@ public:
     // it): INVALID_HANDLE when not live, INVALID_STATE when not dynamic.
     Status collider_force(pbf_collider_id id, pbf_collider_force* out);
     // The backend's table of them (max_colliders rows by handle index), for pbf_mapped_buffer.
-    const void* collider_force_table() const { return backend_->collider_force_table(); }
+    const void* collider_force_table() const;
     uint32_t max_colliders() const { return desc_.max_colliders; }
     ColliderEntry* find_collider(pbf_collider_id id) { return colliders_.find(id.index, id.generation); }
 
@@ -124,29 +108,29 @@ public:
     Status destroy_material(pbf_material_id id, uint32_t* emitters, uint32_t* particles);
     Status get_material(pbf_material_id id, pbf_material_desc* out) const;
     Status set_material(pbf_material_id id, const pbf_material_desc& desc);
-    void material_handles(pbf_material_id out[kMaxMaterials]) const;
-    // Meshes (meshes.cpp). desc validated, its field within kMaxMeshFieldBytes (mesh_layout).
+    void material_handles(pbf_material_id out[PBF_MAX_MATERIALS]) const;
+    // Meshes (meshes.cpp). desc validated, its field within PBF_MAX_MESH_FIELD_BYTES (mesh_layout).
     MeshLayout mesh_layout(const pbf_mesh_desc& desc) const;
     Status create_mesh(const pbf_mesh_desc& desc, pbf_mesh_id* out);
     // INVALID_HANDLE when not live, INVALID_STATE while a collider uses it.
     Status destroy_mesh(pbf_mesh_id id);
 
-    Status particle_count(uint32_t* count) { return backend_->particle_count(count); }
+    Status particle_count(uint32_t* count);
     Status copy_positions(float* out, uint32_t max, uint32_t* written) {
-        return backend_->copy_buffer(PBF_BUFFER_POSITIONS, out, max, written);
+        return copy_buffer(PBF_BUFFER_POSITIONS, out, max, written);
     }
     Status copy_velocities(float* out, uint32_t max, uint32_t* written) {
-        return backend_->copy_buffer(PBF_BUFFER_VELOCITIES, out, max, written);
+        return copy_buffer(PBF_BUFFER_VELOCITIES, out, max, written);
     }
     Status copy_ids(uint32_t* out, uint32_t max, uint32_t* written) {
-        return backend_->copy_buffer(PBF_BUFFER_IDS, out, max, written);
+        return copy_buffer(PBF_BUFFER_IDS, out, max, written);
     }
     // Any particle buffer (source valid; has_buffer(source) true).
-    Status copy_buffer(pbf_buffer source, void* out, uint32_t max, uint32_t* written) {
-        return backend_->copy_buffer(source, out, max, written);
-    }
+    Status copy_buffer(pbf_buffer source, void* out, uint32_t max, uint32_t* written);
+    // Bytes per particle of a buffer (1 materials, 4 ids, 48 anisotropy, else 16).
+    static uint32_t element_bytes(pbf_buffer source) { return buffer_element_bytes(source); }
     // Whether the world has this buffer (the render buffers only when desc.render asked for them).
-    bool has_buffer(pbf_buffer source) { return live_buffer(backend_->live_buffers(), source) != nullptr; }
+    bool has_buffer(pbf_buffer source) { return live_buffer(live_buffers(), source) != nullptr; }
     uint32_t render_flags() const { return desc_.render.flags; }
     const pbf_render_params& render_params() const { return desc_.render; }
     // params validated, with the world's flags.
@@ -159,7 +143,6 @@ public:
     bool mapped() const { return mapped_; }
 
     float rest_spacing() const { return 2.0f * desc_.particle_radius; }
-    Backend& backend() { return *backend_; }
     WorldAttachment* attachment() { return attachment_.get(); }
     void set_attachment(std::unique_ptr<WorldAttachment> a) { attachment_ = std::move(a); }
 
@@ -195,38 +178,37 @@ public:
     LiveBuffers live_buffers();
     void* cuda_stream() const;
     Status set_cuda_stream(void* stream);
-    // Per-stage timing (pbf_bench): on or off, and the last step's milliseconds per stage.
+    // Per-stage timing (pbf_bench): on or off, and the last step's milliseconds per stage
+    // (out validated); a stage's name, null past the last stage.
     void set_profiling(bool on);
-    Status stage_times(StageTimes* out);
-    static const char* stage_name(int stage);
+    Status get_profile(pbf_step_profile* out);
+    static const char* stage_name(uint32_t stage);
 
 private:
     World() = default;
     void update_constants();
     void init_materials();
-    MaterialConstants material_constants();  // also keeps the default material's desc in step
-    void material_step_context(float sub_dt, StepContext* c) const;
+    // A material slot's desc as it is now (slot 0's viscosity and LDC gain: the solver
+    // parameters), and the table of them the step plan reads.
+    pbf_material_desc material_desc(int slot) const;
+    MaterialTable material_table() const;
     Status check_nozzle(const pbf_emitter_desc& d, Vec3 position) const;
     static void set_nozzle_direction(pbf_emitter_desc& d, Vec3 direction);
-    uint32_t substeps_for(float dt);
-    double depth_substep_rate(double g, double depth) const;
-    StepContext step_context(float sub_dt) const;
     Status colliders_changed();
     // The step's colliders: shapes (bounds over the motion from the current pose to the
     // target) and keys; returns how many are dynamic.
     uint32_t gather_colliders(bool moving, std::vector<Collider>* shapes, std::vector<ColliderKey>* keys);
 
-    WorldConstants constants_{};
+    // The world's parameters, one value each: the solver parameters, gravity, render and diffuse
+    // parameters as last set (the default material's viscosity and LDC gain are solver.xsph_c
+    // and solver.ldc_gain). constants_ is derived from them (update_constants).
     pbf_world_desc desc_{};
-    pbf_solver_params params_{};
-    Vec3 gravity_{};
-    float mass_ = 0.0f, h_ = 0.0f, gradient_norm2_ = 0.0f, boundary_scale_ = 0.0f, box_edge_scale_ = 0.0f;
+    WorldConstants constants_{};
     float emitted_speed_ = 0.0f;  // fastest particle emitted since the last step (block velocity)
     float emitted_depth_ = 0.0f;  // tallest block emitted since the last step, along gravity (m)
     // A collider created or teleported, or a block emitted, since the last step: particles may
     // overlap a collider without having moved into it (the step's first substep settles them).
     bool overlaps_pending_ = false;
-    GridDims grid_{};
     std::unique_ptr<Backend> backend_;
     SlotTable<EmitterEntry> emitters_;
     SlotTable<ColliderEntry> colliders_;

@@ -7,6 +7,8 @@
 
 #include "world.h"
 
+#include "../solver/step_plan.h"
+
 namespace pbf {
 
 CudaAvailability World::cuda_available(int32_t device) { return cuda_availability(device); }
@@ -122,14 +124,31 @@ Status World::map_particles(bool wait_for_count, Mapping* out) {
 
 void World::set_render_params(const pbf_render_params& params) {
     desc_.render = params;
-    backend_->set_render_constants(render_constants(params, desc_.particle_radius, h_));
+    backend_->set_render_constants(render_constants(params, desc_.particle_radius, constants_.h));
 }
 
 LiveBuffers World::live_buffers() { return backend_->live_buffers(); }
 void* World::cuda_stream() const { return backend_->cuda_stream(); }
 Status World::set_cuda_stream(void* stream) { return backend_->set_cuda_stream(stream); }
 void World::set_profiling(bool on) { backend_->set_profiling(on); }
-Status World::stage_times(StageTimes* out) { return backend_->stage_times(out); }
-const char* World::stage_name(int stage) { return pbf::stage_name(stage); }
+
+Status World::get_profile(pbf_step_profile* out) {
+    StageTimes times;
+    const Status st = backend_->stage_times(&times);
+    if (!st.ok()) return st;
+    out->stage_count = kStageCount;
+    for (int k = 0; k < PBF_PROFILE_MAX_STAGES; ++k) out->stage_ms[k] = k < kStageCount ? times.ms[k] : 0.0f;
+    return Status{};
+}
+
+const char* World::stage_name(uint32_t stage) {
+    return stage < static_cast<uint32_t>(kStageCount) ? pbf::stage_name(static_cast<int>(stage)) : nullptr;
+}
+
+const void* World::collider_force_table() const { return backend_->collider_force_table(); }
+Status World::particle_count(uint32_t* count) { return backend_->particle_count(count); }
+Status World::copy_buffer(pbf_buffer source, void* out, uint32_t max, uint32_t* written) {
+    return backend_->copy_buffer(source, out, max, written);
+}
 
 }  // namespace pbf

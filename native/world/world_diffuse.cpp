@@ -1,31 +1,13 @@
-// The world's diffuse particles (desc.diffuse): their constants for the solver, new parameters
-// between steps, and particles the API adds.
+// The world's diffuse particles (desc.diffuse): new parameters between steps, and particles the
+// API adds.
 #include <cstring>
 #include <vector>
 
 #include "world.h"
 
-namespace pbf {
+#include "../solver/step_plan.h"
 
-DiffuseConstants diffuse_constants(const pbf_diffuse_params& p) {
-    DiffuseConstants d;
-    d.capacity = p.max_diffuse;
-    d.trapped_air_min = p.trapped_air_min;
-    d.trapped_air_max = p.trapped_air_max;
-    d.wave_crest_min = p.wave_crest_min;
-    d.wave_crest_max = p.wave_crest_max;
-    d.energy_min = p.energy_min;
-    d.energy_max = p.energy_max;
-    d.trapped_air_rate = p.trapped_air_rate;
-    d.wave_crest_rate = p.wave_crest_rate;
-    d.lifetime = p.lifetime;
-    d.spray_max_neighbors = p.spray_max_neighbors;
-    d.bubble_min_neighbors = p.bubble_min_neighbors;
-    d.buoyancy = p.buoyancy;
-    d.bubble_drag = p.bubble_drag;
-    d.spray_drag = p.spray_drag;
-    return d;
-}
+namespace pbf {
 
 void World::set_diffuse_params(const pbf_diffuse_params& params) {
     desc_.diffuse = params;

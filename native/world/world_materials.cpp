@@ -1,6 +1,6 @@
-// The world's fluid materials (issue 16): a fixed table of kMaxMaterials slots, slot 0 the
-// default material (the world's rest density and solver parameters), and what the solver
-// derives from them (WorldConstants::materials, the substep's per-slot XSPH and LDC factors).
+// The world's fluid materials: a fixed table of kMaxMaterials slots, slot 0 the default material
+// (the world's rest density and solver parameters); the step plan derives the solver's constants
+// from their table (solver/step_plan.h, MaterialTable).
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -8,54 +8,39 @@
 
 #include "world.h"
 
+#include "../solver/step_plan.h"
+
 namespace pbf {
 
-float xsph_factor(float c, float sub_dt) { return c >= 1.0f ? 1.0f : 1.0f - std::pow(1.0f - c, 60.0f * sub_dt); }
-
 void World::init_materials() {
-    // The default material: the world's rest density and solver parameters (material_constants
-    // keeps viscosity and LDC gain in step with them), no surface forces, pbf_material_desc's colour.
+    // The default material: the world's rest density, no surface forces, pbf_material_desc's
+    // colour; its viscosity and LDC gain are the solver parameters (material_desc).
     MaterialSlot& d = materials_[0];
     d.desc = pbf_material_desc{};
     d.desc.struct_size = sizeof d.desc;
     d.desc.rest_density = desc_.rest_density;
-    d.desc.viscosity = params_.xsph_c;
-    d.desc.ldc_gain = params_.ldc_gain;
     const float color[4] = {0.2f, 0.45f, 0.9f, 1.0f};
     std::copy(color, color + 4, d.desc.color);
     d.generation = 1;
     d.alive = true;
 }
 
-MaterialConstants World::material_constants() {
-    // The default material is the world's solver parameters.
-    materials_[0].desc.viscosity = params_.xsph_c;
-    materials_[0].desc.ldc_gain = params_.ldc_gain;
-    MaterialConstants m{};
-    for (uint32_t k = 0; k < kMaxMaterials; ++k) {
-        const MaterialSlot& slot = materials_[k];
-        m.inv_mass[k] = 1.0f;
-        if (!slot.alive) continue;
-        const pbf_material_desc& d = slot.desc;
-        if (d.rest_density != desc_.rest_density) {
-            m.inv_mass[k] = desc_.rest_density / d.rest_density;
-            m.flags |= kMaterialMultiphase;
-        }
-        m.surface_tension[k] = d.surface_tension;
-        m.cohesion[k] = d.cohesion;
-        m.adhesion[k] = d.adhesion;
-        if (d.surface_tension > 0.0f || d.cohesion > 0.0f || d.adhesion > 0.0f) m.flags |= kMaterialSurface;
+pbf_material_desc World::material_desc(int slot) const {
+    pbf_material_desc d = materials_[slot].desc;
+    if (slot == 0) {  // one value: the solver parameters hold the default material's
+        d.viscosity = desc_.solver.xsph_c;
+        d.ldc_gain = desc_.solver.ldc_gain;
     }
-    return m;
+    return d;
 }
 
-void World::material_step_context(float sub_dt, StepContext* c) const {
-    const float tau = h_ / params_.sound_speed;
+MaterialTable World::material_table() const {
+    MaterialTable t;
     for (uint32_t k = 0; k < kMaxMaterials; ++k) {
-        const MaterialSlot& slot = materials_[k];
-        c->material_xsph_c[k] = slot.alive ? xsph_factor(slot.desc.viscosity, sub_dt) : 0.0f;
-        c->material_ldc_k[k] = slot.alive ? slot.desc.ldc_gain / (sub_dt * sub_dt + tau * tau) : 0.0f;
+        t.alive[k] = materials_[k].alive;
+        if (t.alive[k]) t.desc[k] = material_desc(int(k));
     }
+    return t;
 }
 
 int World::material_slot(pbf_material_id id) const {
@@ -108,7 +93,7 @@ Status World::get_material(pbf_material_id id, pbf_material_desc* out) const {
     const int slot = material_slot(id);
     if (slot < 0 || (id.index == 0 && id.generation == 0))
         return Status::error(PBF_ERROR_INVALID_HANDLE, "material is not live");
-    *out = materials_[slot].desc;
+    *out = material_desc(slot);
     return Status{};
 }
 
@@ -118,14 +103,14 @@ Status World::set_material(pbf_material_id id, const pbf_material_desc& desc) {
         return Status::error(PBF_ERROR_INVALID_HANDLE, "material is not live");
     materials_[slot].desc = desc;
     if (slot == 0) {  // the default material's viscosity and LDC gain are the solver parameters
-        params_.xsph_c = desc.viscosity;
-        params_.ldc_gain = desc.ldc_gain;
+        desc_.solver.xsph_c = desc.viscosity;
+        desc_.solver.ldc_gain = desc.ldc_gain;
     }
     update_constants();
     return Status{};
 }
 
-void World::material_handles(pbf_material_id out[kMaxMaterials]) const {
+void World::material_handles(pbf_material_id out[PBF_MAX_MATERIALS]) const {
     for (uint32_t k = 0; k < kMaxMaterials; ++k)
         out[k] = materials_[k].alive ? pbf_material_id{k, materials_[k].generation} : pbf_material_id{0, 0};
 }

@@ -281,7 +281,7 @@ namespace Pbf.Interop
         /// gravity alone moves a resting one at most substep_travel·h/64,
         /// and a resting column as deep as the fluid's extent along gravity
         /// compresses at most ~10 % at its bottom (docs/physics.md), up to
-        /// max_substeps. 1..64: exactly that many.
+        /// max_substeps. 1..PBF_MAX_SUBSTEPS: exactly that many.
         /// </summary>
         public uint substeps;
         /// <summary>
@@ -333,9 +333,10 @@ namespace Pbf.Interop
         /// </summary>
         public float adaptive_error_target;
         /// <summary>
-        /// cap of the automatic substep count, 1..64 (default 16). A step that
-        /// would need more runs this many, and the h/Δt speed limit keeps
-        /// every particle within h per substep (stats count the cuts).
+        /// cap of the automatic substep count, 1..PBF_MAX_SUBSTEPS (default
+        /// 16). A step that would need more runs this many, and the h/Δt
+        /// speed limit keeps every particle within h per substep (stats
+        /// count the cuts).
         /// </summary>
         public uint max_substeps;
         /// <summary>
@@ -454,9 +455,10 @@ namespace Pbf.Interop
     public enum pbf_backend : int
     {
         /// <summary>
-        /// CUDA when built in and a device exists, else CPU. The library reads
-        /// no environment variable: the PBF_BACKEND variable of the samples
-        /// and tools is theirs, turned into this field
+        /// CUDA when the library can run it here (pbf_get_backend_info),
+        /// else CPU. The PBF_BACKEND variable of the samples and tools is
+        /// theirs, turned into this field: the library reads no environment
+        /// variable but PBF_CUDA_DRIVER (pbf_get_backend_info)
         /// </summary>
         PBF_BACKEND_AUTO = 0,
         PBF_BACKEND_CPU = 1,
@@ -556,8 +558,8 @@ namespace Pbf.Interop
         /// <summary>render data (default: none)</summary>
         public pbf_render_params render;
         /// <summary>
-        /// collider capacity, 1..2048, allocated up front (default 256).
-        /// Each collider costs about 0.3 KB of backend memory (shape,
+        /// collider capacity, 1..PBF_MAX_COLLIDERS, allocated up front
+        /// (default 256). Each collider costs about 0.3 KB of backend memory (shape,
         /// start/end keys, two pose rows, force rows) and up to 32 entries
         /// of the broad phase's lists: with more than 8 colliders each
         /// particle tests only those listed in its coarse cell.
@@ -750,18 +752,6 @@ namespace Pbf.Interop
     }
 
     // ---- Meshes (for PBF_SHAPE_MESH colliders)
-    /// <summary>
-    /// A triangle mesh becomes a signed distance field on a regular grid of cell_size, built once at
-    /// pbf_world_create_mesh (on the world's backend: the GPU for a CUDA world; the call waits for
-    /// the build) and shared by every collider that names it. The arrays are copied: the caller may
-    /// free them on return. Memory: a dense grid over the mesh's bounds grown by a pad, 8 bytes per
-    /// grid point (a distance and the solid's share of a particle's kernel, for boundary density):
-    /// nx·ny·nz·8 bytes, nx = ceil((extent_x + 2·pad) / cell_size) + 1, pad = h + 4·cell_size +
-    /// thickness/2 (h = 4 particle radii); at most 256 MB per mesh (more: PBF_ERROR_CAPACITY naming
-    /// the voxel count), 256 meshes per world. Distances are exact at the grid points and trilinear
-    /// between them: a flat face is honoured to well under a cell, a convex edge or corner is rounded
-    /// by up to about one cell.
-    /// </summary>
     [StructLayout(LayoutKind.Sequential)]
     public struct pbf_mesh_id
     {
@@ -1331,6 +1321,8 @@ namespace Pbf.Interop
         public static extern void pbf_set_log_callback(IntPtr callback, IntPtr user_data);
 
         // ---- Solver parameters
+        public const int PBF_MAX_SUBSTEPS = 64;
+
         /// <summary>Fills the library's defaults. Prefer pbf_solver_params_default().</summary>
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_solver_params_init(ref pbf_solver_params @params, uint struct_size);
@@ -1392,6 +1384,8 @@ namespace Pbf.Interop
         }
 
         // ---- World
+        public const int PBF_MAX_COLLIDERS = 2048;
+
         /// <summary>
         /// Describes backend (AUTO, CPU or CUDA) on CUDA device cuda_device (ignored for the CPU) into
         /// *out_info (struct_size set by the caller). Returns PBF_OK whether or not the backend is
@@ -1613,6 +1607,9 @@ namespace Pbf.Interop
         public static extern pbf_result pbf_emitter_set_drain_box(pbf_world_id world, pbf_emitter_id emitter, IntPtr box_min, IntPtr box_max);
 
         // ---- Meshes (for PBF_SHAPE_MESH colliders)
+        public const int PBF_MAX_MESHES = 256;
+        public const int PBF_MAX_MESH_FIELD_BYTES = 268435456;
+
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_mesh_desc_init(ref pbf_mesh_desc desc, uint struct_size);
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
