@@ -6,7 +6,6 @@
 
 #include "api_common.h"
 
-using pbf::CudaAvailability;
 using pbf::Status;
 using pbf::World;
 using pbf::api::fail;
@@ -47,7 +46,7 @@ PBF_API pbf_result PBF_CALL pbf_world_create(const pbf_world_desc* d, pbf_world_
         PBF_CHECK_STRUCT(pbf_diffuse_params, &d->diffuse);
         PBF_VALIDATE(pbf::api::validate_diffuse_params(d->diffuse));
         if (d->backend == PBF_BACKEND_CUDA) {
-            const CudaAvailability cuda = World::cuda_available(d->cuda_device);
+            const Status cuda = World::cuda_available(d->cuda_device);
             if (!cuda.ok())
                 return fail(PBF_ERROR_BACKEND_UNAVAILABLE,
                             std::string(fn) + ": PBF_BACKEND_CUDA requested, but CUDA device " +

@@ -149,8 +149,8 @@ public:
     // ---- doors for the API and interop layers (world_access.cpp) -----------------------------
     // Everything native/api and native/interop ask of a world goes through these (and the calls
     // above); neither reaches the backend. Inputs arrive validated; normalisation happens here.
-    // Whether CUDA device `device` can run a world, or why not (NOT_BUILT in CPU-only builds).
-    static CudaAvailability cuda_available(int32_t device);
+    // Whether CUDA device `device` can run a world: ok, or PBF_ERROR_BACKEND_UNAVAILABLE with why not.
+    static Status cuda_available(int32_t device);
     // What pbf_get_backend_info reports for backend on device.
     static void describe_backend(pbf_backend backend, int32_t device, pbf_backend_info* out);
     pbf_backend backend_kind() const;

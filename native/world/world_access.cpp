@@ -11,7 +11,10 @@
 
 namespace pbf {
 
-CudaAvailability World::cuda_available(int32_t device) { return cuda_availability(device); }
+Status World::cuda_available(int32_t device) {
+    const CudaAvailability cuda = cuda_availability(device);
+    return cuda.ok() ? Status{} : Status::error(PBF_ERROR_BACKEND_UNAVAILABLE, cuda.message);
+}
 
 void World::describe_backend(pbf_backend backend, int32_t device, pbf_backend_info* out) {
     const uint32_t size = out->struct_size;
