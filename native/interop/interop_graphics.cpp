@@ -9,11 +9,12 @@
 
 namespace pbf::cuda_interop {
 
-GraphicsBuffer GraphicsBuffer::gl(const pbf_gl_buffer_desc& d) {
+namespace {
+// The fields both descs share: what each copy writes.
+template <class Desc>
+GraphicsBuffer copying(GraphicsBuffer::Api api, const Desc& d) {
     GraphicsBuffer b;
-    b.api = Api::GL;
-    b.gl_buffer = d.buffer;
-    b.gl_args = d.draw_args_buffer;
+    b.api = api;
     b.source = d.source;
     b.mode = d.mode;
     b.offset_bytes = d.offset_bytes;
@@ -22,18 +23,19 @@ GraphicsBuffer GraphicsBuffer::gl(const pbf_gl_buffer_desc& d) {
     b.draw_args_vertices = d.draw_args_vertices;
     return b;
 }
+}  // namespace
+
+GraphicsBuffer GraphicsBuffer::gl(const pbf_gl_buffer_desc& d) {
+    GraphicsBuffer b = copying(Api::GL, d);
+    b.gl_buffer = d.buffer;
+    b.gl_args = d.draw_args_buffer;
+    return b;
+}
 
 GraphicsBuffer GraphicsBuffer::d3d11(const pbf_d3d11_buffer_desc& d) {
-    GraphicsBuffer b;
-    b.api = Api::D3D11;
+    GraphicsBuffer b = copying(Api::D3D11, d);
     b.d3d11_buffer = d.buffer;
     b.d3d11_args = d.draw_args_buffer;
-    b.source = d.source;
-    b.mode = d.mode;
-    b.offset_bytes = d.offset_bytes;
-    b.capacity = d.capacity;
-    b.draw_args_offset_bytes = d.draw_args_offset_bytes;
-    b.draw_args_vertices = d.draw_args_vertices;
     return b;
 }
 

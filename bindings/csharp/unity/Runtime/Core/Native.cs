@@ -2118,7 +2118,9 @@ namespace Pbf.Interop
         /// <summary>
         /// Unregisters: for a PBF_COPY_ON_RENDER_EVENT buffer at the next render event, until which the
         /// D3D11 buffers must stay alive; for PBF_COPY_ON_STEP now (from the same thread as its copies).
-        /// The handle is refused from the moment of this call.
+        /// The handle is refused from the moment of this call. pbf_world_destroy unregisters what is
+        /// still registered from its own thread: unregister first, and let a render event run, where that
+        /// thread is not the render thread.
         /// </summary>
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_world_unregister_d3d11_buffer(pbf_world_id world, pbf_d3d11_buffer_id buffer);
