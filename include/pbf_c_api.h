@@ -971,7 +971,8 @@ typedef struct pbf_d3d11_buffer_desc {
                                    Graphics.DrawProceduralIndirect): see draw_args_vertices */
     uint64_t draw_args_offset_bytes; /* a multiple of 4 (default 0) */
     uint32_t draw_args_vertices;/* as in pbf_gl_buffer_desc: 0 gives {n, 1, 0, 0}, v > 0 gives
-                                   {v, n, 0, 0} (v vertices per particle, n instances) */
+                                   {v, n, 0, 0} (v vertices per particle, n instances).
+                                   Default 0. */
     uint32_t reserved0;
 } pbf_d3d11_buffer_desc;
 PBF_API pbf_result PBF_CALL pbf_d3d11_buffer_desc_init(pbf_d3d11_buffer_desc* desc, uint32_t struct_size);

@@ -1181,7 +1181,8 @@ namespace Pbf.Interop
         public ulong draw_args_offset_bytes;
         /// <summary>
         /// as in pbf_gl_buffer_desc: 0 gives {n, 1, 0, 0}, v &gt; 0 gives
-        /// {v, n, 0, 0} (v vertices per particle, n instances)
+        /// {v, n, 0, 0} (v vertices per particle, n instances).
+        /// Default 0.
         /// </summary>
         public uint draw_args_vertices;
         public uint reserved0;
