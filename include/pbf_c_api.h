@@ -793,12 +793,15 @@ PBF_API pbf_result PBF_CALL pbf_world_map_collider_forces(pbf_world_id world, pb
 
 /* ==== Interop: zero-copy rendering ======================================================== *
  * The particles go from the solver to the engine's renderer without passing through host
- * memory: as device pointers (CUDA), into OpenGL buffer objects (CUDA-GL interop), or into
- * Vulkan / Direct3D allocations (CUDA external memory, ordered by external semaphores).
+ * memory: as device pointers (CUDA), into OpenGL buffer objects and Direct3D 11 buffers (CUDA
+ * graphics interop), or into Vulkan / Direct3D 12 allocations (CUDA external memory, ordered by
+ * external semaphores). libpbf talks to the NVIDIA driver it opens at run time and includes no
+ * graphics API header: a GL buffer is its name, a D3D11 buffer its ID3D11Buffer pointer.
  *
  * Every function here exists in every build. What the build or the platform lacks is refused
- * with PBF_ERROR_BACKEND_UNAVAILABLE (no CUDA in this build; no OpenGL headers when it was
- * built; a Windows-only handle type on Linux); pbf_get_interop_support() says what is there.
+ * with PBF_ERROR_BACKEND_UNAVAILABLE (no CUDA in this build; a Windows-only API or handle type on
+ * Linux; a driver without the entry point a call needs, named in the message);
+ * pbf_get_interop_support() says what the build has.
  * A CUDA-only call on a world that runs on the CPU backend is refused with
  * PBF_ERROR_INVALID_STATE.
  *
@@ -808,8 +811,8 @@ PBF_API pbf_result PBF_CALL pbf_world_map_collider_forces(pbf_world_id world, pb
  * either on that stream (pbf_world_get_cuda_stream), with a CUDA event
  * (pbf_world_record_cuda_event / pbf_world_wait_cuda_event), with external semaphores, or by
  * handing the world its own stream (pbf_world_set_cuda_stream). Graphics API buffers are
- * ordered by CUDA's map/unmap (OpenGL) or by the semaphores in pbf_external_sync (Vulkan,
- * Direct3D 12).
+ * ordered by CUDA's map/unmap (OpenGL, Direct3D 11) or by the semaphores in pbf_external_sync
+ * (Vulkan, Direct3D 12).
  *
  * Copies. A copy into a graphics buffer writes the live particles of one source buffer in
  * storage order (the order of pbf_world_copy_*): min(count, capacity) elements; elements past
@@ -825,12 +828,14 @@ PBF_API pbf_result PBF_CALL pbf_world_map_collider_forces(pbf_world_id world, pb
 typedef struct pbf_gl_buffer_id { uint32_t index; uint32_t generation; } pbf_gl_buffer_id;
 typedef struct pbf_external_buffer_id { uint32_t index; uint32_t generation; } pbf_external_buffer_id;
 typedef struct pbf_semaphore_id { uint32_t index; uint32_t generation; } pbf_semaphore_id;
+typedef struct pbf_d3d11_buffer_id { uint32_t index; uint32_t generation; } pbf_d3d11_buffer_id;
 
 /* What this build of libpbf can do (a bit set). */
 #define PBF_INTEROP_SUPPORT_CUDA 0x1u           /* streams, events, device pointers */
 #define PBF_INTEROP_SUPPORT_OPENGL 0x2u         /* pbf_world_register_gl_buffer */
 #define PBF_INTEROP_SUPPORT_EXTERNAL_FD 0x4u    /* opaque fd memory and semaphores (Linux) */
 #define PBF_INTEROP_SUPPORT_EXTERNAL_WIN32 0x8u /* win32 handles, D3D11 / D3D12 (Windows) */
+#define PBF_INTEROP_SUPPORT_D3D11 0x10u         /* pbf_world_register_d3d11_buffer (Windows) */
 PBF_API pbf_result PBF_CALL pbf_get_interop_support(uint32_t* out_flags);
 
 /* ---- Streams and events ------------------------------------------------------------------ */
@@ -952,6 +957,60 @@ PBF_API pbf_result PBF_CALL pbf_world_unregister_gl_buffer(pbf_world_id world, p
  * PBF_COPY_ON_RENDER_EVENT, whose buffers the render thread owns). */
 PBF_API pbf_result PBF_CALL pbf_world_copy_to_gl_buffer(pbf_world_id world, pbf_gl_buffer_id buffer);
 
+/* ---- Direct3D 11 (Windows) --------------------------------------------------------------- */
+/* A D3D11 buffer written by each copy, e.g. the ID3D11Buffer of a Unity ComputeBuffer
+ * (ComputeBuffer.GetNativeBufferPtr() under Unity's default Windows renderer), registered with
+ * cuGraphicsD3D11RegisterResource: the D3D11 counterpart of pbf_gl_buffer_desc. The buffer must
+ * be created on the adapter of the world's CUDA device (match pbf_interop_info.device_luid with
+ * the adapter's LUID) and keep its storage until unregistered. Windows builds only, and not yet
+ * run on a GPU: on Linux the calls check their arguments, then return
+ * PBF_ERROR_BACKEND_UNAVAILABLE. */
+typedef struct pbf_d3d11_buffer_desc {
+    uint32_t struct_size;
+    pbf_buffer source;          /* default PBF_BUFFER_POSITIONS */
+    void* buffer;               /* the ID3D11Buffer*, non-NULL; no default. libpbf holds no
+                                   reference: the caller keeps it alive until unregistered */
+    pbf_copy_mode mode;         /* PBF_COPY_ON_RENDER_EVENT (the default) or PBF_COPY_ON_STEP */
+    uint32_t capacity;          /* elements the buffer holds after offset_bytes (> 0; no default) */
+    uint64_t offset_bytes;      /* where element 0 goes; a multiple of 16 (4 for ids) (default 0) */
+    void* draw_args_buffer;     /* ID3D11Buffer* (NULL: none, the default; may be `buffer`) into
+                                   which each copy writes 4 uint32_t draw arguments, the layout of
+                                   D3D11_DRAW_INSTANCED_INDIRECT_ARGS (DrawInstancedIndirect, Unity's
+                                   Graphics.DrawProceduralIndirect): see draw_args_vertices */
+    uint64_t draw_args_offset_bytes; /* a multiple of 4 (default 0) */
+    uint32_t draw_args_vertices;/* as in pbf_gl_buffer_desc: 0 gives {n, 1, 0, 0}, v > 0 gives
+                                   {v, n, 0, 0} (v vertices per particle, n instances).
+                                   Default 0. */
+    uint32_t reserved0;
+} pbf_d3d11_buffer_desc;
+PBF_API pbf_result PBF_CALL pbf_d3d11_buffer_desc_init(pbf_d3d11_buffer_desc* desc, uint32_t struct_size);
+static inline pbf_d3d11_buffer_desc pbf_d3d11_buffer_desc_default(void) {
+    pbf_d3d11_buffer_desc d;
+    memset(&d, 0, sizeof d);
+    d.struct_size = (uint32_t)sizeof(pbf_d3d11_buffer_desc);
+    (void)pbf_d3d11_buffer_desc_init(&d, d.struct_size);
+    return d;
+}
+/* Registers a D3D11 buffer (and its draw_args_buffer) with CUDA as a copy destination.
+ * Registration, the copies' map and unmap, and unregistration use the D3D11 device's immediate
+ * context, which belongs to the engine's render thread:
+ * PBF_COPY_ON_RENDER_EVENT (the default): returns at once; the next render event
+ *   (pbf_get_render_event_func, e.g. Unity's GL.IssuePluginEvent) registers the buffers, and
+ *   every render event copies the current particles into them, on the render thread. Failures
+ *   are reported by pbf_world_get_interop_info and the log.
+ * PBF_COPY_ON_STEP: registers now and copies after every pbf_world_step, from the calling
+ *   thread: only for a caller that runs on the render thread or whose D3D11 device is protected
+ *   for use from several threads (ID3D11Multithread::SetMultithreadProtected).
+ * Copies are ordered against D3D11 by CUDA's map and unmap, as for OpenGL. */
+PBF_API pbf_result PBF_CALL pbf_world_register_d3d11_buffer(pbf_world_id world, const pbf_d3d11_buffer_desc* desc,
+                                                            pbf_d3d11_buffer_id* out_buffer);
+/* Unregisters: for a PBF_COPY_ON_RENDER_EVENT buffer at the next render event, until which the
+ * D3D11 buffers must stay alive; for PBF_COPY_ON_STEP now (from the same thread as its copies).
+ * The handle is refused from the moment of this call. pbf_world_destroy unregisters what is
+ * still registered from its own thread: unregister first, and let a render event run, where that
+ * thread is not the render thread. */
+PBF_API pbf_result PBF_CALL pbf_world_unregister_d3d11_buffer(pbf_world_id world, pbf_d3d11_buffer_id buffer);
+
 /* ---- External memory and semaphores (Vulkan, Direct3D) ----------------------------------- */
 /* Linux builds import opaque fds (Vulkan). The win32, D3D11 and D3D12 types are compiled only
  * in Windows builds and have not been tested; on Linux they return
@@ -1069,7 +1128,7 @@ PBF_API pbf_result PBF_CALL pbf_world_set_external_sync(pbf_world_id world, pbf_
 
 /* ---- The render-thread entry point ------------------------------------------------------- */
 /* Engines such as Unity call this on their render thread (GL.IssuePluginEvent(func, id)). It
- * performs the work queued for PBF_COPY_ON_RENDER_EVENT buffers: pending GL registrations, the
+ * performs the work queued for PBF_COPY_ON_RENDER_EVENT buffers: pending GL and D3D11 registrations, the
  * copies, pending unregistrations, in that order. event_id: PBF_RENDER_EVENT_ALL_WORLDS or a
  * world's id from pbf_world_get_render_event_id. It returns nothing: failures go to the log
  * callback and to pbf_interop_info.last_render_event_result. */

@@ -189,6 +189,7 @@ PBF_STATIC_ASSERT(enum_semaphore_type_is_32_bit, sizeof(pbf_semaphore_type) == 4
 SIZE_IS(pbf_gl_buffer_id, 8);
 SIZE_IS(pbf_external_buffer_id, 8);
 SIZE_IS(pbf_semaphore_id, 8);
+SIZE_IS(pbf_d3d11_buffer_id, 8);
 SIZE_IS(pbf_device_buffers, 144);
 OFFSET_IS(pbf_device_buffers, memory, 4);
 OFFSET_IS(pbf_device_buffers, positions, 8);
@@ -223,6 +224,16 @@ OFFSET_IS(pbf_gl_buffer_desc, draw_args_buffer, 28);
 OFFSET_IS(pbf_gl_buffer_desc, draw_args_offset_bytes, 32);
 OFFSET_IS(pbf_gl_buffer_desc, draw_args_vertices, 40);
 OFFSET_IS(pbf_gl_buffer_desc, reserved0, 44);
+SIZE_IS(pbf_d3d11_buffer_desc, 56);
+OFFSET_IS(pbf_d3d11_buffer_desc, source, 4);
+OFFSET_IS(pbf_d3d11_buffer_desc, buffer, 8);
+OFFSET_IS(pbf_d3d11_buffer_desc, mode, 16);
+OFFSET_IS(pbf_d3d11_buffer_desc, capacity, 20);
+OFFSET_IS(pbf_d3d11_buffer_desc, offset_bytes, 24);
+OFFSET_IS(pbf_d3d11_buffer_desc, draw_args_buffer, 32);
+OFFSET_IS(pbf_d3d11_buffer_desc, draw_args_offset_bytes, 40);
+OFFSET_IS(pbf_d3d11_buffer_desc, draw_args_vertices, 48);
+OFFSET_IS(pbf_d3d11_buffer_desc, reserved0, 52);
 SIZE_IS(pbf_external_buffer_desc, 72);
 OFFSET_IS(pbf_external_buffer_desc, type, 4);
 OFFSET_IS(pbf_external_buffer_desc, fd, 8);
@@ -282,10 +293,12 @@ int pbf_header_c99_defaults_ok(void) {
 int pbf_header_c99_interop_defaults_ok(void);
 int pbf_header_c99_interop_defaults_ok(void) {
     pbf_gl_buffer_desc g = pbf_gl_buffer_desc_default();
+    pbf_d3d11_buffer_desc d = pbf_d3d11_buffer_desc_default();
     pbf_external_buffer_desc x = pbf_external_buffer_desc_default();
     pbf_semaphore_desc s = pbf_semaphore_desc_default();
     pbf_external_sync y = pbf_external_sync_default();
     pbf_render_event_fn f = pbf_get_render_event_func();
-    return g.struct_size == sizeof g && g.mode == PBF_COPY_ON_STEP && x.struct_size == sizeof x && x.fd == -1 &&
+    return g.struct_size == sizeof g && g.mode == PBF_COPY_ON_STEP && d.struct_size == sizeof d &&
+           d.mode == PBF_COPY_ON_RENDER_EVENT && x.struct_size == sizeof x && x.fd == -1 &&
            s.struct_size == sizeof s && y.struct_size == sizeof y && f != NULL;
 }

@@ -105,6 +105,7 @@ TEST_CASE("header: the defaults its comments state are the library's", "[api][de
     const pbf_collider_desc c = pbf_collider_desc_default();
     const pbf_material_desc mat = pbf_material_desc_default();
     const pbf_gl_buffer_desc gl = pbf_gl_buffer_desc_default();
+    const pbf_d3d11_buffer_desc d3d11 = pbf_d3d11_buffer_desc_default();
     const pbf_external_buffer_desc ext = pbf_external_buffer_desc_default();
     const pbf_semaphore_desc sem = pbf_semaphore_desc_default();
 
@@ -169,6 +170,9 @@ TEST_CASE("header: the defaults its comments state are the library's", "[api][de
         {"pbf_gl_buffer_desc", "offset_bytes", {double(gl.offset_bytes)}},
         {"pbf_gl_buffer_desc", "draw_args_offset_bytes", {double(gl.draw_args_offset_bytes)}},
         {"pbf_gl_buffer_desc", "draw_args_vertices", {double(gl.draw_args_vertices)}},
+        {"pbf_d3d11_buffer_desc", "offset_bytes", {double(d3d11.offset_bytes)}},
+        {"pbf_d3d11_buffer_desc", "draw_args_offset_bytes", {double(d3d11.draw_args_offset_bytes)}},
+        {"pbf_d3d11_buffer_desc", "draw_args_vertices", {double(d3d11.draw_args_vertices)}},
         {"pbf_external_buffer_desc", "offset_bytes", {double(ext.offset_bytes)}},
         {"pbf_external_buffer_desc", "fd", {double(ext.fd)}},
         {"pbf_external_buffer_desc", "dedicated", {double(ext.dedicated)}},

@@ -180,6 +180,19 @@ TEST_CASE("interop: the ABI refuses bad arguments, stale handles, CPU worlds; in
             CHECK_CODE(pbf_world_unregister_gl_buffer(w, pbf_gl_buffer_id{0, 0}), PBF_ERROR_INVALID_HANDLE);
             CHECK_CODE(pbf_world_copy_to_gl_buffer(w, pbf_gl_buffer_id{0, 12345}), PBF_ERROR_INVALID_HANDLE);
         }
+        // D3D11 on a CUDA world: the desc is checked first; then only Windows builds go on (the
+        // buffer would be handed to the driver, so no forged pointer is registered here).
+        pbf_d3d11_buffer_desc dd = pbf_d3d11_buffer_desc_default();
+        dd.capacity = 16;
+        pbf_d3d11_buffer_id did{1, 1};
+        CHECK_CODE(pbf_world_register_d3d11_buffer(w, &dd, &did), PBF_ERROR_INVALID_ARGUMENT);  // NULL buffer
+        CHECK((did.index == 0 && did.generation == 0));
+        CHECK_CODE(pbf_world_unregister_d3d11_buffer(w, pbf_d3d11_buffer_id{0, 7}),
+                   (have & PBF_INTEROP_SUPPORT_D3D11) ? PBF_ERROR_INVALID_HANDLE : PBF_ERROR_BACKEND_UNAVAILABLE);
+#if !defined(_WIN32)
+        dd.buffer = &dd;
+        CHECK_CODE(pbf_world_register_d3d11_buffer(w, &dd, &did), PBF_ERROR_BACKEND_UNAVAILABLE);  // Windows only
+#endif
 
         pbf_external_buffer_id eid;
         pbf_external_buffer_desc e = pbf_external_buffer_desc_default();
@@ -402,7 +415,7 @@ bool gl_usable(const Gl& gl) {
 // Runs body(gl) where this libpbf has CUDA-GL interop and EGL works; says why not otherwise.
 template <class Body>
 void with_gl(Body body) {
-    if (!has_interop(PBF_INTEROP_SUPPORT_OPENGL, "this libpbf has no CUDA-GL interop (built without the OpenGL headers)"))
+    if (!has_interop(PBF_INTEROP_SUPPORT_OPENGL, "this libpbf has no CUDA-GL interop (built without CUDA)"))
         return;
     Gl gl;
     if (gl_usable(gl)) body(gl);
@@ -429,7 +442,7 @@ TEST_CASE("interop GL: buffers equal copy-out after a step; the render path adds
 #if !PBF_TEST_HAVE_EGL_GL
     WARN("not built: EGL or the OpenGL headers were not found when configuring");
 #else
-    if (!has_interop(PBF_INTEROP_SUPPORT_OPENGL, "this libpbf has no CUDA-GL interop (built without the OpenGL headers)"))
+    if (!has_interop(PBF_INTEROP_SUPPORT_OPENGL, "this libpbf has no CUDA-GL interop (built without CUDA)"))
         return;
     Gl gl;
     if (!gl_usable(gl)) return;

@@ -272,4 +272,16 @@ TEST_CASE("validate: material descs and handles name the failed check", "[api][v
     gl.source = PBF_BUFFER_MATERIALS;
     pbf_gl_buffer_id gl_id{};
     CHECK_REFUSED_BY(pbf_world_register_gl_buffer(w.id, &gl, &gl_id), Check::COPY_SOURCE_GRAPHICS);
+    pbf_d3d11_buffer_desc d3d = pbf_d3d11_buffer_desc_default();
+    d3d.buffer = &gl;  // any non-NULL pointer: refused before it is used
+    d3d.capacity = 16;
+    d3d.source = PBF_BUFFER_MATERIALS;
+    pbf_d3d11_buffer_id d3d_id{};
+    CHECK_REFUSED_BY(pbf_world_register_d3d11_buffer(w.id, &d3d, &d3d_id), Check::COPY_SOURCE_GRAPHICS);
+    d3d.source = PBF_BUFFER_POSITIONS;
+    d3d.mode = PBF_COPY_MANUAL;
+    CHECK_REFUSED_BY(pbf_world_register_d3d11_buffer(w.id, &d3d, &d3d_id), Check::D3D11_COPY_MODE);
+    d3d.mode = PBF_COPY_ON_STEP;
+    d3d.buffer = nullptr;
+    CHECK_REFUSED_BY(pbf_world_register_d3d11_buffer(w.id, &d3d, &d3d_id), Check::D3D11_BUFFER);
 }

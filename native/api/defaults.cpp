@@ -147,6 +147,13 @@ PBF_API pbf_result PBF_CALL pbf_gl_buffer_desc_init(pbf_gl_buffer_desc* d, uint3
     return PBF_OK;
 }
 
+PBF_API pbf_result PBF_CALL pbf_d3d11_buffer_desc_init(pbf_d3d11_buffer_desc* d, uint32_t struct_size) {
+    if (pbf_result r = start("pbf_d3d11_buffer_desc_init", "pbf_d3d11_buffer_desc", d, struct_size); r != PBF_OK) return r;
+    d->source = PBF_BUFFER_POSITIONS;
+    d->mode = PBF_COPY_ON_RENDER_EVENT;  // the D3D11 device context is the render thread's
+    return PBF_OK;
+}
+
 PBF_API pbf_result PBF_CALL pbf_external_buffer_desc_init(pbf_external_buffer_desc* d, uint32_t struct_size) {
     if (pbf_result r = start("pbf_external_buffer_desc_init", "pbf_external_buffer_desc", d, struct_size); r != PBF_OK) return r;
     d->fd = -1;

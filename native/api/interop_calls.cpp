@@ -31,7 +31,7 @@ pbf_result require_support(const char* fn, uint32_t flag) {
     if (have & flag) return PBF_OK;
     std::string why;
     if (!(have & PBF_INTEROP_SUPPORT_CUDA)) why = "this libpbf was built without CUDA";
-    else if (flag == PBF_INTEROP_SUPPORT_OPENGL) why = "this libpbf was built without the OpenGL headers (no CUDA-GL interop)";
+    else if (flag == PBF_INTEROP_SUPPORT_D3D11) why = "Direct3D 11 exists only in Windows builds";
     else if (flag == PBF_INTEROP_SUPPORT_EXTERNAL_WIN32) why = "win32 handles, D3D11 and D3D12 exist only in Windows builds";
     else if (flag == PBF_INTEROP_SUPPORT_EXTERNAL_FD) why = "opaque file descriptors exist only in Linux builds";
     else why = "not available in this build";
@@ -132,6 +132,30 @@ void PBF_CALL render_event(int event_id) {
     } catch (...) {
         pbf::api::log_message(PBF_LOG_ERROR, "PBF_ERROR_INTERNAL: pbf render event: unknown exception");
     }
+}
+
+// The shape of a graphics buffer registration (GL, D3D11): the out handle and the desc, what the
+// build supports, the world and its source buffer, then the interop state's registration; a
+// PBF_COPY_ON_RENDER_EVENT buffer puts its world on the render thread's list.
+template <class Desc, class Id>
+pbf_result register_graphics(const char* fn, const char* desc_type, pbf_world_id id, const Desc* d, Id* out,
+                             uint32_t support, pbf::api::Verdict (*validate)(const Desc&),
+                             Status (Interop::*register_buffer)(const Desc&, Id*)) {
+    return guarded(fn, [&]() -> pbf_result {
+        PBF_REQUIRE_ARG(out != nullptr, "out_buffer is NULL");
+        *out = Id{0, 0};
+        if (pbf_result r = pbf::api::check_struct(fn, desc_type, d, d ? d->struct_size : 0u, sizeof(Desc)); r != PBF_OK)
+            return r;
+        PBF_VALIDATE(validate(*d));
+        if (pbf_result r = require_support(fn, support); r != PBF_OK) return r;
+        PBF_LOCK_WORLD(w, id);
+        if (pbf_result r = pbf::api::require_buffer(fn, *w, d->source); r != PBF_OK) return r;
+        PBF_INTEROP_OF(io, w);
+        const Status st = (io->*register_buffer)(*d, out);
+        if (!st.ok()) return fail(st.code, std::string(fn) + ": " + st.message);
+        if (d->mode == PBF_COPY_ON_RENDER_EVENT) add_render_world(id);
+        return PBF_OK;
+    });
 }
 
 pbf_result check_sync(const char* fn, Interop* io, const pbf_external_sync* sync) {
@@ -250,21 +274,9 @@ PBF_API pbf_result PBF_CALL pbf_world_map_device_buffers(pbf_world_id id, uint32
 // ---- OpenGL ----------------------------------------------------------------------------------
 PBF_API pbf_result PBF_CALL pbf_world_register_gl_buffer(pbf_world_id id, const pbf_gl_buffer_desc* d,
                                                          pbf_gl_buffer_id* out) {
-    const char* fn = "pbf_world_register_gl_buffer";
-    return guarded(fn, [&]() -> pbf_result {
-        PBF_REQUIRE_ARG(out != nullptr, "out_buffer is NULL");
-        *out = pbf_gl_buffer_id{0, 0};
-        PBF_CHECK_STRUCT(pbf_gl_buffer_desc, d);
-        PBF_VALIDATE(pbf::api::validate_gl_buffer_desc(*d));
-        if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_OPENGL); r != PBF_OK) return r;
-        PBF_LOCK_WORLD(w, id);
-        if (pbf_result r = pbf::api::require_buffer(fn, *w, d->source); r != PBF_OK) return r;
-        PBF_INTEROP_OF(io, w);
-        const Status st = io->register_gl_buffer(*d, out);
-        if (!st.ok()) return fail(st.code, std::string(fn) + ": " + st.message);
-        if (d->mode == PBF_COPY_ON_RENDER_EVENT) add_render_world(id);
-        return PBF_OK;
-    });
+    return register_graphics("pbf_world_register_gl_buffer", "pbf_gl_buffer_desc", id, d, out,
+                             PBF_INTEROP_SUPPORT_OPENGL, &pbf::api::validate_gl_buffer_desc,
+                             &Interop::register_gl_buffer);
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_unregister_gl_buffer(pbf_world_id id, pbf_gl_buffer_id buffer) {
@@ -283,6 +295,23 @@ PBF_API pbf_result PBF_CALL pbf_world_copy_to_gl_buffer(pbf_world_id id, pbf_gl_
         PBF_REQUIRE(io->gl_buffer_mode(buffer) != PBF_COPY_ON_RENDER_EVENT, PBF_ERROR_INVALID_STATE,
                     std::string(fn) + ": the buffer was registered with PBF_COPY_ON_RENDER_EVENT: the render thread copies");
         const Status st = io->copy_to_gl_buffer(buffer);
+        return fail(fn, st);
+    });
+}
+
+// ---- Direct3D 11 -----------------------------------------------------------------------------
+PBF_API pbf_result PBF_CALL pbf_world_register_d3d11_buffer(pbf_world_id id, const pbf_d3d11_buffer_desc* d,
+                                                            pbf_d3d11_buffer_id* out) {
+    return register_graphics("pbf_world_register_d3d11_buffer", "pbf_d3d11_buffer_desc", id, d, out,
+                             PBF_INTEROP_SUPPORT_D3D11, &pbf::api::validate_d3d11_buffer_desc,
+                             &Interop::register_d3d11_buffer);
+}
+
+PBF_API pbf_result PBF_CALL pbf_world_unregister_d3d11_buffer(pbf_world_id id, pbf_d3d11_buffer_id buffer) {
+    const char* fn = "pbf_world_unregister_d3d11_buffer";
+    return on_handle(fn, id, PBF_INTEROP_SUPPORT_D3D11, &Interop::has_d3d11_buffer, buffer, "D3D11 buffer",
+                     [&](Interop* io) -> pbf_result {
+        const Status st = io->unregister_d3d11_buffer(buffer);
         return fail(fn, st);
     });
 }

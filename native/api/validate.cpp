@@ -249,17 +249,33 @@ Verdict validate_mesh_voxels(uint64_t voxels) {
     return {};
 }
 
-Verdict validate_gl_buffer_desc(const pbf_gl_buffer_desc& d) {
-    V(d.buffer != 0, GL_BUFFER_NAME);
+namespace {
+// What pbf_gl_buffer_desc and pbf_d3d11_buffer_desc have in common, after the buffer itself;
+// mode_ok / mode_check: the API's own modes.
+template <class Desc>
+Verdict validate_graphics_buffer_desc(const Desc& d, bool mode_ok, Check mode_check) {
     V(valid_source(d.source), COPY_SOURCE);
     V(raw(d.source) != PBF_BUFFER_MATERIALS, COPY_SOURCE_GRAPHICS);
-    V(valid_mode(d.mode), COPY_MODE);
+    if (!mode_ok) return Verdict{mode_check};
     V(d.capacity > 0, COPY_CAPACITY);
     if (d.offset_bytes % element_alignment(d.source) != 0)
         return Verdict{Check::COPY_OFFSET_ALIGN, element_alignment(d.source)};
     V(d.draw_args_offset_bytes % 4 == 0, DRAW_ARGS_ALIGN);
     V(d.reserved0 == 0, RESERVED0);
     return {};
+}
+}  // namespace
+
+Verdict validate_gl_buffer_desc(const pbf_gl_buffer_desc& d) {
+    V(d.buffer != 0, GL_BUFFER_NAME);
+    return validate_graphics_buffer_desc(d, valid_mode(d.mode), Check::COPY_MODE);
+}
+
+Verdict validate_d3d11_buffer_desc(const pbf_d3d11_buffer_desc& d) {
+    V(d.buffer != nullptr, D3D11_BUFFER);
+    // The D3D11 immediate context is the render thread's: no manual copy from any thread.
+    const bool mode_ok = raw(d.mode) == PBF_COPY_ON_RENDER_EVENT || raw(d.mode) == PBF_COPY_ON_STEP;
+    return validate_graphics_buffer_desc(d, mode_ok, Check::D3D11_COPY_MODE);
 }
 
 Verdict validate_external_buffer_desc(const pbf_external_buffer_desc& d) {

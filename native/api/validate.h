@@ -133,8 +133,12 @@ inline uint32_t element_alignment(pbf_buffer source) {
     X(MESH_DEGENERATE, PBF_ERROR_INVALID_ARGUMENT, "every triangle is degenerate (zero area): the mesh has no surface") \
     X(MESH_VOXELS, PBF_ERROR_CAPACITY,                                                                               \
       "the mesh's distance field would take {a} voxels ({b} MB; at most 256 MB per mesh): raise cell_size")          \
-    /* interop: pbf_gl_buffer_desc, pbf_external_buffer_desc, pbf_semaphore_desc, pbf_external_sync */               \
+    /* interop: pbf_gl_buffer_desc, pbf_d3d11_buffer_desc, pbf_external_buffer_desc, pbf_semaphore_desc,            \
+       pbf_external_sync */                                                                                          \
     X(GL_BUFFER_NAME, PBF_ERROR_INVALID_ARGUMENT, "buffer must be a GL buffer object name (non-zero)")               \
+    X(D3D11_BUFFER, PBF_ERROR_INVALID_ARGUMENT, "buffer must be an ID3D11Buffer* (non-NULL)")                         \
+    X(D3D11_COPY_MODE, PBF_ERROR_INVALID_ARGUMENT,                                                                   \
+      "mode must be PBF_COPY_ON_RENDER_EVENT or PBF_COPY_ON_STEP (a D3D11 buffer has no manual copy call)")          \
     X(COPY_SOURCE, PBF_ERROR_INVALID_ARGUMENT,                                                                       \
       "source must be PBF_BUFFER_POSITIONS, _VELOCITIES, _IDS, _SMOOTHED_POSITIONS, _ANISOTROPY, "                  \
       "_DIFFUSE_POSITIONS, _DIFFUSE_VELOCITIES or _MATERIALS")                                                       \
@@ -215,6 +219,7 @@ Verdict validate_collider_pose(const float position[3], const float rotation[4])
 Verdict validate_mesh_desc(const pbf_mesh_desc& d);  // the arrays are read (counts checked first)
 Verdict validate_mesh_voxels(uint64_t voxels);       // a field of this many voxels may be built
 Verdict validate_gl_buffer_desc(const pbf_gl_buffer_desc& d);
+Verdict validate_d3d11_buffer_desc(const pbf_d3d11_buffer_desc& d);
 Verdict validate_external_buffer_desc(const pbf_external_buffer_desc& d);
 Verdict validate_semaphore_desc(const pbf_semaphore_desc& d);
 // pbf_material_desc against the world's rest density (is_default: the default material's desc).

@@ -1,7 +1,8 @@
 // Zero-copy rendering: what a world keeps for copying its particles into graphics API buffers
-// (OpenGL buffer objects through CUDA-GL interop, Vulkan/Direct3D allocations through CUDA
-// external memory and semaphores). The CUDA graphics API is used here and nowhere else: the
-// world only exposes its live buffers (World::live_buffers) and its stream.
+// (OpenGL buffer objects and Direct3D 11 buffers through CUDA graphics interop, Vulkan/Direct3D
+// allocations through CUDA external memory and semaphores). CUDA's graphics interop is used here
+// and nowhere else: the world only exposes its live buffers (World::live_buffers), its stream and
+// its device's driver context.
 //
 // Inputs arrive validated by the C API layer (native/api/interop_calls.cpp): descs are
 // complete and consistent, handles have been checked with has_*. What only the device can tell
@@ -29,6 +30,7 @@ public:
     static std::unique_ptr<Interop> create(World& world, Status* status);
 
     virtual bool has_gl_buffer(pbf_gl_buffer_id id) = 0;
+    virtual bool has_d3d11_buffer(pbf_d3d11_buffer_id id) = 0;
     virtual bool has_external_buffer(pbf_external_buffer_id id) = 0;
     virtual bool has_semaphore(pbf_semaphore_id id) = 0;
     virtual pbf_copy_mode gl_buffer_mode(pbf_gl_buffer_id id) = 0;
@@ -40,6 +42,8 @@ public:
     virtual Status register_gl_buffer(const pbf_gl_buffer_desc& desc, pbf_gl_buffer_id* out) = 0;
     virtual Status unregister_gl_buffer(pbf_gl_buffer_id id) = 0;
     virtual Status copy_to_gl_buffer(pbf_gl_buffer_id id) = 0;
+    virtual Status register_d3d11_buffer(const pbf_d3d11_buffer_desc& desc, pbf_d3d11_buffer_id* out) = 0;
+    virtual Status unregister_d3d11_buffer(pbf_d3d11_buffer_id id) = 0;
 
     virtual Status import_external_buffer(const pbf_external_buffer_desc& desc, pbf_external_buffer_id* out) = 0;
     virtual Status release_external_buffer(pbf_external_buffer_id id) = 0;

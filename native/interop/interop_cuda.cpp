@@ -7,12 +7,12 @@
 namespace pbf {
 
 uint32_t interop_support() {
-    uint32_t flags = PBF_INTEROP_SUPPORT_CUDA;
-#if PBF_HAVE_GL_INTEROP
-    flags |= PBF_INTEROP_SUPPORT_OPENGL;
-#endif
+    // GL names and D3D11 pointers travel as plain integers and pointers to the driver: no graphics
+    // API header is needed, so every CUDA build has graphics interop. Whether the driver has the
+    // entry points is known only at run time (a call needing a missing one is refused).
+    uint32_t flags = PBF_INTEROP_SUPPORT_CUDA | PBF_INTEROP_SUPPORT_OPENGL;
 #if defined(_WIN32)
-    flags |= PBF_INTEROP_SUPPORT_EXTERNAL_WIN32;
+    flags |= PBF_INTEROP_SUPPORT_EXTERNAL_WIN32 | PBF_INTEROP_SUPPORT_D3D11;
 #else
     flags |= PBF_INTEROP_SUPPORT_EXTERNAL_FD;
 #endif
@@ -21,49 +21,46 @@ uint32_t interop_support() {
 
 namespace cuda_interop {
 
-Status cuda_status(const std::string& what, cudaError_t e) {
-    if (e == cudaSuccess) return Status{};
-    (void)cudaGetLastError();  // clear a non-sticky error so the next call starts clean
-    const pbf_result code = e == cudaErrorMemoryAllocation ? PBF_ERROR_OUT_OF_MEMORY : PBF_ERROR_BACKEND;
-    return Status::error(code, what + ": CUDA error " + cudaGetErrorName(e) + " (" + cudaGetErrorString(e) + ")");
+Status cuda_status(const std::string& what, CUresult e) {
+    if (e == CUDA_SUCCESS) return Status{};
+    const pbf_result code = e == CUDA_ERROR_OUT_OF_MEMORY ? PBF_ERROR_OUT_OF_MEMORY : PBF_ERROR_BACKEND;
+    return Status::error(code, what + ": " + cuda::error_text(e));
 }
 
 CudaInterop::~CudaInterop() {
+    if (!cu_) return;  // init failed before anything was created
     // Best effort: the world is going away. Let queued copies finish before the resources go.
-    cudaSetDevice(device_);
-    if (cudaStream_t s = stream()) cudaStreamSynchronize(s);
-#if PBF_HAVE_GL_INTEROP
-    gl_.for_each([&](GlBuffer& b) { unregister_now(b); });
-    for (GlBuffer& b : gl_to_unregister_) unregister_now(b);
-#endif
+    if (!activate().ok()) return;
+    if (CUstream s = stream()) cu_->cuStreamSynchronize(s);
+    for_each_graphics([&](GraphicsBuffer& b) { unregister_now(b); });
+    for (GraphicsBuffer& b : graphics_to_unregister_) unregister_now(b);
     external_.for_each([&](ExternalBuffer& b) { release_external(b); });
-    semaphores_.for_each([](Semaphore& s) {
-        if (s.handle) cudaDestroyExternalSemaphore(s.handle);
+    semaphores_.for_each([&](Semaphore& s) {
+        if (s.handle) cu_->cuDestroyExternalSemaphore(s.handle);
     });
-    if (user_event_) cudaEventDestroy(user_event_);
-    if (copy_start_) cudaEventDestroy(copy_start_);
-    if (copy_stop_) cudaEventDestroy(copy_stop_);
-    (void)cudaGetLastError();
+    for (CUevent e : {user_event_, copy_start_, copy_stop_})
+        if (e) cu_->cuEventDestroy(e);
 }
 
 Status CudaInterop::init() {
     device_ = world_.live_buffers().cuda_device;
+    CudaAvailability why;
+    k_ = cuda::kernels(device_, &why);
+    if (!k_) return Status::error(PBF_ERROR_BACKEND_UNAVAILABLE, why.message);
+    cu_ = cuda::driver();
     Status st = activate();
-    if (!st.ok()) return st;
-    st = cuda_status("reading the device's properties", cudaGetDeviceProperties(&prop_, device_));
-    if (!st.ok()) return st;
-    st = cuda_status("creating the copy timer", cudaEventCreate(&copy_start_));
-    if (st.ok()) st = cuda_status("creating the copy timer", cudaEventCreate(&copy_stop_));
+    if (st.ok()) st = cuda_status("creating the copy timer", cu_->cuEventCreate(&copy_start_, CU_EVENT_DEFAULT));
+    if (st.ok()) st = cuda_status("creating the copy timer", cu_->cuEventCreate(&copy_stop_, CU_EVENT_DEFAULT));
     return st;
 }
 
 // ---- Automatic copies -------------------------------------------------------------------------
 Status CudaInterop::copy_all(pbf_copy_mode mode) {
-    std::vector<GlBuffer*> gl;
-    gl_.for_each([&](GlBuffer& b) {
-        if (b.desc.mode == mode && b.registered) gl.push_back(&b);
+    std::vector<GraphicsBuffer*> graphics;
+    for_each_graphics([&](GraphicsBuffer& b) {
+        if (b.mode == mode && b.registered) graphics.push_back(&b);
     });
-    Status st = copy_gl(gl);
+    Status st = copy_graphics(graphics);
     external_.for_each([&](ExternalBuffer& b) {
         if (b.desc.mode != mode) return;
         std::optional<pbf_external_sync> sync = b.next_sync;
@@ -81,8 +78,8 @@ Status CudaInterop::after_step() {
 }
 
 bool CudaInterop::wants_render_events() {
-    bool any = !gl_to_unregister_.empty();
-    gl_.for_each([&](GlBuffer& b) { any = any || b.desc.mode == PBF_COPY_ON_RENDER_EVENT; });
+    bool any = !graphics_to_unregister_.empty();
+    for_each_graphics([&](GraphicsBuffer& b) { any = any || b.mode == PBF_COPY_ON_RENDER_EVENT; });
     external_.for_each([&](ExternalBuffer& b) { any = any || b.desc.mode == PBF_COPY_ON_RENDER_EVENT; });
     return any;
 }
@@ -90,9 +87,10 @@ bool CudaInterop::wants_render_events() {
 Status CudaInterop::render_event() {
     Status st = activate();
     if (st.ok()) {
-        // 1. Registrations queued by pbf_world_register_gl_buffer (GL context current here).
-        gl_.for_each([&](GlBuffer& b) {
-            if (b.desc.mode != PBF_COPY_ON_RENDER_EVENT || b.registered || b.failed) return;
+        // 1. Registrations queued by pbf_world_register_gl_buffer / _d3d11_buffer: the render
+        //    thread is where the GL context is current and the D3D11 device context may be used.
+        for_each_graphics([&](GraphicsBuffer& b) {
+            if (b.mode != PBF_COPY_ON_RENDER_EVENT || b.registered || b.failed) return;
             Status s2 = register_now(b);
             if (!s2.ok()) {
                 b.failed = true;
@@ -102,12 +100,12 @@ Status CudaInterop::render_event() {
         // 2. The copies.
         Status s2 = copy_all(PBF_COPY_ON_RENDER_EVENT);
         if (st.ok()) st = s2;
-        // 3. Unregistrations queued by pbf_world_unregister_gl_buffer.
-        for (GlBuffer& b : gl_to_unregister_) {
+        // 3. Unregistrations queued by pbf_world_unregister_gl_buffer / _d3d11_buffer.
+        for (GraphicsBuffer& b : graphics_to_unregister_) {
             Status s4 = unregister_now(b);
             if (st.ok()) st = s4;
         }
-        gl_to_unregister_.clear();
+        graphics_to_unregister_.clear();
     }
     ++render_events_;
     last_render_event_ = st;
@@ -121,22 +119,30 @@ void CudaInterop::get_info(pbf_interop_info* out) {
     out->copies = copies_;
     out->render_events = render_events_;
     out->last_copy_gpu_ms = 0.0f;
-    if (copy_timed_ && activate().ok() && cudaEventSynchronize(copy_stop_) == cudaSuccess) {
+    if (copy_timed_ && activate().ok() && cu_->cuEventSynchronize(copy_stop_) == CUDA_SUCCESS) {
         float ms = 0.0f;
-        if (cudaEventElapsedTime(&ms, copy_start_, copy_stop_) == cudaSuccess) out->last_copy_gpu_ms = ms;
+        if (cu_->cuEventElapsedTime(&ms, copy_start_, copy_stop_) == CUDA_SUCCESS) out->last_copy_gpu_ms = ms;
     }
-    (void)cudaGetLastError();
     out->last_copy_host_ms = last_copy_host_ms_;
     out->last_render_event_result = last_render_event_.code;
-    uint32_t pending = uint32_t(gl_to_unregister_.size());
-    gl_.for_each([&](GlBuffer& b) {
-        if (b.desc.mode == PBF_COPY_ON_RENDER_EVENT && !b.registered && !b.failed) ++pending;
+    uint32_t pending = uint32_t(graphics_to_unregister_.size());
+    for_each_graphics([&](GraphicsBuffer& b) {
+        if (b.mode == PBF_COPY_ON_RENDER_EVENT && !b.registered && !b.failed) ++pending;
     });
     out->pending_render_work = pending;
-    std::memcpy(out->device_uuid, prop_.uuid.bytes, sizeof out->device_uuid);
+    CUuuid uuid{};
+    if (cu_->cuDeviceGetUuid(&uuid, k_->device) == CUDA_SUCCESS)
+        std::memcpy(out->device_uuid, uuid.bytes, sizeof out->device_uuid);
 #if defined(_WIN32)
-    std::memcpy(out->device_luid, prop_.luid, sizeof out->device_luid);
-    out->device_node_mask = prop_.luidDeviceNodeMask;
+    // The LUID is what D3D11 and D3D12 name adapters by; Windows drivers only.
+    if (cu_->cuDeviceGetLuid) {
+        char luid[8] = {};
+        unsigned int mask = 0;
+        if (cu_->cuDeviceGetLuid(luid, &mask, k_->device) == CUDA_SUCCESS) {
+            std::memcpy(out->device_luid, luid, sizeof out->device_luid);
+            out->device_node_mask = mask;
+        }
+    }
 #endif
     out->cuda_device = device_;
     std::strncpy(out->last_render_event_message, last_render_event_.message.c_str(),

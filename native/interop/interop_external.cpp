@@ -1,4 +1,5 @@
-// External memory and semaphores: opaque file descriptors on Linux; win32 handles, D3D11 and
+// External memory and semaphores through the driver (cuImportExternalMemory,
+// cuImportExternalSemaphore): opaque file descriptors on Linux; win32 handles of Vulkan, D3D11 and
 // D3D12 only in Windows builds.
 #include <cstring>
 
@@ -54,40 +55,40 @@ struct OsHandle {
 };
 #endif
 
-// The CUDA handle type of each external memory type this platform imports.
+// The driver's handle type of each external memory type this platform imports.
 struct MemoryType {
     pbf_external_memory_type type;
-    cudaExternalMemoryHandleType cuda;
+    CUexternalMemoryHandleType cuda;
     bool dedicated;  // imported as a dedicated allocation, whatever the desc says
 };
 constexpr MemoryType kMemoryTypes[] = {
 #if defined(_WIN32)
-    // Windows builds only; not compiled or tested on Linux. Committed D3D resources are dedicated.
-    {PBF_EXTERNAL_MEMORY_OPAQUE_WIN32, cudaExternalMemoryHandleTypeOpaqueWin32, false},
-    {PBF_EXTERNAL_MEMORY_OPAQUE_WIN32_KMT, cudaExternalMemoryHandleTypeOpaqueWin32Kmt, false},
-    {PBF_EXTERNAL_MEMORY_D3D12_RESOURCE, cudaExternalMemoryHandleTypeD3D12Resource, true},
-    {PBF_EXTERNAL_MEMORY_D3D11_RESOURCE, cudaExternalMemoryHandleTypeD3D11Resource, true},
-    {PBF_EXTERNAL_MEMORY_D3D11_RESOURCE_KMT, cudaExternalMemoryHandleTypeD3D11ResourceKmt, true},
+    // Windows builds only; not run on a GPU. Committed D3D resources are dedicated.
+    {PBF_EXTERNAL_MEMORY_OPAQUE_WIN32, CU_EXTERNAL_MEMORY_HANDLE_TYPE_OPAQUE_WIN32, false},
+    {PBF_EXTERNAL_MEMORY_OPAQUE_WIN32_KMT, CU_EXTERNAL_MEMORY_HANDLE_TYPE_OPAQUE_WIN32_KMT, false},
+    {PBF_EXTERNAL_MEMORY_D3D12_RESOURCE, CU_EXTERNAL_MEMORY_HANDLE_TYPE_D3D12_RESOURCE, true},
+    {PBF_EXTERNAL_MEMORY_D3D11_RESOURCE, CU_EXTERNAL_MEMORY_HANDLE_TYPE_D3D11_RESOURCE, true},
+    {PBF_EXTERNAL_MEMORY_D3D11_RESOURCE_KMT, CU_EXTERNAL_MEMORY_HANDLE_TYPE_D3D11_RESOURCE_KMT, true},
 #else
-    {PBF_EXTERNAL_MEMORY_OPAQUE_FD, cudaExternalMemoryHandleTypeOpaqueFd, false},
+    {PBF_EXTERNAL_MEMORY_OPAQUE_FD, CU_EXTERNAL_MEMORY_HANDLE_TYPE_OPAQUE_FD, false},
 #endif
 };
 
-// The CUDA handle type of each semaphore type this platform imports.
+// The driver's handle type of each semaphore type this platform imports.
 struct SemaphoreType {
     pbf_semaphore_type type;
-    cudaExternalSemaphoreHandleType cuda;
+    CUexternalSemaphoreHandleType cuda;
 };
 constexpr SemaphoreType kSemaphoreTypes[] = {
 #if defined(_WIN32)
-    // Windows builds only; not compiled or tested on Linux.
-    {PBF_SEMAPHORE_VULKAN_BINARY_WIN32, cudaExternalSemaphoreHandleTypeOpaqueWin32},
-    {PBF_SEMAPHORE_VULKAN_BINARY_WIN32_KMT, cudaExternalSemaphoreHandleTypeOpaqueWin32Kmt},
-    {PBF_SEMAPHORE_VULKAN_TIMELINE_WIN32, cudaExternalSemaphoreHandleTypeTimelineSemaphoreWin32},
-    {PBF_SEMAPHORE_D3D12_FENCE, cudaExternalSemaphoreHandleTypeD3D12Fence},
+    // Windows builds only; not run on a GPU.
+    {PBF_SEMAPHORE_VULKAN_BINARY_WIN32, CU_EXTERNAL_SEMAPHORE_HANDLE_TYPE_OPAQUE_WIN32},
+    {PBF_SEMAPHORE_VULKAN_BINARY_WIN32_KMT, CU_EXTERNAL_SEMAPHORE_HANDLE_TYPE_OPAQUE_WIN32_KMT},
+    {PBF_SEMAPHORE_VULKAN_TIMELINE_WIN32, CU_EXTERNAL_SEMAPHORE_HANDLE_TYPE_TIMELINE_SEMAPHORE_WIN32},
+    {PBF_SEMAPHORE_D3D12_FENCE, CU_EXTERNAL_SEMAPHORE_HANDLE_TYPE_D3D12_FENCE},
 #else
-    {PBF_SEMAPHORE_VULKAN_BINARY_FD, cudaExternalSemaphoreHandleTypeOpaqueFd},
-    {PBF_SEMAPHORE_VULKAN_TIMELINE_FD, cudaExternalSemaphoreHandleTypeTimelineSemaphoreFd},
+    {PBF_SEMAPHORE_VULKAN_BINARY_FD, CU_EXTERNAL_SEMAPHORE_HANDLE_TYPE_OPAQUE_FD},
+    {PBF_SEMAPHORE_VULKAN_TIMELINE_FD, CU_EXTERNAL_SEMAPHORE_HANDLE_TYPE_TIMELINE_SEMAPHORE_FD},
 #endif
 };
 
@@ -102,32 +103,35 @@ const Row* find_type(const Row (&table)[N], Type type) {
 }  // namespace
 
 Status CudaInterop::import_external_buffer(const pbf_external_buffer_desc& d, pbf_external_buffer_id* out) {
+    PBF_INTEROP_NEED(cu_, cuImportExternalMemory);
+    PBF_INTEROP_NEED(cu_, cuExternalMemoryGetMappedBuffer);
+    PBF_INTEROP_NEED(cu_, cuDestroyExternalMemory);
     Status st = activate();
     if (!st.ok()) return st;
-    cudaExternalMemoryHandleDesc h;
+    CUDA_EXTERNAL_MEMORY_HANDLE_DESC h;
     std::memset(&h, 0, sizeof h);
     h.size = d.size_bytes;
-    h.flags = d.dedicated ? cudaExternalMemoryDedicated : 0u;
+    h.flags = d.dedicated ? CUDA_EXTERNAL_MEMORY_DEDICATED : 0u;
     const MemoryType* type = find_type(kMemoryTypes, d.type);
     if (!type) return Status::error(PBF_ERROR_BACKEND_UNAVAILABLE, "this external memory type is not available on this platform");
     h.type = type->cuda;
-    if (type->dedicated) h.flags = cudaExternalMemoryDedicated;
+    if (type->dedicated) h.flags = CUDA_EXTERNAL_MEMORY_DEDICATED;
     OsHandle os(d);
     st = os.set(h, d);
     if (!st.ok()) return st;
     ExternalBuffer b;
     b.desc = d;
-    st = cuda_status("importing the external memory (cudaImportExternalMemory)", cudaImportExternalMemory(&b.memory, &h));
+    st = cuda_status("importing the external memory (cuImportExternalMemory)", cu_->cuImportExternalMemory(&b.memory, &h));
     if (!st.ok()) return st;
     os.imported();
-    cudaExternalMemoryBufferDesc bd;
+    CUDA_EXTERNAL_MEMORY_BUFFER_DESC bd;
     std::memset(&bd, 0, sizeof bd);
     bd.offset = 0;
     bd.size = d.size_bytes;
-    st = cuda_status("mapping the external memory (cudaExternalMemoryGetMappedBuffer)",
-                     cudaExternalMemoryGetMappedBuffer(&b.base, b.memory, &bd));
+    st = cuda_status("mapping the external memory (cuExternalMemoryGetMappedBuffer)",
+                     cu_->cuExternalMemoryGetMappedBuffer(&b.base, b.memory, &bd));
     if (!st.ok()) {
-        cudaDestroyExternalMemory(b.memory);
+        cu_->cuDestroyExternalMemory(b.memory);
         return st;
     }
     os.take_from_caller(d);
@@ -135,26 +139,36 @@ Status CudaInterop::import_external_buffer(const pbf_external_buffer_desc& d, pb
     return Status{};
 }
 
-void CudaInterop::release_external(ExternalBuffer& b) {
-    if (b.base) cudaFree(b.base);
-    if (b.memory) cudaDestroyExternalMemory(b.memory);
-    b.base = nullptr;
+Status CudaInterop::release_external(ExternalBuffer& b) {
+    // The mapping is freed like any allocation, before the import it maps.
+    Status st;
+    if (b.base) st = cuda_status("freeing the external memory's mapping", cu_->cuMemFree(b.base));
+    if (b.memory) {
+        Status s2 = cuda_status("releasing the external memory", cu_->cuDestroyExternalMemory(b.memory));
+        if (st.ok()) st = s2;
+    }
+    b.base = 0;
     b.memory = nullptr;
+    return st;
 }
 
 Status CudaInterop::release_external_buffer(pbf_external_buffer_id id) {
     Status st = activate();
-    if (st.ok()) st = cuda_status("waiting for the world's stream", cudaStreamSynchronize(stream()));
+    if (st.ok()) st = cuda_status("waiting for the world's stream", cu_->cuStreamSynchronize(stream()));
     if (!st.ok()) return st;
-    release_external(*external_.find(id.index, id.generation));
+    st = release_external(*external_.find(id.index, id.generation));
     external_.erase(id.index, id.generation);
-    return cuda_status("releasing the external memory", cudaGetLastError());
+    return st;
 }
 
 Status CudaInterop::import_semaphore(const pbf_semaphore_desc& d, pbf_semaphore_id* out) {
+    PBF_INTEROP_NEED(cu_, cuImportExternalSemaphore);
+    PBF_INTEROP_NEED(cu_, cuSignalExternalSemaphoresAsync);
+    PBF_INTEROP_NEED(cu_, cuWaitExternalSemaphoresAsync);
+    PBF_INTEROP_NEED(cu_, cuDestroyExternalSemaphore);
     Status st = activate();
     if (!st.ok()) return st;
-    cudaExternalSemaphoreHandleDesc h;
+    CUDA_EXTERNAL_SEMAPHORE_HANDLE_DESC h;
     std::memset(&h, 0, sizeof h);
     const SemaphoreType* type = find_type(kSemaphoreTypes, d.type);
     if (!type) return Status::error(PBF_ERROR_BACKEND_UNAVAILABLE, "this semaphore type is not available on this platform");
@@ -164,7 +178,7 @@ Status CudaInterop::import_semaphore(const pbf_semaphore_desc& d, pbf_semaphore_
     if (!st.ok()) return st;
     Semaphore s;
     s.type = d.type;
-    st = cuda_status("importing the semaphore (cudaImportExternalSemaphore)", cudaImportExternalSemaphore(&s.handle, &h));
+    st = cuda_status("importing the semaphore (cuImportExternalSemaphore)", cu_->cuImportExternalSemaphore(&s.handle, &h));
     if (!st.ok()) return st;
     os.imported();
     os.take_from_caller(d);
@@ -174,10 +188,10 @@ Status CudaInterop::import_semaphore(const pbf_semaphore_desc& d, pbf_semaphore_
 
 Status CudaInterop::release_semaphore(pbf_semaphore_id id) {
     Status st = activate();
-    if (st.ok()) st = cuda_status("waiting for the world's stream", cudaStreamSynchronize(stream()));
+    if (st.ok()) st = cuda_status("waiting for the world's stream", cu_->cuStreamSynchronize(stream()));
     if (!st.ok()) return st;
     Semaphore* s = semaphores_.find(id.index, id.generation);
-    st = cuda_status("releasing the semaphore", cudaDestroyExternalSemaphore(s->handle));
+    st = cuda_status("releasing the semaphore", cu_->cuDestroyExternalSemaphore(s->handle));
     semaphores_.erase(id.index, id.generation);
     return st;
 }
@@ -185,7 +199,7 @@ Status CudaInterop::release_semaphore(pbf_semaphore_id id) {
 Status CudaInterop::copy_external(ExternalBuffer& b, const pbf_external_sync* sync) {
     Status st = activate();
     if (!st.ok()) return st;
-    const cudaStream_t s = stream();
+    const CUstream s = stream();
     const bool has_sync = sync != nullptr;
     Semaphore* wait = has_sync && (sync->wait_semaphore.index | sync->wait_semaphore.generation)
                           ? semaphores_.find(sync->wait_semaphore.index, sync->wait_semaphore.generation)
@@ -197,25 +211,25 @@ Status CudaInterop::copy_external(ExternalBuffer& b, const pbf_external_sync* sy
         return Status::error(PBF_ERROR_INVALID_HANDLE, "a semaphore of the copy's sync was released");
     batch_begin();
     if (wait) {
-        cudaExternalSemaphoreWaitParams p;
+        CUDA_EXTERNAL_SEMAPHORE_WAIT_PARAMS p;
         std::memset(&p, 0, sizeof p);
         p.params.fence.value = sync->wait_value;
-        st = cuda_status("waiting for the external semaphore", cudaWaitExternalSemaphoresAsync(&wait->handle, &p, 1, s));
+        st = cuda_status("waiting for the external semaphore", cu_->cuWaitExternalSemaphoresAsync(&wait->handle, &p, 1, s));
         if (!st.ok()) return st;
     }
     const pbf_external_buffer_desc& d = b.desc;
-    char* base = static_cast<char*>(b.base);
-    uint32_t* draw_args = d.write_draw_args ? reinterpret_cast<uint32_t*>(base + d.draw_args_offset_bytes) : nullptr;
-    st = cuda_status("copying into the external buffer", launch_copy(world_.live_buffers(), d.source, base + d.offset_bytes,
-                                                                     d.capacity, draw_args, d.draw_args_vertices, s));
+    const CUdeviceptr draw_args = d.write_draw_args ? b.base + d.draw_args_offset_bytes : 0;
+    st = cuda_status("copying into the external buffer",
+                     launch_copy(*cu_, *k_, world_.live_buffers(), d.source, b.base + d.offset_bytes, d.capacity,
+                                 draw_args, d.draw_args_vertices, s));
     if (!st.ok()) return st;
     ++copies_;
     if (signal) {
-        cudaExternalSemaphoreSignalParams p;
+        CUDA_EXTERNAL_SEMAPHORE_SIGNAL_PARAMS p;
         std::memset(&p, 0, sizeof p);
         p.params.fence.value = sync->signal_value;
         st = cuda_status("signalling the external semaphore",
-                         cudaSignalExternalSemaphoresAsync(&signal->handle, &p, 1, s));
+                         cu_->cuSignalExternalSemaphoresAsync(&signal->handle, &p, 1, s));
         if (!st.ok()) return st;
     }
     batch_end();

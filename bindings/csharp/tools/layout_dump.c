@@ -42,6 +42,7 @@ int main(void) {
     CONST(PBF_INTEROP_SUPPORT_OPENGL);
     CONST(PBF_INTEROP_SUPPORT_EXTERNAL_FD);
     CONST(PBF_INTEROP_SUPPORT_EXTERNAL_WIN32);
+    CONST(PBF_INTEROP_SUPPORT_D3D11);
     CONST(PBF_MAP_NO_WAIT);
     CONST(PBF_COUNT_ON_DEVICE);
     CONST(PBF_RENDER_EVENT_ALL_WORLDS);
@@ -366,6 +367,10 @@ int main(void) {
     FIELD(pbf_semaphore_id, index);
     FIELD(pbf_semaphore_id, generation);
 
+    STRUCT(pbf_d3d11_buffer_id);
+    FIELD(pbf_d3d11_buffer_id, index);
+    FIELD(pbf_d3d11_buffer_id, generation);
+
     STRUCT(pbf_device_buffers);
     FIELD(pbf_device_buffers, struct_size);
     FIELD(pbf_device_buffers, memory);
@@ -403,6 +408,18 @@ int main(void) {
     FIELD(pbf_gl_buffer_desc, draw_args_offset_bytes);
     FIELD(pbf_gl_buffer_desc, draw_args_vertices);
     FIELD(pbf_gl_buffer_desc, reserved0);
+
+    STRUCT(pbf_d3d11_buffer_desc);
+    FIELD(pbf_d3d11_buffer_desc, struct_size);
+    FIELD(pbf_d3d11_buffer_desc, source);
+    FIELD(pbf_d3d11_buffer_desc, buffer);
+    FIELD(pbf_d3d11_buffer_desc, mode);
+    FIELD(pbf_d3d11_buffer_desc, capacity);
+    FIELD(pbf_d3d11_buffer_desc, offset_bytes);
+    FIELD(pbf_d3d11_buffer_desc, draw_args_buffer);
+    FIELD(pbf_d3d11_buffer_desc, draw_args_offset_bytes);
+    FIELD(pbf_d3d11_buffer_desc, draw_args_vertices);
+    FIELD(pbf_d3d11_buffer_desc, reserved0);
 
     STRUCT(pbf_external_buffer_desc);
     FIELD(pbf_external_buffer_desc, struct_size);

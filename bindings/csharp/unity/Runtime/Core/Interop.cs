@@ -4,8 +4,9 @@
 // only (Native.pbf_world_import_external_buffer, ..._import_semaphore, ...).
 //
 // Every function exists in every build of libpbf. What the build lacks throws PbfException with
-// Result.BackendUnavailable (no CUDA, no OpenGL headers, a Windows-only type on Linux); a
-// CUDA-only call on a world that runs on the CPU backend throws Result.InvalidState.
+// Result.BackendUnavailable (no CUDA, a Windows-only API or type on Linux, a driver without the
+// entry point a call needs); a CUDA-only call on a world that runs on the CPU backend throws
+// Result.InvalidState.
 using System;
 using System.Runtime.InteropServices;
 using Pbf.Interop;
