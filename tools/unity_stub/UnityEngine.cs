@@ -19,7 +19,8 @@ namespace UnityEngine
     }
     public enum PrimitiveType { Sphere }
     public class MeshFilter : Component { public Mesh sharedMesh; }
-    public class Mesh : Object { public Vector3[] vertices; public int[] triangles; }
+    public class Mesh : Object { public Vector3[] vertices; public int[] triangles;
+        public uint GetIndexCount(int submesh) { return 0; } public uint GetIndexStart(int submesh) { return 0; } public uint GetBaseVertex(int submesh) { return 0; } }
     public class Collider : Component { public bool enabled; }
     public class BoxCollider : Collider { public Vector3 center; public Vector3 size; }
     public enum ForceMode { Force, Acceleration, Impulse, VelocityChange }
@@ -32,9 +33,16 @@ namespace UnityEngine
     public class Shader : Object { public static Shader Find(string n) { return null; } public static int PropertyToID(string n) { return 0; } }
     public class Material : Object { public Material(Shader s) {} }
     public class MaterialPropertyBlock { public void SetBuffer(int id, GraphicsBuffer b) {} public void SetFloat(int id, float v) {}
-        public void SetVectorArray(int id, Vector4[] values) {} }
+        public void SetVector(int id, Vector4 value) {} public void SetVectorArray(int id, Vector4[] values) {} }
     public class GraphicsBuffer { public enum Target { Structured } public GraphicsBuffer(Target t, int count, int stride) {}
-        public void SetData(Array data, int managedStart, int bufferStart, int count) {} public void Release() {} }
+        public void SetData(Array data, int managedStart, int bufferStart, int count) {} public void Release() {}
+        public IntPtr GetNativeBufferPtr() { return IntPtr.Zero; } }
+    public enum ComputeBufferType { Default = 0, IndirectArguments = 256 }
+    public class ComputeBuffer { public ComputeBuffer(int count, int stride, ComputeBufferType type) {}
+        public void SetData(Array data) {} public void GetData(Array data) {} public void Release() {}
+        public IntPtr GetNativeBufferPtr() { return IntPtr.Zero; } }
+    public static class GL { public static void IssuePluginEvent(IntPtr callback, int eventID) {} }
+    public static class SystemInfo { public static Rendering.GraphicsDeviceType graphicsDeviceType { get { return Rendering.GraphicsDeviceType.Null; } } }
     public struct Vector3
     {
         public float x, y, z; public Vector3(float x, float y, float z) { this.x = x; this.y = y; this.z = z; }
@@ -54,7 +62,9 @@ namespace UnityEngine
     public struct Color { public float r, g, b, a; public Color(float r, float g, float b, float a) { this.r = r; this.g = g; this.b = b; this.a = a; }
         public static Color cyan; }
     public static class Gizmos { public static Color color; public static void DrawWireCube(Vector3 c, Vector3 s) {} public static void DrawRay(Vector3 from, Vector3 direction) {} }
-    public static class Graphics { public static void DrawMeshInstancedProcedural(Mesh m, int sub, Material mat, Bounds b, int n, MaterialPropertyBlock p) {} }
+    public static class Graphics { public static void DrawMeshInstancedProcedural(Mesh m, int sub, Material mat, Bounds b, int n, MaterialPropertyBlock p) {}
+        public static void DrawMeshInstancedIndirect(Mesh m, int sub, Material mat, Bounds b, ComputeBuffer bufferWithArgs, int argsOffset = 0,
+                                                     MaterialPropertyBlock properties = null) {} }
     public struct Rect { public Rect(float x, float y, float width, float height) {} }
     public static class GUI { public static void Label(Rect position, string text) {} }
     public static class Debug { public static void Log(object o) {} public static void LogError(object o) {} public static void LogWarning(object o) {} }
@@ -66,4 +76,8 @@ namespace UnityEngine
     public class RangeAttribute : Attribute { public RangeAttribute(float a, float b) {} }
     [AttributeUsage(AttributeTargets.Class, AllowMultiple = true)]
     public class RequireComponentAttribute : Attribute { public RequireComponentAttribute(Type a) {} public RequireComponentAttribute(Type a, Type b) {} }
+}
+namespace UnityEngine.Rendering
+{
+    public enum GraphicsDeviceType { Direct3D11 = 2, Null = 4, OpenGLES3 = 11, Metal = 16, OpenGLCore = 17, Direct3D12 = 18, Vulkan = 21 }
 }

@@ -44,6 +44,12 @@ namespace Pbf.Tests
             return (_support & needed) == 0 ? Result.BackendUnavailable : Result.InvalidState;
         }
 
+        /// <summary>The code a handle no registration made gets: no such API in the build, or no such handle.</summary>
+        pbf_result ForgedHandle(InteropSupport needed)
+        {
+            return (_support & needed) == 0 ? pbf_result.PBF_ERROR_BACKEND_UNAVAILABLE : pbf_result.PBF_ERROR_INVALID_HANDLE;
+        }
+
         string OnCpuWorldText(InteropSupport needed)
         {
             if ((_support & needed) != 0) return "the world runs on the CPU backend";
@@ -73,12 +79,13 @@ namespace Pbf.Tests
         [Test]
         public void InteropSupportReportsNoCudaAndNoGl()
         {
-            Assert.AreEqual(0u, (uint)_support & ~0xFu, "only the header's bits");
+            Assert.AreEqual(0u, (uint)_support & ~0x1Fu, "only the header's bits");
             if (HasCuda) Assert.Ignore("this libpbf was built with CUDA (support " + _support + "); the test is for the CPU-only build");
             Assert.AreEqual(InteropSupport.None, _support);
             Assert.IsFalse(_support.HasFlag(InteropSupport.OpenGL));
             Assert.IsFalse(_support.HasFlag(InteropSupport.ExternalFd));
             Assert.IsFalse(_support.HasFlag(InteropSupport.ExternalWin32));
+            Assert.IsFalse(_support.HasFlag(InteropSupport.D3D11));
 
             uint raw;
             Assert.AreEqual(pbf_result.PBF_OK, Native.pbf_get_interop_support(out raw));
@@ -228,7 +235,7 @@ namespace Pbf.Tests
 
             // Unregistering or copying a handle no registration made: no GL in the build, or no such buffer.
             var forged = new pbf_gl_buffer_id { index = 1, generation = 1 };
-            pbf_result noHandle = (_support & InteropSupport.OpenGL) == 0 ? pbf_result.PBF_ERROR_BACKEND_UNAVAILABLE : pbf_result.PBF_ERROR_INVALID_HANDLE;
+            pbf_result noHandle = ForgedHandle(InteropSupport.OpenGL);
             ExpectRaw(noHandle, Native.pbf_world_unregister_gl_buffer(_world.Id, forged), "pbf_world_unregister_gl_buffer");
             ExpectRaw(noHandle, Native.pbf_world_copy_to_gl_buffer(_world.Id, forged), "pbf_world_copy_to_gl_buffer");
 
@@ -265,6 +272,109 @@ namespace Pbf.Tests
             raw = new GlBufferDesc(3, 16).ToNative();
             raw.struct_size -= 8;
             ExpectRaw(pbf_result.PBF_ERROR_STRUCT_SIZE, Native.pbf_world_register_gl_buffer(_world.Id, ref raw, out id));
+        }
+
+        // ---- Direct3D 11 --------------------------------------------------------------------------
+        // A made-up ID3D11Buffer*: the calls below never reach a D3D11 device (no Windows, no CUDA
+        // world), and the library never dereferences it before the render thread registers it.
+        static readonly IntPtr FakeD3D11Buffer = new IntPtr(0x1000);
+
+        [Test]
+        public void D3D11BufferDescHasTheLibraryDefaults()
+        {
+            var d = new D3D11BufferDesc();
+            Assert.AreEqual(BufferSource.Positions, d.Source);
+            Assert.AreEqual(CopyMode.OnRenderEvent, d.Mode, "the render thread owns the D3D11 immediate context");
+            Assert.AreEqual(IntPtr.Zero, d.Buffer);
+            Assert.AreEqual(0, d.Capacity);
+            Assert.AreEqual(0L, d.OffsetBytes);
+            Assert.AreEqual(IntPtr.Zero, d.DrawArgsBuffer);
+            Assert.AreEqual(0L, d.DrawArgsOffsetBytes);
+            Assert.AreEqual(0, d.DrawArgsVertices);
+            Assert.AreEqual(Native.SizeOf<pbf_d3d11_buffer_desc>(), d.ToNative().struct_size);
+            Assert.AreEqual(pbf_copy_mode.PBF_COPY_ON_RENDER_EVENT, Native.pbf_d3d11_buffer_desc_default().mode);
+
+            // Every property reaches its field.
+            var e = new D3D11BufferDesc(FakeD3D11Buffer, 512, BufferSource.Anisotropy, CopyMode.OnStep)
+            {
+                OffsetBytes = 48, DrawArgsBuffer = new IntPtr(0x2000), DrawArgsOffsetBytes = 20, DrawArgsVertices = 6,
+            };
+            pbf_d3d11_buffer_desc raw = e.ToNative();
+            Assert.AreEqual(FakeD3D11Buffer, raw.buffer);
+            Assert.AreEqual(512u, raw.capacity);
+            Assert.AreEqual(pbf_buffer.PBF_BUFFER_ANISOTROPY, raw.source);
+            Assert.AreEqual(pbf_copy_mode.PBF_COPY_ON_STEP, raw.mode);
+            Assert.AreEqual(48ul, raw.offset_bytes);
+            Assert.AreEqual(new IntPtr(0x2000), raw.draw_args_buffer);
+            Assert.AreEqual(20ul, raw.draw_args_offset_bytes);
+            Assert.AreEqual(6u, raw.draw_args_vertices);
+
+            var wrong = new pbf_d3d11_buffer_desc();
+            ExpectRaw(pbf_result.PBF_ERROR_STRUCT_SIZE, Native.pbf_d3d11_buffer_desc_init(ref wrong, Native.SizeOf<pbf_d3d11_buffer_desc>() - 4), "pbf_d3d11_buffer_desc_init");
+            ExpectRaw(pbf_result.PBF_ERROR_INVALID_ARGUMENT, Native.pbf_d3d11_buffer_desc_init(IntPtr.Zero, Native.SizeOf<pbf_d3d11_buffer_desc>()));
+        }
+
+        [Test]
+        public void D3D11RegistrationOnACpuWorldIsRefused()
+        {
+            Result code = OnCpuWorld(InteropSupport.D3D11);
+            foreach (CopyMode mode in new[] { CopyMode.OnStep, CopyMode.OnRenderEvent })
+                foreach (BufferSource source in new[] { BufferSource.Positions, BufferSource.Velocities, BufferSource.Ids })
+                {
+                    var desc = new D3D11BufferDesc(FakeD3D11Buffer, capacity: 2048, source: source, mode: mode);
+                    Scene.ExpectError(code, () => _world.RegisterD3D11Buffer(desc), "pbf_world_register_d3d11_buffer",
+                                      OnCpuWorldText(InteropSupport.D3D11));
+                }
+
+            // The handle stays zeroed on failure.
+            pbf_d3d11_buffer_desc raw = new D3D11BufferDesc(FakeD3D11Buffer, 16).ToNative();
+            var id = new pbf_d3d11_buffer_id { index = 5, generation = 5 };
+            ExpectRaw((pbf_result)code, Native.pbf_world_register_d3d11_buffer(_world.Id, ref raw, out id));
+            Assert.AreEqual(0u, id.index);
+            Assert.AreEqual(0u, id.generation);
+
+            // Unregistering a handle no registration made: no D3D11 in the build, or no such buffer.
+            var forged = new pbf_d3d11_buffer_id { index = 1, generation = 1 };
+            ExpectRaw(ForgedHandle(InteropSupport.D3D11), Native.pbf_world_unregister_d3d11_buffer(_world.Id, forged), "pbf_world_unregister_d3d11_buffer");
+            // Nothing was registered, so nothing waits for the render thread.
+            Assert.AreEqual(0, _world.GetInteropInfo().PendingRenderWork);
+            _world.Step(Scene.Dt);
+        }
+
+        [Test]
+        public void D3D11RegistrationChecksItsArgumentsFirst()
+        {
+            Scene.ExpectError(Result.InvalidArgument, () => _world.RegisterD3D11Buffer(new D3D11BufferDesc { Capacity = 16 }),
+                "pbf_world_register_d3d11_buffer", "buffer must be an ID3D11Buffer* (non-NULL)");
+            Scene.ExpectError(Result.InvalidArgument, () => _world.RegisterD3D11Buffer(new D3D11BufferDesc(FakeD3D11Buffer, 0)),
+                "capacity must be > 0");
+            Scene.ExpectError(Result.InvalidArgument,
+                () => _world.RegisterD3D11Buffer(new D3D11BufferDesc(FakeD3D11Buffer, 16) { OffsetBytes = 8 }), "offset_bytes must be a multiple of 16");
+            Scene.ExpectError(Result.InvalidArgument,
+                () => _world.RegisterD3D11Buffer(new D3D11BufferDesc(FakeD3D11Buffer, 16) { DrawArgsOffsetBytes = 2 }), "draw_args_offset_bytes must be a multiple of 4");
+            Scene.ExpectError(Result.InvalidArgument,
+                () => _world.RegisterD3D11Buffer(new D3D11BufferDesc(FakeD3D11Buffer, 16) { Source = (BufferSource)9 }), "source must be");
+            Scene.ExpectError(Result.InvalidArgument,
+                () => _world.RegisterD3D11Buffer(new D3D11BufferDesc(FakeD3D11Buffer, 16) { Source = BufferSource.Materials }),
+                "PBF_BUFFER_MATERIALS (1 byte per particle) is not copied into graphics buffers");
+            // D3D11 has no manual copy: the immediate context belongs to the render thread.
+            Scene.ExpectError(Result.InvalidArgument,
+                () => _world.RegisterD3D11Buffer(new D3D11BufferDesc(FakeD3D11Buffer, 16, mode: CopyMode.Manual)),
+                "mode must be PBF_COPY_ON_RENDER_EVENT or PBF_COPY_ON_STEP");
+            // Ids are 4 bytes: an offset of 4 passes the argument checks.
+            Scene.ExpectError(OnCpuWorld(InteropSupport.D3D11),
+                () => _world.RegisterD3D11Buffer(new D3D11BufferDesc(FakeD3D11Buffer, 16, BufferSource.Ids) { OffsetBytes = 4 }));
+            Assert.Throws<ArgumentNullException>(() => _world.RegisterD3D11Buffer(null));
+            Assert.Throws<ArgumentNullException>(() => _world.UnregisterD3D11Buffer(null));
+
+            pbf_d3d11_buffer_desc raw = new D3D11BufferDesc(FakeD3D11Buffer, 16).ToNative();
+            ExpectRaw(pbf_result.PBF_ERROR_INVALID_ARGUMENT, Native.pbf_world_register_d3d11_buffer(_world.Id, ref raw, IntPtr.Zero), "out_buffer is NULL");
+            raw.reserved0 = 1;
+            pbf_d3d11_buffer_id id;
+            ExpectRaw(pbf_result.PBF_ERROR_INVALID_ARGUMENT, Native.pbf_world_register_d3d11_buffer(_world.Id, ref raw, out id), "reserved0 must be 0");
+            raw = new D3D11BufferDesc(FakeD3D11Buffer, 16).ToNative();
+            raw.struct_size -= 8;
+            ExpectRaw(pbf_result.PBF_ERROR_STRUCT_SIZE, Native.pbf_world_register_d3d11_buffer(_world.Id, ref raw, out id));
         }
 
         // ---- external memory and semaphores (raw layer) ----------------------------------------

@@ -121,6 +121,8 @@ namespace Pbf
         ExternalFd = 0x4,
         /// <summary>Win32 handles, D3D11 / D3D12 (Windows).</summary>
         ExternalWin32 = 0x8,
+        /// <summary>CUDA-D3D11 interop: <see cref="World.RegisterD3D11Buffer"/> (Windows).</summary>
+        D3D11 = 0x10,
     }
 
     /// <summary>pbf_buffer: which particle buffer a graphics-buffer copy writes.</summary>
@@ -178,7 +180,7 @@ namespace Pbf
         /// <summary>The render event (<see cref="Library.GetRenderEventFunc"/>) copies, on the
         /// engine's render thread.</summary>
         OnRenderEvent = 2,
-        /// <summary>Only <see cref="World.CopyToGlBuffer"/> copies.</summary>
+        /// <summary>Only <see cref="World.CopyToGlBuffer"/> copies (not for D3D11 buffers).</summary>
         Manual = 3,
     }
 }

@@ -1,7 +1,7 @@
 // Friendly layer of the header's interop section (zero-copy rendering): CUDA streams and events,
-// live buffers as device pointers, OpenGL buffers, the render-thread event, interop state and the
-// debug transfer counter. External memory and semaphores (Vulkan, Direct3D) are in the raw layer
-// only (Native.pbf_world_import_external_buffer, ..._import_semaphore, ...).
+// live buffers as device pointers, OpenGL and Direct3D 11 buffers, the render-thread event,
+// interop state and the debug transfer counter. External memory and semaphores (Vulkan,
+// Direct3D 12, shared handles) are in the raw layer only (Native.pbf_world_import_external_buffer, ...).
 //
 // Every function exists in every build of libpbf. What the build lacks throws PbfException with
 // Result.BackendUnavailable (no CUDA, a Windows-only API or type on Linux, a driver without the
@@ -140,6 +140,29 @@ namespace Pbf
         {
             if (buffer == null) throw new ArgumentNullException("buffer");
             buffer.Copy();
+        }
+
+        // ---- Direct3D 11 ------------------------------------------------------------------------
+        /// <summary>Registers a D3D11 buffer as a copy destination (see <see cref="D3D11BufferDesc"/>):
+        /// in Unity under Direct3D 11, a GraphicsBuffer's or ComputeBuffer's GetNativeBufferPtr().
+        /// OnRenderEvent (the default) registers at the next render event and copies at every one,
+        /// on the render thread, which owns the D3D11 immediate context. Windows builds only; not
+        /// yet run on a GPU.</summary>
+        public D3D11Buffer RegisterD3D11Buffer(D3D11BufferDesc desc)
+        {
+            if (desc == null) throw new ArgumentNullException("desc");
+            var id = CreateNative<pbf_d3d11_buffer_desc, pbf_d3d11_buffer_id>(Native.pbf_world_register_d3d11_buffer, desc.ToNative());
+            return new D3D11Buffer(this, id, desc.Mode);
+        }
+
+        /// <summary>Unregisters (at the next render event for OnRenderEvent buffers, until which the
+        /// D3D11 buffers must stay alive; now for OnStep). The handle is refused from this call on.
+        /// Disposing the world unregisters what is left from the disposing thread: unregister and
+        /// let a render event run first where that is not the render thread.</summary>
+        public void UnregisterD3D11Buffer(D3D11Buffer buffer)
+        {
+            if (buffer == null) throw new ArgumentNullException("buffer");
+            buffer.Unregister();
         }
 
         // ---- render event and state -----------------------------------------------------------
@@ -283,6 +306,66 @@ namespace Pbf
 
         /// <summary>pbf_world_unregister_gl_buffer (GL context current, as for registration).</summary>
         public void Unregister() { PbfException.Check(Native.pbf_world_unregister_gl_buffer(World.Handle, Id)); }
+    }
+
+    /// <summary>How to register a D3D11 buffer (pbf_d3d11_buffer_desc). A new desc holds the
+    /// library's defaults: source Positions, mode OnRenderEvent; Buffer and Capacity must be set.
+    /// The buffer must belong to the D3D11 device on the adapter of the world's CUDA device
+    /// (<see cref="InteropInfo.DeviceLuid"/>). libpbf holds no reference to it: keep it alive until
+    /// it is unregistered and a render event has run.</summary>
+    public sealed class D3D11BufferDesc
+    {
+        pbf_d3d11_buffer_desc _raw;
+
+        public D3D11BufferDesc()
+        {
+            _raw.struct_size = Native.SizeOf<pbf_d3d11_buffer_desc>();
+            PbfException.Check(Native.pbf_d3d11_buffer_desc_init(ref _raw, _raw.struct_size));
+        }
+
+        /// <summary>buffer: an ID3D11Buffer*, capacity: elements it holds after OffsetBytes.</summary>
+        public D3D11BufferDesc(IntPtr buffer, int capacity, BufferSource source = BufferSource.Positions,
+                               CopyMode mode = CopyMode.OnRenderEvent)
+            : this()
+        {
+            Buffer = buffer;
+            Capacity = capacity;
+            Source = source;
+            Mode = mode;
+        }
+
+        public pbf_d3d11_buffer_desc ToNative() { return _raw; }
+
+        /// <summary>The ID3D11Buffer* (non-zero), with its storage; e.g. GraphicsBuffer.GetNativeBufferPtr().</summary>
+        public IntPtr Buffer { get { return _raw.buffer; } set { _raw.buffer = value; } }
+        public BufferSource Source { get { return (BufferSource)_raw.source; } set { _raw.source = (pbf_buffer)value; } }
+        /// <summary>OnRenderEvent or OnStep; D3D11 has no manual copy (the immediate context is the
+        /// render thread's). OnStep copies from the thread that steps: only where that is the render
+        /// thread or the device is multithread-protected.</summary>
+        public CopyMode Mode { get { return (CopyMode)_raw.mode; } set { _raw.mode = (pbf_copy_mode)value; } }
+        /// <summary>Where element 0 goes; a multiple of 16 (4 for ids).</summary>
+        public long OffsetBytes { get { return (long)_raw.offset_bytes; } set { _raw.offset_bytes = (ulong)value; } }
+        /// <summary>Elements the buffer holds after OffsetBytes (&gt; 0).</summary>
+        public int Capacity { get { return (int)_raw.capacity; } set { _raw.capacity = (uint)value; } }
+        /// <summary>ID3D11Buffer* (IntPtr.Zero: none; may be <see cref="Buffer"/>) that receives 4
+        /// uint draw arguments at each copy, as DrawInstancedIndirect reads them.</summary>
+        public IntPtr DrawArgsBuffer { get { return _raw.draw_args_buffer; } set { _raw.draw_args_buffer = value; } }
+        /// <summary>A multiple of 4.</summary>
+        public long DrawArgsOffsetBytes { get { return (long)_raw.draw_args_offset_bytes; } set { _raw.draw_args_offset_bytes = (ulong)value; } }
+        /// <summary>0: {n, 1, 0, 0} (n points); v &gt; 0: {v, n, 0, 0} (v vertices per particle, n instances).</summary>
+        public int DrawArgsVertices { get { return (int)_raw.draw_args_vertices; } set { _raw.draw_args_vertices = (uint)value; } }
+    }
+
+    /// <summary>A D3D11 buffer registered with a world (<see cref="World.RegisterD3D11Buffer"/>).
+    /// After <see cref="Unregister"/> the handle is stale: further calls throw <see cref="Result.InvalidHandle"/>.</summary>
+    public sealed class D3D11Buffer : WorldHandle<pbf_d3d11_buffer_id>
+    {
+        internal D3D11Buffer(World world, pbf_d3d11_buffer_id id, CopyMode mode) : base(world, id) { Mode = mode; }
+
+        public CopyMode Mode { get; private set; }
+
+        /// <summary>pbf_world_unregister_d3d11_buffer.</summary>
+        public void Unregister() { PbfException.Check(Native.pbf_world_unregister_d3d11_buffer(World.Handle, Id)); }
     }
 
     /// <summary>Interop state of a world (pbf_interop_info).</summary>

@@ -2,13 +2,16 @@
 // as dense) that the water runs under and that rises to float on it, a nozzle pouring into the
 // tank, a rock (a mesh collider made from a Unity mesh) in the water's way, a crate that floats
 // (a Unity Rigidbody coupled both ways by PbfFloatingBody), and an optional sphere that follows a
-// Transform and pushes the fluid. The world steps in FixedUpdate; every frame the positions and
-// the particles' material indices are copied (no allocation) into GraphicsBuffers and drawn as
-// instanced spheres by the "Pbf/Particles" shader, each in its material's colour, brighter where
-// compressed. With "Anisotropic" on (the default) the world also computes smoothed positions and
-// anisotropy (Yu & Turk 2013), and each sphere is drawn as its particle's ellipsoid: flat along
-// the surface, so the water reads as a surface, not beads. A label in the corner says which
-// backend the world runs on, on which device, and when on the CPU, why CUDA was not taken.
+// Transform and pushes the fluid. The world steps in FixedUpdate; every frame the particles go into
+// GraphicsBuffers and are drawn as instanced spheres by the "Pbf/Particles" shader, each in its
+// material's colour, brighter where compressed. Under Direct3D 11 with a CUDA world they go there
+// without leaving the GPU (zero-copy: the render event, on the render thread, copies them from
+// CUDA into the buffers and writes the draw arguments); elsewhere the positions and the material
+// indices are copied through the CPU (no allocation). With "Anisotropic" on (the default) the
+// world also computes smoothed positions and anisotropy (Yu & Turk 2013), and each sphere is
+// drawn as its particle's ellipsoid: flat along the surface, so the water reads as a surface, not
+// beads. A label in the corner says which backend the world runs on, on which device, when on
+// the CPU why CUDA was not taken, and which of the two paths the particles take.
 //
 // Setup: open FluidDemo.unity (beside this file) and press Play. Or add this component to any
 // GameObject: it uses the assigned material, else one made from the Pbf/Particles shader
@@ -74,6 +77,8 @@ public sealed class PbfFluidDemo : MonoBehaviour
     public bool anisotropic = true;
     [Tooltip("Show the backend, its device and, on the CPU, why CUDA was not taken.")]
     public bool showBackend = true;
+    [Tooltip("Under Direct3D 11 with a CUDA world, CUDA writes the GraphicsBuffers on the render thread (no copy through the CPU). Off, or elsewhere: the copy path.")]
+    public bool zeroCopy = true;
 
     World _world;
     Emitter _nozzle;
@@ -92,6 +97,20 @@ public sealed class PbfFluidDemo : MonoBehaviour
     MaterialPropertyBlock _props;
     string _backendText;  // made once the world exists: OnGUI runs several times a frame
 
+    // The zero-copy path (Direct3D 11 and a CUDA world); null handles: the copy path.
+    D3D11Buffer _d3dPositions, _d3dAnisotropy, _d3dIds;
+    GraphicsBuffer _idsBuffer;  // stable ids: the shader finds each particle's material from its id
+    ComputeBuffer _drawArgs;    // indexed instanced draw arguments; the render event writes the count
+    readonly uint[] _drawArgsData = new uint[5];
+    IntPtr _renderEventFunc;
+    int _renderEventId;
+    bool _zeroCopyConfirmed;   // the render thread registered the buffers and copied without error
+    string _renderPath;
+    // The fluids' id ranges: ids are given in emission order and kept for life, so the water block,
+    // the oil block and the nozzle's particles are three ranges, and a particle's material follows
+    // from its id on the GPU (materials have no graphics-buffer copy).
+    Vector4 _idRangeStarts, _idRangeMaterials;
+
     static readonly int PositionsId = Shader.PropertyToID("_PbfPositions");
     static readonly int RadiusId = Shader.PropertyToID("_Radius");
     static readonly int AnisotropyId = Shader.PropertyToID("_PbfAnisotropy");
@@ -99,6 +118,10 @@ public sealed class PbfFluidDemo : MonoBehaviour
     static readonly int MaterialsId = Shader.PropertyToID("_PbfMaterials");
     static readonly int MaterialColorsId = Shader.PropertyToID("_PbfMaterialColors");
     static readonly int UseMaterialsId = Shader.PropertyToID("_UseMaterials");
+    static readonly int IdsId = Shader.PropertyToID("_PbfIds");
+    static readonly int MaterialsFromIdsId = Shader.PropertyToID("_MaterialsFromIds");
+    static readonly int IdRangeStartsId = Shader.PropertyToID("_PbfIdRangeStarts");
+    static readonly int IdRangeMaterialsId = Shader.PropertyToID("_PbfIdRangeMaterials");
 
     void OnEnable()
     {
@@ -134,8 +157,12 @@ public sealed class PbfFluidDemo : MonoBehaviour
             Pbf.Material oilMaterial = oil
                 ? _world.CreateMaterial(new MaterialDesc { RestDensity = oilDensity, Color = oilColor.ToNumerics() })
                 : water;
-            _world.EmitBlock(blockMin.ToNumerics(), blockMax.ToNumerics());
-            if (oil) _world.EmitBlock(new BlockDesc(oilBlockMin.ToNumerics(), oilBlockMax.ToNumerics()) { Material = oilMaterial });
+            int waterCount = _world.EmitBlock(blockMin.ToNumerics(), blockMax.ToNumerics());
+            int oilCount = oil ? _world.EmitBlock(new BlockDesc(oilBlockMin.ToNumerics(), oilBlockMax.ToNumerics()) { Material = oilMaterial }) : 0;
+            // Ids from 0: the water block, then the oil block, then whatever the nozzle pours.
+            Pbf.Material poured = nozzlePoursOil ? oilMaterial : water;
+            _idRangeStarts = new Vector4(0, waterCount, waterCount + oilCount, 0);
+            _idRangeMaterials = new Vector4(water.Index, oilMaterial.Index, poured.Index, 0);
             if (nozzle)
             {
                 // Emit at most the rest-density flux through the disc (speed · area / spacing³):
@@ -146,7 +173,7 @@ public sealed class PbfFluidDemo : MonoBehaviour
                 {
                     Position = nozzlePosition.ToNumerics(), Direction = new System.Numerics.Vector3(0, -1, 0),
                     Speed = nozzleSpeed, Radius = nozzleRadius, ParticlesPerSecond = rate,
-                    Material = nozzlePoursOil ? oilMaterial : water,
+                    Material = poured,
                 });
                 _nozzle.SetEnabled(nozzleEnabled);
                 _nozzleOn = nozzleEnabled;
@@ -166,10 +193,6 @@ public sealed class PbfFluidDemo : MonoBehaviour
             return;
         }
 
-        WorldInfo info = _world.Info;
-        _backendText = "libpbf " + Library.VersionString(Library.Version) + ": " + info.Backend + " on " + info.DeviceName;
-        if (info.Backend != Backend.Cuda) _backendText += "\n" + _world.CudaNotTakenReason;
-        Debug.Log(_backendText);
 
         _positions = new Vector4[maxParticles];
         _positionsBuffer = new GraphicsBuffer(GraphicsBuffer.Target.Structured, maxParticles, 16);
@@ -192,6 +215,111 @@ public sealed class PbfFluidDemo : MonoBehaviour
             particleMesh = sphere.GetComponent<MeshFilter>().sharedMesh;
             Destroy(sphere);
         }
+        bool zeroCopyHere = ZeroCopyHere(out _renderPath);
+        // Declared by the shader either way; on the copy path it holds one unused id.
+        _idsBuffer = new GraphicsBuffer(GraphicsBuffer.Target.Structured, zeroCopyHere ? maxParticles : 1, 4);
+        if (zeroCopyHere) StartZeroCopy();
+        UpdateBackendText();
+        Debug.Log(_backendText);
+    }
+
+    void UpdateBackendText()
+    {
+        WorldInfo info = _world.Info;
+        _backendText = "libpbf " + Library.VersionString(Library.Version) + ": " + info.Backend + " on " + info.DeviceName;
+        if (info.Backend != Backend.Cuda) _backendText += "\n" + _world.CudaNotTakenReason;
+        _backendText += "\nRendering: " + _renderPath;
+    }
+
+    // Whether the zero-copy path can run here; path: how the frames reach the GPU, and why not
+    // zero-copy when it cannot.
+    bool ZeroCopyHere(out string path)
+    {
+        path = "copied through the CPU";
+        UnityEngine.Rendering.GraphicsDeviceType api = SystemInfo.graphicsDeviceType;
+        if (!zeroCopy) path += " (zero-copy is off)";
+        else if (api != UnityEngine.Rendering.GraphicsDeviceType.Direct3D11) path += " (zero-copy needs Direct3D 11; this is " + api + ")";
+        else if (_world.Backend != Backend.Cuda) path += " (zero-copy needs a CUDA world)";
+        else if ((Library.GetInteropSupport() & InteropSupport.D3D11) == 0) path += " (this libpbf has no CUDA-D3D11 interop)";
+        else if (particleMesh.GetIndexStart(0) != 0 || particleMesh.GetBaseVertex(0) != 0)
+            path += " (zero-copy draws submesh 0 of the particle mesh from index 0 and vertex 0)";
+        else return true;
+        return false;
+    }
+
+    // Registers the GraphicsBuffers' ID3D11Buffers with the world: from the next render event on,
+    // each render event (issued in Update) copies the particles of the last step into them on the
+    // render thread, which owns the D3D11 device context, and writes the instance count into the
+    // draw arguments, so nothing is read back to the CPU. Registration itself happens at the
+    // first render event; Update checks that it worked and falls back to the copy path if not.
+    void StartZeroCopy()
+    {
+        // DrawMeshInstancedIndirect's arguments: index count, instances, first index, base vertex,
+        // first instance. The render event writes the first four as {v, n, 0, 0} (v = the
+        // DrawArgsVertices below), the layout both indexed and non-indexed draws begin with.
+        uint indices = particleMesh.GetIndexCount(0);
+        _drawArgsData[0] = indices;
+        _drawArgs = new ComputeBuffer(1, 5 * sizeof(uint), ComputeBufferType.IndirectArguments);
+        _drawArgs.SetData(_drawArgsData);
+        try
+        {
+            // Ellipsoids are centred on the smoothed positions, which belong with the anisotropy.
+            BufferSource positions = _anisotropic ? BufferSource.SmoothedPositions : BufferSource.Positions;
+            _d3dPositions = _world.RegisterD3D11Buffer(new D3D11BufferDesc(_positionsBuffer.GetNativeBufferPtr(), maxParticles, positions)
+            {
+                DrawArgsBuffer = _drawArgs.GetNativeBufferPtr(), DrawArgsVertices = (int)indices,
+            });
+            if (_anisotropic)
+                _d3dAnisotropy = _world.RegisterD3D11Buffer(
+                    new D3D11BufferDesc(_anisotropyBuffer.GetNativeBufferPtr(), maxParticles, BufferSource.Anisotropy));
+            _d3dIds = _world.RegisterD3D11Buffer(new D3D11BufferDesc(_idsBuffer.GetNativeBufferPtr(), maxParticles, BufferSource.Ids));
+            _renderEventFunc = Library.GetRenderEventFunc();
+            _renderEventId = _world.GetRenderEventId();
+            _zeroCopyConfirmed = false;
+            _renderPath = "Direct3D 11 zero-copy (CUDA writes the GraphicsBuffers on the render thread)";
+        }
+        catch (PbfException e)
+        {
+            StopZeroCopy("registering the D3D11 buffers failed: " + e.Message);
+        }
+    }
+
+    // Back to the copy path: unregisters the D3D11 buffers. They are unregistered by the next
+    // render event, on the render thread, and must live until then: issue one and wait for the
+    // render thread with a readback (Unity runs it after the commands queued before it).
+    void StopZeroCopy(string why)
+    {
+        bool issue = false;
+        foreach (D3D11Buffer b in new[] { _d3dPositions, _d3dAnisotropy, _d3dIds })
+        {
+            if (b == null) continue;
+            b.Unregister();
+            issue = true;
+        }
+        _d3dPositions = _d3dAnisotropy = _d3dIds = null;
+        if (issue)
+        {
+            GL.IssuePluginEvent(_renderEventFunc, _renderEventId);
+            _drawArgs.GetData(_drawArgsData);
+        }
+        if (_drawArgs != null) _drawArgs.Release();
+        _drawArgs = null;
+        if (why != null)
+        {
+            Debug.LogWarning("PbfFluidDemo: zero-copy off, " + why);
+            _renderPath = "copied through the CPU (zero-copy failed: " + why + ")";
+            UpdateBackendText();
+        }
+    }
+
+    // Until the first render event has registered the buffers and copied: its result.
+    void ConfirmZeroCopy()
+    {
+        InteropInfo interop = _world.GetInteropInfo();
+        if (interop.LastRenderEventResult != Result.Ok)
+            StopZeroCopy(interop.LastRenderEventResult + ": " + interop.LastRenderEventMessage);
+        else if (interop.RenderEvents > 0 && interop.PendingRenderWork == 0)
+            _zeroCopyConfirmed = true;
     }
 
     // The MeshFilter's mesh, scaled by its Transform, as a static mesh collider at its pose.
@@ -258,6 +386,12 @@ public sealed class PbfFluidDemo : MonoBehaviour
     void Update()
     {
         if (_world == null) return;
+        if (_d3dPositions != null && !_zeroCopyConfirmed) ConfirmZeroCopy();
+        if (_d3dPositions != null)
+        {
+            DrawZeroCopy();
+            return;
+        }
         // Copy the positions out (x, y, z, density ratio) and upload them: no allocation per frame.
         // Ellipsoids are centred on the smoothed positions, which belong with the anisotropy.
         _count = _anisotropic ? _world.CopySmoothedPositions(_positions) : _world.CopyPositions(_positions);
@@ -272,16 +406,36 @@ public sealed class PbfFluidDemo : MonoBehaviour
         int bytes = _world.CopyMaterials(MemoryMarshal.AsBytes(new Span<uint>(_materialWords)));
         _materialsBuffer.SetData(_materialWords, 0, 0, (bytes + 3) / 4);
 
+        SetProperties(false);
+        Graphics.DrawMeshInstancedProcedural(particleMesh, 0, particleMaterial, DomainBounds(), _count, _props);
+    }
+
+    // The render event copies the last step's particles into the registered buffers and the
+    // count into the draw arguments on the render thread, before the draw below reads them.
+    void DrawZeroCopy()
+    {
+        GL.IssuePluginEvent(_renderEventFunc, _renderEventId);
+        if (particleMaterial == null) return;
+        SetProperties(true);
+        Graphics.DrawMeshInstancedIndirect(particleMesh, 0, particleMaterial, DomainBounds(), _drawArgs, 0, _props);
+    }
+
+    void SetProperties(bool materialsFromIds)
+    {
         _props.SetBuffer(PositionsId, _positionsBuffer);
         _props.SetBuffer(AnisotropyId, _anisotropyBuffer);
         _props.SetFloat(UseAnisotropyId, _anisotropic ? 1.0f : 0.0f);
         _props.SetBuffer(MaterialsId, _materialsBuffer);
+        _props.SetBuffer(IdsId, _idsBuffer);
+        _props.SetFloat(MaterialsFromIdsId, materialsFromIds ? 1.0f : 0.0f);
+        _props.SetVector(IdRangeStartsId, _idRangeStarts);
+        _props.SetVector(IdRangeMaterialsId, _idRangeMaterials);
         _props.SetVectorArray(MaterialColorsId, _materialColors);
         _props.SetFloat(UseMaterialsId, 1.0f);
         _props.SetFloat(RadiusId, particleRadius);
-        var bounds = new Bounds(0.5f * (domainMin + domainMax), domainMax - domainMin);
-        Graphics.DrawMeshInstancedProcedural(particleMesh, 0, particleMaterial, bounds, _count, _props);
     }
+
+    Bounds DomainBounds() { return new Bounds(0.5f * (domainMin + domainMax), domainMax - domainMin); }
 
     void OnGUI()
     {
@@ -292,6 +446,8 @@ public sealed class PbfFluidDemo : MonoBehaviour
     {
         foreach (PbfFloatingBody body in floatingBodies)
             if (body != null) body.Detach();
+        // Before the world goes: its render thread work, then the buffers it writes.
+        if (_world != null) StopZeroCopy(null);
         if (_world != null) _world.Dispose();  // destroys its emitters, colliders and materials too
         _world = null;
         _nozzle = null;
@@ -302,6 +458,8 @@ public sealed class PbfFluidDemo : MonoBehaviour
         _anisotropyBuffer = null;
         if (_materialsBuffer != null) _materialsBuffer.Release();
         _materialsBuffer = null;
+        if (_idsBuffer != null) _idsBuffer.Release();
+        _idsBuffer = null;
         if (_tank != null) Destroy(_tank);
         _tank = null;
         _backendText = null;

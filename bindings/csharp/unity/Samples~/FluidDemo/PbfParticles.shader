@@ -1,4 +1,5 @@
-// Draws libpbf particles as instanced meshes (Graphics.DrawMeshInstancedProcedural): instance i
+// Draws libpbf particles as instanced meshes (Graphics.DrawMeshInstancedProcedural, or
+// DrawMeshInstancedIndirect with the count libpbf writes into the draw arguments): instance i
 // reads its position from _PbfPositions[i] (x, y, z, density ratio). A unit-diameter mesh such as
 // Unity's built-in sphere is scaled to the particle diameter. Built-in RP and URP (unlit pass).
 //
@@ -11,7 +12,11 @@
 // With _UseMaterials = 1 each particle takes its fluid material's colour instead of _Color:
 // _PbfMaterials holds the particles' material indices (PBF_BUFFER_MATERIALS, World.CopyMaterials:
 // one byte per particle, four to a uint, little-endian) and _PbfMaterialColors[k] the colour of
-// the material with index k (MaterialDesc.Color, from World.Materials).
+// the material with index k (MaterialDesc.Color, from World.Materials). With _MaterialsFromIds = 1
+// (the zero-copy path, where the material bytes do not reach the GPU buffers) the material index
+// comes from the particle's stable id in _PbfIds (PBF_BUFFER_IDS) instead: ids are given in
+// emission order, so each fluid the scene emitted is a range of ids; range k starts at id
+// _PbfIdRangeStarts[k] (ascending; x = 0) and has material _PbfIdRangeMaterials[k] (3 ranges).
 Shader "Pbf/Particles"
 {
     Properties
@@ -21,6 +26,7 @@ Shader "Pbf/Particles"
         _Radius ("Particle radius", Float) = 0.025
         _UseAnisotropy ("Ellipsoids from _PbfAnisotropy (0 or 1)", Float) = 0
         _UseMaterials ("Colours by material from _PbfMaterials (0 or 1)", Float) = 0
+        _MaterialsFromIds ("Materials from _PbfIds and the id ranges (0 or 1)", Float) = 0
         _EllipsoidScale ("Ellipsoid radii times", Float) = 1.25
     }
     SubShader
@@ -37,12 +43,16 @@ Shader "Pbf/Particles"
             StructuredBuffer<float4> _PbfPositions;
             StructuredBuffer<float4> _PbfAnisotropy;
             StructuredBuffer<uint> _PbfMaterials;
+            StructuredBuffer<uint> _PbfIds;
+            float4 _PbfIdRangeStarts;
+            float4 _PbfIdRangeMaterials;
             float4 _PbfMaterialColors[8];  // PBF_MAX_MATERIALS
             float4 _Color;
             float4 _DenseColor;
             float _Radius;
             float _UseAnisotropy;
             float _UseMaterials;
+            float _MaterialsFromIds;
             float _EllipsoidScale;
 
             struct appdata
@@ -80,7 +90,19 @@ Shader "Pbf/Particles"
                 float3 base = _Color.rgb;
                 if (_UseMaterials > 0.5)
                 {
-                    uint material = (_PbfMaterials[instanceID >> 2] >> (8 * (instanceID & 3))) & 0xFF;
+                    uint material;
+                    if (_MaterialsFromIds > 0.5)
+                    {
+                        // Range starts are small integers, exact as floats; a rounded large id
+                        // still compares above them.
+                        float id = (float)_PbfIds[instanceID];
+                        material = (uint)(id >= _PbfIdRangeStarts.z ? _PbfIdRangeMaterials.z
+                                        : (id >= _PbfIdRangeStarts.y ? _PbfIdRangeMaterials.y : _PbfIdRangeMaterials.x));
+                    }
+                    else
+                    {
+                        material = (_PbfMaterials[instanceID >> 2] >> (8 * (instanceID & 3))) & 0xFF;
+                    }
                     base = _PbfMaterialColors[min(material, 7u)].rgb;
                 }
                 o.color = lerp(base, _DenseColor.rgb, compressed) * light;
