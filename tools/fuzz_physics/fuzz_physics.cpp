@@ -13,6 +13,8 @@
 #include <CLI/CLI.hpp>
 
 #include <atomic>
+#include <cstddef>
+#include <cstring>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -26,8 +28,21 @@ namespace {
 
 using namespace fuzz;
 
+// The solver's fields by name and offset (all 4 bytes wide).
+const std::vector<std::pair<std::string, size_t>>& solver_fields() {
+#define PBF_FIELD(name) {#name, offsetof(pbf_solver_params, name)}
+    static const std::vector<std::pair<std::string, size_t>> fields = {
+        PBF_FIELD(iterations), PBF_FIELD(substeps), PBF_FIELD(relaxation), PBF_FIELD(scorr_k), PBF_FIELD(scorr_n),
+        PBF_FIELD(scorr_dq), PBF_FIELD(xsph_c), PBF_FIELD(vorticity_epsilon), PBF_FIELD(ldc_enabled), PBF_FIELD(ldc_gain),
+        PBF_FIELD(max_speed), PBF_FIELD(adaptive_error_target), PBF_FIELD(max_substeps), PBF_FIELD(substep_travel),
+        PBF_FIELD(sound_speed)};
+#undef PBF_FIELD
+    return fields;
+}
+
 // The switchable parts of a world, named as in the repro's --drop list: b<k>, n<k>, d<k>, c<k>,
-// m<k>, g (the gravity change), s (the solver change).
+// m<k>, g (the gravity change), s (the solver change), p.<field> (a solver setting back at its
+// default).
 std::vector<std::string> parts(const WorldSpec& w) {
     std::vector<std::string> p;
     for (size_t k = 0; k < w.colliders.size(); ++k) p.push_back("c" + std::to_string(k));
@@ -37,11 +52,26 @@ std::vector<std::string> parts(const WorldSpec& w) {
     for (size_t k = 0; k < w.materials.size(); ++k) p.push_back("m" + std::to_string(k));
     if (w.gravity_frame >= 0) p.push_back("g");
     if (w.solver_frame >= 0) p.push_back("s");
+    // Solver settings back at their defaults, one at a time: what is left names the culprit.
+    const pbf_solver_params def = pbf_solver_params_default();
+    for (const auto& f : solver_fields())
+        if (std::memcmp(reinterpret_cast<const char*>(&w.desc.solver) + f.second, reinterpret_cast<const char*>(&def) + f.second, 4) != 0)
+            p.push_back("p." + f.first);
     return p;
 }
 
-// Switches one part off; false if the name is not a part of w.
+// Switches one part off (a solver field: back to its default); false if the name is not a part
+// of w.
 bool drop(WorldSpec& w, const std::string& name) {
+    if (name.rfind("p.", 0) == 0) {
+        const pbf_solver_params def = pbf_solver_params_default();
+        for (const auto& f : solver_fields())
+            if (name == "p." + f.first) {
+                std::memcpy(reinterpret_cast<char*>(&w.desc.solver) + f.second, reinterpret_cast<const char*>(&def) + f.second, 4);
+                return true;
+            }
+        return false;
+    }
     if (name == "g") return w.gravity_frame >= 0 ? (w.gravity_frame = -1, true) : false;
     if (name == "s") return w.solver_frame >= 0 ? (w.solver_frame = -1, true) : false;
     if (name.size() < 2) return false;
