@@ -474,8 +474,12 @@ bool Runner::check_step(int frame, float dt, const State& pre, const pbf_step_st
     for (uint32_t i : vanished) {  // a drained particle was inside a drain box, as far as it could travel
         const D3 x = d3(&pre.pos[4 * i]);
         bool near = false;
+        // A particle inside a collider is first moved out of it (to one radius from its surface).
+        double depth = 0;
+        for (size_t k = 0; k < colliders_.size(); ++k)
+            if (colliders_[k].alive) depth = std::max(depth, r_ - sdf(spec_.colliders[k], colliders_[k], x));
         const double reach = (norm(d3(&pre.vel[4 * i])) + kFrontFactor * std::sqrt(2 * g * std::max(drop, 0.0)) +
-                              2 * coll_speed_max_ + emit_speed_max_ + kSpeedMargin + vort_speed_ + cohesion_speed_) * dt + h_;
+                              2 * coll_speed_max_ + emit_speed_max_ + kSpeedMargin + vort_speed_ + cohesion_speed_) * dt + h_ + depth;
         for (size_t k = 0; k < drains_.size(); ++k) {
             if (!drain_alive_[k]) continue;
             const D3 lo = d3(drain_lo_[k]), hi = d3(drain_hi_[k]);

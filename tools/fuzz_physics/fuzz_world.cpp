@@ -224,7 +224,7 @@ WorldSpec draw_world(uint64_t seed, uint64_t index, pbf_backend backend) {
         NozzleSpec n;
         n.radius = std::min(rng.uniform(1.5, 4.0) * s, 0.5f * std::min({lx, lz, ly}) - 1.5f * s);
         // The disc inside the walls, but for one nozzle in ten (the library checks the centre only).
-        const float in = rng.chance(0.9) ? n.radius + s : 0.0f;
+        const float in = rng.chance(0.9) ? n.radius + s : 1.5f * r;
         const V3 inner_lo{lo[0] + in, 0.5f * ly, lo[2] + in}, inner_hi{hi[0] - in, ly - std::max(in, s), hi[2] - in};
         n.position = lerp3(inner_lo, inner_hi, rng);
         n.direction = rng.direction();
