@@ -547,10 +547,13 @@ bool Runner::check_step(int frame, float dt, const State& pre, const pbf_step_st
         (void)pbf_world_get_solver_params(w_, &sp);
         const double gamma = (h_ / sp.sound_speed) / sub_dt;
         const double carried = prev_density_max_ * std::pow(1.0 + gamma, -double(substeps));
-        const double bound = kDensityBase + kDepthRuleFactor * depth_rule + carried;
+        // Adaptive iterations stop once the mean error is below the target: the error the user asked
+        // to tolerate, with the same factor.
+        const double bound = kDensityBase + kDepthRuleFactor * (depth_rule + sp.adaptive_error_target) + carried;
         if (st1.density_error_max > bound) {
             o << "density error max " << st1.density_error_max << " (mean " << st1.density_error_mean << ") > bound " << bound
-              << " (0.5 + 2 x depth rule " << depth_rule << " + carried " << carried << "; " << substeps << " substeps of "
+              << " (0.5 + 2 x (depth rule " << depth_rule << " + adaptive target " << sp.adaptive_error_target << ") + carried "
+              << carried << "; " << substeps << " substeps of "
               << sub_dt << " s, " << k << " iterations, depth " << depth << " m)";
             f = {"density", o.str()};
             return false;
