@@ -136,6 +136,10 @@ private:
         f = {"api", std::string(what) + " -> " + pbf_result_string(r) + ": " + pbf_last_error_message()};
         return false;
     }
+    void grow_around(D3 c, double reach) {  // a ball of radius `reach` around c
+        grow(c + D3{reach, reach, reach});
+        grow(c - D3{reach, reach, reach});
+    }
     void grow(D3 p) {
         box_lo_ = {std::min(box_lo_.x, p.x), std::min(box_lo_.y, p.y), std::min(box_lo_.z, p.z)};
         box_hi_ = {std::max(box_hi_.x, p.x), std::max(box_hi_.y, p.y), std::max(box_hi_.z, p.z)};
@@ -295,8 +299,7 @@ bool Runner::create_collider(size_t k, Failure& f) {
     }
     if (c.shape != PBF_SHAPE_PLANE) {
         const double reach = collider_reach(c);
-        grow(d3(l.pos) + D3{reach, reach, reach});
-        grow(d3(l.pos) - D3{reach, reach, reach});
+        grow_around(d3(l.pos), reach);
     }
     return true;
 }
@@ -344,8 +347,7 @@ bool Runner::events(int frame, float dt, std::vector<size_t>& appeared, bool& pa
             nozzle_alive_[k] = nozzle_enabled_[k] = true;
             nozzle_pos_[k] = n.position;
             emit_speed_max_ = std::max(emit_speed_max_, double(n.speed));
-            grow(d3(n.position) + D3{n.radius, n.radius, n.radius});
-            grow(d3(n.position) - D3{n.radius, n.radius, n.radius});
+            grow_around(d3(n.position), n.radius);
         }
         if (!nozzle_alive_[k]) continue;
         if (frame == n.destroy_frame) {
@@ -363,8 +365,7 @@ bool Runner::events(int frame, float dt, std::vector<size_t>& appeared, bool& pa
                     "pbf_emitter_set_nozzle", f))
                 return false;
             nozzle_pos_[k] = n.moved_position;
-            grow(d3(n.moved_position) + D3{n.radius, n.radius, n.radius});
-            grow(d3(n.moved_position) - D3{n.radius, n.radius, n.radius});
+            grow_around(d3(n.moved_position), n.radius);
         }
     }
     for (size_t k = 0; k < s.drains.size(); ++k) {
@@ -411,8 +412,7 @@ bool Runner::events(int frame, float dt, std::vector<size_t>& appeared, bool& pa
             appeared.push_back(k);
             if (c.shape != PBF_SHAPE_PLANE) {
                 const double reach = collider_reach(c);
-                grow(d3(l.pos) + D3{reach, reach, reach});
-                grow(d3(l.pos) - D3{reach, reach, reach});
+                grow_around(d3(l.pos), reach);
             }
         }
     }
@@ -761,8 +761,7 @@ RunResult Runner::run() {
             l.pos = target;
             l.rot = rot;
             if (c.shape != PBF_SHAPE_PLANE) {
-                grow(d3(target) + D3{reach, reach, reach});
-                grow(d3(target) - D3{reach, reach, reach});
+                grow_around(d3(target), reach);
             }
         }
         coll_speed_max_ = std::max(coll_speed_max_, coll_speed);
