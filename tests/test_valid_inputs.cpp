@@ -1,0 +1,429 @@
+// Valid inputs a game sends that the hand-written scenes did not: tiny and huge steps, a fast
+// thin plate, two fluids placed heavy over light, small bodies, overlaps no motion made, extreme
+// materials, zero gravity, a heavy box on the floor. Black-box through the public header, CPU
+// backend. Each bound is a physical one, stated where it is checked (docs/physics_fuzzer.md
+// derives the shared ones: the free fall over the scene's height, the at-rest allowance).
+#include "coupling_scenes.h"
+#include "materials_scenes.h"
+
+using namespace scene;
+
+namespace {
+
+constexpr double kG = 9.81;
+// The product's at-rest allowance: after any dt a settled pool has no particle faster than
+// 1 m/s (README, Physics; tests/test_realtime.cpp).
+constexpr double kAtRest = 1.0;
+
+double top_speed(const Particles& p) {
+    double top = 0.0;
+    for (uint32_t i = 0; i < p.count; ++i)
+        top = std::max(top, std::sqrt(double(p.vel[4 * i]) * p.vel[4 * i] + double(p.vel[4 * i + 1]) * p.vel[4 * i + 1] +
+                                      double(p.vel[4 * i + 2]) * p.vel[4 * i + 2]));
+    return top;
+}
+
+double top_speed(pbf_world_id w) { return top_speed(read(w)); }
+
+// Ritter's dam-break front, 2√(gH) = √2 · √(2gH): the fastest gravity moves a free surface that
+// falls H.
+double free_fall_front(double height) { return std::sqrt(2.0) * std::sqrt(2.0 * kG * height); }
+
+// Steps w for `seconds` at dt and returns the fastest particle seen after any of the steps.
+double run_top(pbf_world_id w, double seconds, float dt = kDt) {
+    double top = 0.0;
+    const int steps = int(std::lround(seconds / dt));
+    for (int k = 0; k < steps; ++k) {
+        REQUIRE_PBF(pbf_world_step(w, dt));
+        top = std::max(top, top_speed(w));
+    }
+    return top;
+}
+
+float mass_of(pbf_world_id w) { return world_info(w).particle_mass; }
+
+// A dam break in a 0.6 x 0.6 x 0.15 m tank at 12.5 mm radius (864 particles), 0.4 s in: sloshing.
+pbf_world_id stirred_pool() {
+    pbf_world_id w = create(tank(PBF_BACKEND_CPU, 0.0125f, 0.6f, 0.6f, 0.15f, 4096));
+    fill(w, 0, 0, 0, 0.3f, 0.3f, 0.15f);
+    for (int k = 0; k < 24; ++k) REQUIRE_PBF(pbf_world_step(w, kDt));
+    return w;
+}
+
+// A pool 0.6 x 0.3 x 0.15 m at 12.5 mm radius (1,728 particles), settled for 1 s.
+pbf_world_id settled_pool() {
+    pbf_world_id w = create(tank(PBF_BACKEND_CPU, 0.0125f, 0.6f, 0.6f, 0.15f, 4096));
+    fill(w, 0, 0, 0, 0.6f, 0.3f, 0.15f);
+    for (int k = 0; k < 60; ++k) REQUIRE_PBF(pbf_world_step(w, kDt));
+    return w;
+}
+
+// A pool 0.48 x 0.36 x 0.48 m at 0.02 m radius (1,296 particles), settled for 1 s.
+pbf_world_id deep_pool() {
+    pbf_world_id w = create(tank(PBF_BACKEND_CPU, 0.02f, 0.48f, 0.8f, 0.48f, 4096));
+    fill(w, 0, 0, 0, 0.48f, 0.36f, 0.48f);
+    for (int k = 0; k < 60; ++k) REQUIRE_PBF(pbf_world_step(w, kDt));
+    return w;
+}
+
+// An open level (no walls) in zero gravity on the CPU.
+pbf_world_id zero_g_open_world(float radius, uint32_t capacity) {
+    pbf_world_desc d = pbf_world_desc_default();
+    d.backend = PBF_BACKEND_CPU;
+    d.particle_radius = radius;
+    d.max_particles = capacity;
+    d.walls = 0;
+    set3(d.gravity, 0, 0, 0);
+    return create(d);
+}
+
+struct Momenta {
+    double p[3] = {0, 0, 0}, l[3] = {0, 0, 0}, mass = 0, scale_l = 0, radius = 0;
+};
+
+// Linear momentum, and angular momentum about the centre of mass; scale_l = Σ m |x - c| |v|.
+Momenta momenta(const Particles& q, double m) {
+    Momenta r;
+    double c[3] = {0, 0, 0};
+    for (uint32_t i = 0; i < q.count; ++i)
+        for (int a = 0; a < 3; ++a) c[a] += q.pos[4 * i + a] / double(q.count);
+    for (uint32_t i = 0; i < q.count; ++i) {
+        const double x[3] = {q.pos[4 * i] - c[0], q.pos[4 * i + 1] - c[1], q.pos[4 * i + 2] - c[2]};
+        const double v[3] = {q.vel[4 * i], q.vel[4 * i + 1], q.vel[4 * i + 2]};
+        for (int a = 0; a < 3; ++a) r.p[a] += m * v[a];
+        r.l[0] += m * (x[1] * v[2] - x[2] * v[1]);
+        r.l[1] += m * (x[2] * v[0] - x[0] * v[2]);
+        r.l[2] += m * (x[0] * v[1] - x[1] * v[0]);
+        const double rx = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+        r.scale_l += m * rx * std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        r.radius = std::max(r.radius, rx);
+        r.mass += m;
+    }
+    return r;
+}
+
+// Two materials 100 times apart in density, 0.15 m of each in a 0.4 x 0.1 m column (768
+// particles at 12.5 mm), stepped 1 s (bounds: the test cases below).
+void check_density_ratio_100(bool heavy_on_top) {
+    pbf_world_id w = create(tank(PBF_BACKEND_CPU, 0.0125f, 0.4f, 0.6f, 0.1f, 4096));
+    pbf_material_desc heavy_desc = pbf_material_desc_default(), light_desc = pbf_material_desc_default();
+    heavy_desc.rest_density = 10000.0f;
+    light_desc.rest_density = 100.0f;
+    pbf_material_id heavy{}, light{};
+    REQUIRE_PBF(pbf_world_create_material(w, &heavy_desc, &heavy));
+    REQUIRE_PBF(pbf_world_create_material(w, &light_desc, &light));
+    const float lower_lo[3] = {0, 0, 0}, lower_hi[3] = {0.4f, 0.15f, 0.1f};
+    const float upper_lo[3] = {0, 0.15f, 0}, upper_hi[3] = {0.4f, 0.3f, 0.1f};
+    materials::fill(w, heavy_on_top ? light : heavy, lower_lo, lower_hi);
+    materials::fill(w, heavy_on_top ? heavy : light, upper_lo, upper_hi);
+    const double first = run_top(w, 0.5), last = run_top(w, 0.5);
+    const double bound = free_fall_front(0.3) + kAtRest;
+    INFO((heavy_on_top ? "heavy over light" : "light over heavy") << ": fastest particle over the first 0.5 s " << first
+         << " m/s (bound " << bound << "), over the next 0.5 s " << last << " m/s (at rest: " << kAtRest << ")");
+    CHECK(std::max(first, last) <= bound);
+    if (!heavy_on_top) CHECK(last <= kAtRest);
+    REQUIRE_PBF(pbf_world_destroy(w));
+}
+
+double norm3(const double* v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
+}  // namespace
+
+// One step of 1e-7 s cannot change a velocity by more than g·1e-7: the fluid after it is the
+// fluid before it. Checked: the fastest particle right after the step, against the fastest
+// before it, and the fastest over the next 0.5 s against a twin pool that never took the tiny
+// step (both within the at-rest allowance's half, 0.5 m/s).
+TEST_CASE("valid inputs: one step of 1e-7 s on a stirred pool changes nothing", "[valid][!shouldfail]") {
+    pbf_world_id w = stirred_pool(), twin = stirred_pool();
+    const double before = top_speed(w);
+    REQUIRE_PBF(pbf_world_step(w, 1e-7f));
+    const double after = top_speed(w);
+    const double later = run_top(w, 0.5), twin_later = run_top(twin, 0.5);
+    INFO("fastest particle before the 1e-7 s step " << before << " m/s, after it " << after
+         << " m/s; over the next 0.5 s " << later << " m/s (twin without the tiny step: " << twin_later << " m/s)");
+    CHECK(after <= before + 0.5);
+    CHECK(later <= twin_later + 0.5);
+    REQUIRE_PBF(pbf_world_destroy(w));
+    REQUIRE_PBF(pbf_world_destroy(twin));
+}
+
+// A settled pool stepped for 1 s (valid: dt <= 1) is a settled pool; the next step, of any dt,
+// must leave it one: no particle above the at-rest allowance after it or over the 0.25 s of
+// 1/60 s steps that follow.
+TEST_CASE("valid inputs: one 1 s step, then a step of 1e-7, 1e-3 or 1/60 s, leaves a settled pool at rest",
+          "[valid][!shouldfail]") {
+    for (float next : {1e-7f, 1e-3f, 1.0f / 60.0f}) {
+        pbf_world_id w = settled_pool();
+        REQUIRE_PBF(pbf_world_step(w, 1.0f));
+        const double after_huge = top_speed(w);
+        const float err_huge = stats(w).density_error_max;
+        REQUIRE_PBF(pbf_world_step(w, next));
+        const double after_next = top_speed(w);
+        const double later = run_top(w, 0.25);
+        INFO("after 1 s: fastest " << after_huge << " m/s (density error max " << err_huge << "); after the step of "
+             << next << " s: " << after_next << " m/s; over the next 0.25 s: " << later << " m/s");
+        CHECK(after_huge <= kAtRest);
+        CHECK(after_next <= kAtRest);
+        CHECK(later <= kAtRest);
+        REQUIRE_PBF(pbf_world_destroy(w));
+    }
+}
+
+// A plate 2 cm thick, 0.2 m tall, spanning a channel 0.3 m deep, swept through it at 20 m/s.
+// A rigid wall at speed V gives a particle at most 2V (an elastic bounce); the water also falls
+// at most Ritter's front over its depth; plus the at-rest allowance.
+TEST_CASE("valid inputs: a thin plate swept at 20 m/s throws no particle faster than twice its speed", "[valid]") {
+    const float speed = 20.0f, depth = 0.3f;
+    pbf_world_id w = create(tank(PBF_BACKEND_CPU, 0.0125f, 1.0f, 0.6f, 0.1f, 4096));
+    const uint32_t n = fill(w, 0.2f, 0, 0, 1.0f, depth, 0.1f);
+    pbf_collider_desc c = pbf_collider_desc_default();
+    c.shape = PBF_SHAPE_BOX;
+    c.motion = PBF_MOTION_KINEMATIC;
+    set3(c.half_extents, 0.01f, 0.1f, 0.5f);
+    set3(c.position, 0.1f, 0.1f, 0.05f);
+    pbf_collider_id plate{};
+    REQUIRE_PBF(pbf_world_create_collider(w, &c, &plate));
+    const float identity[4] = {0, 0, 0, 1};
+    double top = 0.0;
+    float x = 0.1f;
+    for (int k = 0; k < 30; ++k) {
+        x = std::min(0.9f, x + speed * kDt);
+        const float target[3] = {x, 0.1f, 0.05f};
+        REQUIRE_PBF(pbf_collider_set_target_pose(w, plate, target, identity));
+        REQUIRE_PBF(pbf_world_step(w, kDt));
+        top = std::max(top, top_speed(w));
+    }
+    const double bound = 2.0 * speed + free_fall_front(depth) + kAtRest;
+    const Particles p = read(w);
+    INFO("fastest particle " << top << " m/s = " << top / speed << " x the plate's speed (bound " << bound << " m/s)");
+    CHECK(p.count == n);
+    CHECK(top <= bound);
+    REQUIRE_PBF(pbf_world_destroy(w));
+}
+
+// Water (1000 kg/m3) placed over oil (800), 896 particles each at 12.5 mm in a 0.4 x 0.1 m
+// column, each layer 0.35 m deep. The layer is Rayleigh-Taylor unstable: Atwood number
+// A = 0.2/1.8 = 0.11; a blob of it rises at about √(A g L) = 0.6 m/s over L = 0.35 m, and the
+// tank's longest mode grows at √(A g k) = 2.9 /s (k = π / 0.4 m), so from the lattice's
+// millimetre disturbances the overturn is over within about 2 s. After 4 s, at least 90 % of the
+// oil must lie above 0.35 m (where the interface is once the fluids have swapped). The tank
+// stands 1 degree off level, as no real one is level: a perfect lattice in a level tank is an
+// unstable equilibrium that a deterministic solver could keep forever (the interface then tilts
+// by 3.5 mm across the tank, a fraction of a spacing).
+TEST_CASE("valid inputs: water placed over oil overturns in the time gravity gives", "[valid][materials][!shouldfail]") {
+    pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.0125f, 0.4f, 0.9f, 0.1f, 2048);
+    set3(d.gravity, float(kG * std::sin(M_PI / 180.0)), float(-kG * std::cos(M_PI / 180.0)), 0.0f);
+    pbf_world_id w = create(d);
+    pbf_material_desc oil_desc = pbf_material_desc_default();
+    oil_desc.rest_density = 800.0f;
+    pbf_material_id oil{};
+    REQUIRE_PBF(pbf_world_create_material(w, &oil_desc, &oil));
+    const float oil_lo[3] = {0, 0, 0}, oil_hi[3] = {0.4f, 0.35f, 0.1f};
+    const uint32_t n_oil = materials::fill(w, oil, oil_lo, oil_hi);
+    fill(w, 0, 0.35f, 0, 0.4f, 0.7f, 0.1f);
+    auto oil_above = [&]() {
+        const Particles p = read(w);
+        std::vector<uint8_t> m(p.count);
+        uint32_t k = 0;
+        REQUIRE_PBF(pbf_world_copy_buffer(w, PBF_BUFFER_MATERIALS, m.data(), m.size(), &k));
+        uint32_t above = 0, total = 0;
+        for (uint32_t i = 0; i < p.count; ++i)
+            if (m[i] == oil.index) {
+                ++total;
+                above += p.pos[4 * i + 1] > 0.35f ? 1u : 0u;
+            }
+        return total ? double(above) / total : 0.0;
+    };
+    for (int k = 0; k < 60; ++k) REQUIRE_PBF(pbf_world_step(w, kDt));
+    const double at_1s = oil_above();
+    for (int k = 0; k < 180; ++k) REQUIRE_PBF(pbf_world_step(w, kDt));
+    const double at_4s = oil_above();
+    INFO(n_oil << " oil particles; above 0.35 m: " << 100 * at_1s << " % after 1 s, " << 100 * at_4s << " % after 4 s");
+    CHECK(at_4s >= 0.9);
+    REQUIRE_PBF(pbf_world_destroy(w));
+}
+
+// A box 6 particle diameters across (0.24 m at 0.02 m radius) held fully submerged in the middle
+// of a pool, 0.16 m of water over it: the mean upward force over the last second of three, over
+// ρ g V.
+double submerged_force_ratio(float pool_width, float under) {
+    const float lo = 0.5f * pool_width - 0.12f, hi = lo + 0.24f;
+    const coupling::Box b{{lo, under, lo}, {hi, under + 0.24f, hi}};
+    pbf_world_id w = coupling::pool(PBF_BACKEND_CPU, pool_width, 0.9f, pool_width, under + 0.24f + 0.16f, b);
+    const pbf_collider_id box = coupling::add_box(w, b, PBF_MOTION_STATIC);
+    double fy = 0;
+    int n = 0;
+    for (int step = 0; step < 180; ++step) {
+        REQUIRE_PBF(pbf_world_step(w, kDt));
+        if (step < 120) continue;
+        fy += coupling::force(w, box).force[1];
+        ++n;
+    }
+    REQUIRE_PBF(pbf_world_destroy(w));
+    return fy / n / (1000.0 * kG * 0.24 * 0.24 * 0.24);
+}
+
+// Archimedes: ρ g V within 5 %, whatever water lies under the box (0.2 m or 0.12 m), in a pool
+// 0.72 m square (0.24 m of water beside the box).
+TEST_CASE("valid inputs: a box 6 particle diameters across feels rho g V within 5 % at any depth",
+          "[valid][coupling][!mayfail]") {
+    for (float under : {0.20f, 0.12f}) {
+        const double ratio = submerged_force_ratio(0.72f, under);
+        INFO(under << " m of water under the box, pool 0.72 m square: F = " << ratio << " rho g V");
+        CHECK(std::fabs(ratio - 1.0) <= 0.05);
+    }
+}
+
+// The same in a pool 0.48 m square: three particle layers (0.12 m) between the box and each wall.
+// Hydrostatics does not depend on the gap: still ρ g V within 5 %.
+TEST_CASE("valid inputs: a box 6 particle diameters across feels rho g V within 5 % three layers from the walls",
+          "[valid][coupling][!shouldfail]") {
+    const double ratio = submerged_force_ratio(0.48f, 0.20f);
+    INFO("0.2 m of water under the box, pool 0.48 m square: F = " << ratio << " rho g V");
+    CHECK(std::fabs(ratio - 1.0) <= 0.05);
+}
+
+// A 0.16 m box (4 particle diameters) created fully inside a settled pool 0.36 m deep did not
+// push the water: the water it displaces rises to the surface, which rises by V/A = 18 mm. No
+// particle may move faster than the fall over that rise (Ritter's front) plus the at-rest
+// allowance, over the 0.25 s after.
+TEST_CASE("valid inputs: a box created fully inside a settled pool flings no water", "[valid][collide]") {
+    pbf_world_id w = deep_pool();
+    pbf_collider_desc c = pbf_collider_desc_default();
+    c.shape = PBF_SHAPE_BOX;
+    c.motion = PBF_MOTION_KINEMATIC;
+    c.dynamic = 1;
+    set3(c.half_extents, 0.08f, 0.08f, 0.08f);
+    set3(c.position, 0.24f, 0.16f, 0.24f);
+    pbf_collider_id box{};
+    REQUIRE_PBF(pbf_world_create_collider(w, &c, &box));
+    const double rise = 0.16 * 0.16 * 0.16 / (0.48 * 0.48), bound = free_fall_front(rise) + kAtRest;
+    const double top = run_top(w, 0.25);
+    INFO("fastest particle over 0.25 s after the box appeared: " << top << " m/s (bound " << bound << " m/s)");
+    CHECK(top <= bound);
+    REQUIRE_PBF(pbf_world_destroy(w));
+}
+
+// A plane created 0.1 m above the floor of a settled pool 0.36 m deep: the water under it moves
+// above it, and the surface rises by 0.1 m. No particle may move faster than the fall over that
+// rise (Ritter's front) plus the at-rest allowance, at 1/60 s steps (over 0.25 s) and at 1e-4 s
+// steps (over 0.02 s).
+TEST_CASE("valid inputs: a plane created under the surface of a pool flings no water", "[valid][collide][!shouldfail]") {
+    for (float dt : {1.0f / 60.0f, 1e-4f}) {
+        pbf_world_id w = deep_pool();
+        pbf_collider_desc c = pbf_collider_desc_default();
+        c.shape = PBF_SHAPE_PLANE;
+        set3(c.position, 0.24f, 0.1f, 0.24f);
+        pbf_collider_id plane{};
+        REQUIRE_PBF(pbf_world_create_collider(w, &c, &plane));
+        const double bound = free_fall_front(0.1) + kAtRest;
+        const double top = run_top(w, dt > 1e-3f ? 0.25 : 0.02, dt);
+        INFO("steps of " << dt << " s: fastest particle " << top << " m/s after the plane appeared (bound " << bound << " m/s)");
+        CHECK(top <= bound);
+        REQUIRE_PBF(pbf_world_destroy(w));
+    }
+}
+
+// Two materials 100 times apart in density (100 and 10,000 kg/m3, both within 0.1..10 x the
+// world's 1,000), 0.15 m of each. Layered stably, light over heavy, they are a pool at rest: no
+// particle may outrun Ritter's front over the pool's depth (plus the at-rest allowance) in the
+// first half second, and the pool is at rest in the next.
+TEST_CASE("valid inputs: two fluids 100 times apart in density rest in layers", "[valid][materials]") {
+    check_density_ratio_100(false);
+}
+
+// Placed heavy over light, the heavy fluid falls through the light one: nothing falls faster than
+// gravity, so over the first second no particle outruns Ritter's front over the pool's depth
+// (plus the at-rest allowance).
+TEST_CASE("valid inputs: a fluid 100 times denser placed over another falls through it no faster than gravity",
+          "[valid][materials][!shouldfail]") {
+    check_density_ratio_100(true);
+}
+
+
+// A 0.2 m cube of a material with surface tension and cohesion at their documented maximum
+// (10,000 /s2 each) in zero gravity, no walls: it pulls itself into a drop, whose oscillations the
+// viscosity damps. Over the last half second of two it is at rest (the at-rest allowance) and its
+// momentum is what it was (zero).
+TEST_CASE("valid inputs: surface tension and cohesion at their maximum in zero gravity come to rest",
+          "[valid][materials][!shouldfail]") {
+    pbf_world_id w = zero_g_open_world(0.0125f, 1024);
+    pbf_material_desc m = pbf_material_desc_default();
+    m.surface_tension = 10000.0f;
+    m.cohesion = 10000.0f;
+    pbf_material_id sticky{};
+    REQUIRE_PBF(pbf_world_create_material(w, &m, &sticky));
+    const float lo[3] = {-0.1f, -0.1f, -0.1f}, hi[3] = {0.1f, 0.1f, 0.1f};
+    const uint32_t n = materials::fill(w, sticky, lo, hi);
+    const double mass = double(mass_of(w));  // every particle has the world's volume; this one the world's density too
+    for (int k = 0; k < 90; ++k) REQUIRE_PBF(pbf_world_step(w, kDt));
+    const double last = run_top(w, 0.5);
+    const Momenta mo = momenta(read(w), mass);
+    INFO(n << " particles; fastest over the last 0.5 s of 2 s: " << last << " m/s; |P| " << norm3(mo.p) << " kg m/s (scale "
+         << mo.mass * last << ")");
+    CHECK(last <= kAtRest);
+    CHECK(norm3(mo.p) <= 0.01 * mo.mass * std::max(last, 1e-2));
+    REQUIRE_PBF(pbf_world_destroy(w));
+}
+
+// A drop of water (a 0.15 m cube, 1,728 particles) at rest in zero gravity with no walls: nothing
+// acts on it from outside, so its angular momentum about its centre stays zero. Tolerance, as
+// the fuzzer's: 1 % of Σ m |x - c| |v| at its largest (a drop spinning rigidly has |L| equal to
+// that sum) plus a floor of M R · 1e-4 m/s; over 2 s.
+TEST_CASE("valid inputs: a drop at rest in zero gravity does not spin up", "[valid]") {
+    pbf_world_id w = zero_g_open_world(0.00625f, 2048);
+    const uint32_t n = fill(w, -0.075f, -0.075f, -0.075f, 0.075f, 0.075f, 0.075f);
+    const double mass = double(mass_of(w));
+    double scale = 0, worst = 0, radius = 0, top = 0;
+    for (int k = 0; k < 120; ++k) {
+        REQUIRE_PBF(pbf_world_step(w, kDt));
+        const Particles p = read(w);
+        const Momenta mo = momenta(p, mass);
+        scale = std::max(scale, mo.scale_l);
+        radius = std::max(radius, mo.radius);
+        worst = std::max(worst, norm3(mo.l));
+        top = std::max(top, top_speed(p));
+    }
+    const double tolerance = 0.01 * scale + mass * n * radius * 1e-4;
+    INFO(n << " particles; largest |L| " << worst << " kg m2/s, tolerance " << tolerance << " (sum m|x-c||v| up to " << scale
+         << "); fastest particle " << top << " m/s");
+    CHECK(worst <= tolerance);
+    REQUIRE_PBF(pbf_world_destroy(w));
+}
+
+// A 0.24 m box of 2,000 kg/m3 released in a pool 0.48 m square and 0.36 m deep (0.02 m particles;
+// the box raises it to 0.42 m), integrated as an
+// engine integrates a body (upright, vertical only; the engine's floor stops it). Once it rests
+// on the floor, the water's push (about its buoyancy, half its weight) cannot lift it: over the
+// last second of three it stays on the floor.
+TEST_CASE("valid inputs: a heavy box resting on the floor of a pool does not chatter", "[valid][coupling][!shouldfail]") {
+    const float half = 0.12f;
+    const coupling::Box hole{{0.12f, 1.0f, 0.12f}, {0.36f, 1.0f, 0.36f}};  // above the water: nothing left out
+    pbf_world_id w = coupling::pool(PBF_BACKEND_CPU, 0.48f, 0.8f, 0.48f, 0.36f, hole);
+    const coupling::Box b{{0.12f, 0.37f, 0.12f}, {0.36f, 0.37f + 2 * half, 0.36f}};
+    const pbf_collider_id box = coupling::add_box(w, b, PBF_MOTION_KINEMATIC);
+    const double mass = 2000.0 * std::pow(2.0 * half, 3);
+    double y = 0.37 + half, vy = 0, highest = 0, peak_force = 0;
+    int lifts = 0;
+    for (int step = 0; step < 180; ++step) {
+        REQUIRE_PBF(pbf_world_step(w, kDt));
+        const pbf_collider_force f = coupling::force(w, box);
+        vy += (f.force[1] / mass - kG) * kDt;
+        y += vy * kDt;
+        if (y - half < 0) {  // the engine's floor contact
+            y = half;
+            vy = 0;
+        }
+        if (step >= 120) {
+            highest = std::max(highest, y - half);
+            lifts += y - half > 0 ? 1 : 0;
+            peak_force = std::max(peak_force, double(f.force[1]) / (mass * kG));
+        }
+        const float pos[3] = {0.24f, float(y), 0.24f}, rot[4] = {0, 0, 0, 1};
+        REQUIRE_PBF(pbf_collider_set_target_pose(w, box, pos, rot));
+    }
+    INFO("over the last second: the box left the floor in " << lifts << " of 60 steps, up to " << highest
+         << " m; peak upward push " << peak_force << " x its weight");
+    CHECK(lifts == 0);
+    REQUIRE_PBF(pbf_world_destroy(w));
+}
