@@ -5,7 +5,9 @@
   pbf_packages.py header-functions               the pbf_* functions the header declares
   pbf_packages.py exports FILE                   the functions a libpbf.so (ELF) or pbf.dll (PE) exports
   pbf_packages.py deps FILE                      the libraries it needs (DT_NEEDED / PE imports)
-  pbf_packages.py check-native FILE KIND         KIND linux-x64 | win-x64: format, CPU, exports == header
+  pbf_packages.py check-native FILE KIND [GPU]   KIND linux-x64 | win-x64: format, CPU, exports == header,
+                                                 no CUDA library linked, the kernels' fatbin embedded
+                                                 (GPU: required (default) | absent: a CPU-only build)
   pbf_packages.py unity-metas DIR [--write]      list (or write) the .meta files DIR lacks
   pbf_packages.py unity-check DIR                validate a Unity package the way Unity's importer reads it
   pbf_packages.py unity-selftest DIR             break copies of DIR one way at a time: each must fail
@@ -71,11 +73,14 @@ def header_functions():
 
 
 class NativeInfo(object):
-    def __init__(self, fmt, machine, exports, needed):
+    def __init__(self, fmt, machine, exports, needed, sections=(), data=b""):
         self.format = fmt          # "ELF64" | "PE32+" | ...
         self.machine = machine     # "x86_64" | ...
         self.exports = exports     # set of exported function names
         self.needed = needed       # list of libraries it links against
+        self.sections = list(sections)  # (name, file offset, size) of each section with file data
+        self.fatbin = find_fatbin(data, self.sections)
+        self.size = len(data)
 
 
 def _elf_info(data):
@@ -83,13 +88,17 @@ def _elf_info(data):
         return NativeInfo("ELF (not 64-bit little-endian)", "?", set(), [])
     e_machine = struct.unpack_from("<H", data, 18)[0]
     e_shoff = struct.unpack_from("<Q", data, 40)[0]
-    e_shentsize, e_shnum = struct.unpack_from("<HH", data, 58)
-    sections = []
+    e_shentsize, e_shnum, e_shstrndx = struct.unpack_from("<HHH", data, 58)
+    sections, named = [], []
     for i in range(e_shnum):
         off = e_shoff + i * e_shentsize
         (name, stype, flags, addr, offset, size, link, info, align, entsize) = struct.unpack_from(
             "<IIQQQQIIQQ", data, off)
         sections.append((stype, offset, size, link, entsize))
+        named.append((name, stype, offset, size))
+    names_off = sections[e_shstrndx][1] if e_shstrndx < len(sections) else 0
+    with_data = [(data[names_off + n:data.index(b"\0", names_off + n)].decode(errors="replace"), o, sz)
+                 for n, t, o, sz in named if t not in (0, 8)]  # SHT_NULL, SHT_NOBITS: no file data
     exports, needed = set(), []
     for stype, offset, size, link, entsize in sections:
         if stype == 11:  # SHT_DYNSYM
@@ -111,7 +120,7 @@ def _elf_info(data):
                     end = data.index(b"\0", str_off + val)
                     needed.append(data[str_off + val:end].decode())
     machine = {62: "x86_64", 183: "arm64", 3: "x86"}.get(e_machine, "machine %d" % e_machine)
-    return NativeInfo("ELF64", machine, exports, needed)
+    return NativeInfo("ELF64", machine, exports, needed, with_data, data)
 
 
 def _pe_info(data):
@@ -124,11 +133,12 @@ def _pe_info(data):
     magic = struct.unpack_from("<H", data, opt)[0]
     fmt = {0x20B: "PE32+", 0x10B: "PE32"}.get(magic, "PE?")
     dirs = opt + (112 if magic == 0x20B else 96)
-    sections = []
+    sections, named = [], []
     sec = opt + opt_size
     for i in range(nsections):
         vsize, vaddr, rawsize, rawptr = struct.unpack_from("<IIII", data, sec + i * 40 + 8)
         sections.append((vaddr, max(vsize, rawsize), rawptr))
+        named.append((data[sec + i * 40:sec + i * 40 + 8].rstrip(b"\0").decode(errors="replace"), rawptr, rawsize))
 
     def off(rva):
         for vaddr, size, rawptr in sections:
@@ -156,7 +166,7 @@ def _pe_info(data):
             needed.append(cstr(off(fields[3])))
             d += 20
     machine = {0x8664: "x86_64", 0x14C: "x86", 0xAA64: "arm64"}.get(machine_id, "machine 0x%x" % machine_id)
-    return NativeInfo(fmt, machine, exports, needed)
+    return NativeInfo(fmt, machine, exports, needed, named, data)
 
 
 def native_info(path):
@@ -169,14 +179,55 @@ def native_info(path):
     return NativeInfo("unknown", "?", set(), [])
 
 
+# libpbf's CUDA kernels: one fatbin (nvcc -fatbin) placed in the library's read-only data
+# (cmake/pbf_fatbin.c.in), which the library hands to the driver at run time. A fatbin starts
+# with this magic (little-endian), a version, its header's size and the size of its entries.
+FATBIN_MAGIC = struct.pack("<I", 0xBA55ED50)
+READONLY_SECTIONS = (".rodata", ".rdata")
+
+
+def find_fatbin(data, sections):
+    """libpbf's embedded fatbin: {"section", "offset", "bytes", "archs"} or None. Looked for in the
+    read-only data section, where libpbf places it; a fatbin elsewhere (.nv_fatbin, where nvcc's
+    CUDA runtime registration puts kernels) is not libpbf's."""
+    for name, start, size in sections:
+        if name not in READONLY_SECTIONS:
+            continue
+        at = data.find(FATBIN_MAGIC, start, start + size)
+        while at >= 0:
+            version, header, body = struct.unpack_from("<HHQ", data, at + 4)
+            end = at + header + body
+            if version == 1 and header == 16 and body > 0 and end <= start + size:
+                archs, e = [], at + header
+                while e + 32 <= end:  # entries: kind (1 PTX, 2 ELF), header size, payload size, arch
+                    kind, _, ehead, payload = struct.unpack_from("<HHIQ", data, e)
+                    arch = struct.unpack_from("<I", data, e + 28)[0]
+                    if ehead < 32 or e + ehead + payload > end:
+                        break
+                    archs.append(("sm_%d" if kind == 2 else "compute_%d") % arch)
+                    e += ehead + payload
+                if archs:
+                    return {"section": name, "offset": at, "bytes": end - at, "archs": archs}
+            at = data.find(FATBIN_MAGIC, at + 4, start + size)
+    return None
+
+
+# What a library must not link against: libpbf opens the NVIDIA driver itself at run time.
+CUDA_LIBRARY = re.compile(r"^(libcudart|libcuda\.|nvcuda|cudart)", re.I)
+# Each binary with all its GPU code (every architecture) stays within this size.
+MAX_NATIVE_BYTES = 25 * 1000 * 1000
+
 # Libraries every Windows x64 machine has; anything else must ship beside pbf.dll.
 WINDOWS_SYSTEM_DLLS = {"kernel32.dll", "msvcrt.dll", "user32.dll", "advapi32.dll", "ws2_32.dll",
                        "bcrypt.dll", "ntdll.dll", "shell32.dll", "ole32.dll", "ucrtbase.dll",
                        "vcruntime140.dll", "msvcp140.dll", "gdi32.dll", "opengl32.dll"}
 
 
-def check_native(path, kind, report):
-    """Format, CPU and exports of a native libpbf against the header. kind: linux-x64 | win-x64."""
+def check_native(path, kind, report, gpu="required"):
+    """Format, CPU and exports of a native libpbf against the header, and that it carries the GPU:
+    libpbf's kernels embedded, no CUDA library linked. kind: linux-x64 | win-x64. gpu: "required",
+    "absent" (a CPU-only build: no kernels either), or why the kernels are not required here (their
+    absence is then a warning)."""
     name = os.path.relpath(path, ROOT) if path.startswith(ROOT) else path
     if not os.path.isfile(path):
         report.fail("%s: missing" % name)
@@ -204,6 +255,30 @@ def check_native(path, kind, report):
             report.ok("%s: needs only system DLLs (%s)" % (name, ", ".join(info.needed)))
     else:
         report.note("%s: needs %s" % (name, ", ".join(info.needed)))
+    cuda = [d for d in info.needed if CUDA_LIBRARY.match(d)]
+    if cuda:
+        report.fail("%s: links %s: libpbf must open the NVIDIA driver at run time, not link it" % (name, ", ".join(cuda)))
+    else:
+        report.ok("%s: links no CUDA library" % name)
+    f = info.fatbin
+    runtime = [s for s, _, _ in info.sections if s == ".nv_fatbin"]
+    if gpu == "absent":
+        (report.fail if f else report.ok)("%s: %s (a CPU-only build)" % (name, "carries a fatbin" if f else "no CUDA kernels"))
+    elif f and not runtime:
+        report.ok("%s: carries libpbf's CUDA kernels: a fatbin of %.1f MB in %s (%s)"
+                  % (name, f["bytes"] / 1e6, f["section"], ", ".join(f["archs"])))
+    else:
+        why = ("its kernels are in .nv_fatbin, a CUDA runtime build's" if runtime
+               else "no fatbin in %s: a build without CUDA" % "/".join(READONLY_SECTIONS))
+        if gpu == "required":
+            report.fail("%s: does not carry libpbf's CUDA kernels (%s)" % (name, why))
+        else:
+            report.warn("%s: does not carry libpbf's CUDA kernels (%s); not required: %s" % (name, why, gpu))
+    if info.size > MAX_NATIVE_BYTES:
+        report.fail("%s: %.1f MB, over the %.0f MB a binary with all its GPU code may take"
+                    % (name, info.size / 1e6, MAX_NATIVE_BYTES / 1e6))
+    else:
+        report.note("%s: %.1f MB" % (name, info.size / 1e6))
     return info
 
 
@@ -560,6 +635,26 @@ def check_manifest(package, report):
         report.ok("package.json version %s == header version" % version)
 
 
+# The last version whose plugins were built without the GPU loader (a CPU-only pbf.dll, a CUDA
+# runtime libpbf.so). The committed plugins are refreshed once per release with a version bump;
+# from then on they must carry libpbf's kernels like every other build.
+LAST_VERSION_WITHOUT_GPU = (2, 0, 0)
+
+
+def plugin_gpu_rule(path, version):
+    """check_native's gpu for a committed plugin: "required", except for a plugin built before the
+    GPU went into every binary (of a version up to LAST_VERSION_WITHOUT_GPU and from sources
+    without pbf_get_backend_info)."""
+    try:
+        v = tuple(int(x) for x in version.split("."))
+    except ValueError:
+        v = (0, 0, 0)
+    if v > LAST_VERSION_WITHOUT_GPU or "pbf_get_backend_info" in native_info(path).exports:
+        return "required"
+    return ("a build of %s, from before libpbf carried the GPU in every binary; required once the plugins are "
+            "refreshed with a version bump" % version)
+
+
 def unity_check(package):
     report = Report("unity package")
     package = os.path.abspath(package)
@@ -701,7 +796,8 @@ def unity_check(package):
             else:
                 report.fail(msg)
             continue
-        check_native(path, kind, report)
+        row = prov.get(fname)
+        check_native(path, kind, report, plugin_gpu_rule(path, row[1] if row else header_version()))
         if kind == "linux-x64":
             v = loaded_version(path)
             if v == header_version():
@@ -709,7 +805,6 @@ def unity_check(package):
             else:
                 report.fail("Plugins/x86_64/%s: pbf_get_version() = %s, header %s: refresh the plugins"
                             % (fname, v, header_version()))
-        row = prov.get(fname)
         if not row:
             report.fail("Plugins/x86_64/%s: no provenance row in Plugins/x86_64/README.md" % fname)
             continue
@@ -943,7 +1038,10 @@ def nupkg_check(path):
                         report.fail(msg)
                     continue
                 z.extract(entry, tmp)
-                check_native(os.path.join(tmp, entry), kind, _Prefixed(report, entry))
+                # The package ships the GPU: PBF_NUGET_REQUIRE_GPU=0 accepts CPU-only builds (a
+                # machine without nvcc), with a warning.
+                gpu = "required" if os.environ.get("PBF_NUGET_REQUIRE_GPU", "1") != "0" else "PBF_NUGET_REQUIRE_GPU=0"
+                check_native(os.path.join(tmp, entry), kind, _Prefixed(report, entry), gpu)
     return report.close()
 
 
@@ -979,7 +1077,7 @@ def main(argv):
         print("\n".join(native_info(args[0]).needed))
     elif cmd == "check-native":
         r = Report("native")
-        check_native(os.path.abspath(args[0]), args[1], r)
+        check_native(os.path.abspath(args[0]), args[1], r, args[2] if len(args) > 2 else "required")
         return r.close()
     elif cmd == "unity-metas":
         return unity_metas(os.path.abspath(args[0]), "--write" in args)
