@@ -8,6 +8,8 @@
   pbf_packages.py check-native FILE KIND [GPU]   KIND linux-x64 | win-x64: format, CPU, exports == header,
                                                  no CUDA library linked, the kernels' fatbin embedded
                                                  (GPU: required (default) | absent: a CPU-only build)
+  pbf_packages.py native-selftest SO DLL         break copies of a libpbf.so and pbf.dll built with CUDA:
+                                                 the native checks must fail on each
   pbf_packages.py unity-metas DIR [--write]      list (or write) the .meta files DIR lacks
   pbf_packages.py unity-check DIR                validate a Unity package the way Unity's importer reads it
   pbf_packages.py unity-selftest DIR             break copies of DIR one way at a time: each must fail
@@ -207,7 +209,8 @@ def find_fatbin(data, sections):
                     archs.append(("sm_%d" if kind == 2 else "compute_%d") % arch)
                     e += ehead + payload
                 if archs:
-                    return {"section": name, "offset": at, "bytes": end - at, "archs": archs}
+                    return {"section": name, "offset": at, "bytes": end - at, "archs": archs,
+                            "sha256": hashlib.sha256(data[at:end]).hexdigest()}
             at = data.find(FATBIN_MAGIC, at + 4, start + size)
     return None
 
@@ -246,8 +249,8 @@ def check_native(path, kind, report, gpu="required"):
     else:
         report.ok("%s: exports exactly the header's %d pbf_* functions" % (name, len(want)))
     if kind == "win-x64":
-        foreign = [d for d in info.needed
-                   if d.lower() not in WINDOWS_SYSTEM_DLLS and not d.lower().startswith("api-ms-win-")]
+        foreign = [d for d in info.needed if d.lower() not in WINDOWS_SYSTEM_DLLS
+                   and not d.lower().startswith("api-ms-win-") and not CUDA_LIBRARY.match(d)]
         if foreign:
             report.fail("%s: needs %s, which a Windows machine does not have (link them statically)"
                         % (name, ", ".join(foreign)))
@@ -280,6 +283,18 @@ def check_native(path, kind, report, gpu="required"):
     else:
         report.note("%s: %.1f MB" % (name, info.size / 1e6))
     return info
+
+
+def check_same_kernels(infos, report):
+    """The Linux and the Windows library carry the same kernels: one nvcc build serves both."""
+    blobs = {name: info.fatbin for name, info in infos if info is not None and info.fatbin}
+    if len(blobs) < 2:
+        return
+    if len({f["sha256"] for f in blobs.values()}) == 1:
+        report.ok("%s carry the same kernels (fatbin sha256 %s)" % (" and ".join(blobs), next(iter(blobs.values()))["sha256"][:16]))
+    else:
+        report.fail("the kernels differ: %s" % "; ".join("%s %s (%s)" % (n, f["sha256"][:16], ", ".join(f["archs"]))
+                                                       for n, f in blobs.items()))
 
 
 def loaded_version(path):
@@ -787,6 +802,7 @@ def unity_check(package):
     require_windows = os.environ.get("PBF_UNITY_REQUIRE_WINDOWS", "1") != "0"
     strict = os.environ.get("PBF_UNITY_STRICT", "0") == "1"
     current = source_commit()
+    infos = []
     for fname, kind in (("libpbf.so", "linux-x64"), ("pbf.dll", "win-x64")):
         path = os.path.join(plugdir, fname)
         if not os.path.isfile(path):
@@ -797,7 +813,7 @@ def unity_check(package):
                 report.fail(msg)
             continue
         row = prov.get(fname)
-        check_native(path, kind, report, plugin_gpu_rule(path, row[1] if row else header_version()))
+        infos.append((fname, check_native(path, kind, report, plugin_gpu_rule(path, row[1] if row else header_version()))))
         if kind == "linux-x64":
             v = loaded_version(path)
             if v == header_version():
@@ -821,6 +837,7 @@ def unity_check(package):
                 report.fail(msg)
             else:
                 report.warn(msg + " (PBF_UNITY_STRICT=1 makes this a failure)")
+    check_same_kernels(infos, report)
     return report.close()
 
 
@@ -928,6 +945,66 @@ def _baseline_failures(package):
     return {l.strip()[6:] for l in out.getvalue().splitlines() if l.startswith("  FAIL")}
 
 
+def native_selftest(so, dll):
+    """Breaks copies of a libpbf.so and a pbf.dll built with CUDA one way at a time: the native
+    checks must fail on each."""
+    import contextlib
+    import io
+    import shutil
+    import tempfile
+    report = Report("native check self-test")
+    print("== self-test: the native library checks must fail on each of these broken copies")
+
+    def patch(old, new, where=None):
+        def f(data, info):
+            start = data.find(old) if where is None else where(data, info)
+            assert start >= 0, old
+            data[start:start + len(new)] = new
+        return f
+
+    def in_fatbin(offset):
+        return lambda data, info: info.fatbin["offset"] + offset
+
+    cases = [
+        ("libpbf.so without the fatbin's magic", "so", patch(None, b"\0\0\0\0", in_fatbin(0))),
+        ("pbf.dll without the fatbin's magic", "dll", patch(None, b"\0\0\0\0", in_fatbin(0))),
+        ("libpbf.so needing libcuda", "so", patch(b"libm.so.6\0", b"libcuda.1\0")),
+        ("pbf.dll importing nvcuda.dll", "dll", patch(b"msvcrt.dll\0", b"nvcuda.dll\0")),
+        ("pbf.dll with other kernels than libpbf.so", "dll", patch(None, b"\xA5", in_fatbin(4096))),
+    ]
+    sources = {"so": os.path.abspath(so), "dll": os.path.abspath(dll)}
+    lacking = [p for p in sources.values() if not os.path.isfile(p) or not native_info(p).fatbin]
+    if lacking:
+        print("native check self-test: skipped (%s: no build with the CUDA kernels)" % ", ".join(lacking))
+        return 77
+    for name, which, breakit in cases:
+        with tempfile.TemporaryDirectory() as tmp:
+            paths = {}
+            for k, src in sources.items():
+                paths[k] = os.path.join(tmp, os.path.basename(src))
+                shutil.copyfile(src, paths[k])
+            with open(paths[which], "rb") as f:
+                data = bytearray(f.read())
+            try:
+                breakit(data, native_info(paths[which]))
+            except Exception as e:
+                report.fail("%s: could not break the copy (%s)" % (name, e))
+                continue
+            with open(paths[which], "wb") as f:
+                f.write(data)
+            out = io.StringIO()
+            checked = Report("native")
+            with contextlib.redirect_stdout(out):
+                infos = [(k, check_native(paths[k], {"so": "linux-x64", "dll": "win-x64"}[k], checked)) for k in ("so", "dll")]
+                check_same_kernels(infos, checked)
+            fails = [l.strip()[6:] for l in out.getvalue().splitlines() if l.startswith("  FAIL")]
+            if fails:
+                report.ok("%s: caught (%s)" % (name, fails[0][:110]))
+            else:
+                report.fail("%s: NOT caught" % name)
+    return report.close()
+
+
 # ---------------------------------------------------------------------------------------------
 # NuGet
 
@@ -1028,6 +1105,7 @@ def nupkg_check(path):
             report.fail("lib/netstandard2.1/Pbf.dll missing")
         import tempfile
         with tempfile.TemporaryDirectory() as tmp:
+            infos = []
             for entry, kind in (("runtimes/linux-x64/native/libpbf.so", "linux-x64"),
                                 ("runtimes/win-x64/native/pbf.dll", "win-x64")):
                 if entry not in names:
@@ -1041,7 +1119,8 @@ def nupkg_check(path):
                 # The package ships the GPU: PBF_NUGET_REQUIRE_GPU=0 accepts CPU-only builds (a
                 # machine without nvcc), with a warning.
                 gpu = "required" if os.environ.get("PBF_NUGET_REQUIRE_GPU", "1") != "0" else "PBF_NUGET_REQUIRE_GPU=0"
-                check_native(os.path.join(tmp, entry), kind, _Prefixed(report, entry), gpu)
+                infos.append((entry, check_native(os.path.join(tmp, entry), kind, _Prefixed(report, entry), gpu)))
+            check_same_kernels(infos, report)
     return report.close()
 
 
@@ -1079,6 +1158,8 @@ def main(argv):
         r = Report("native")
         check_native(os.path.abspath(args[0]), args[1], r, args[2] if len(args) > 2 else "required")
         return r.close()
+    elif cmd == "native-selftest":
+        return native_selftest(args[0], args[1])
     elif cmd == "unity-metas":
         return unity_metas(os.path.abspath(args[0]), "--write" in args)
     elif cmd == "unity-check":
