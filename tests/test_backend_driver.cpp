@@ -269,6 +269,29 @@ TEST_CASE("driver: the embedded fatbin reaches the driver; no code for the GPU -
     CHECK(stub_calls("cuDevicePrimaryCtxRelease") == stub_calls("cuDevicePrimaryCtxRetain"));
 }
 
+TEST_CASE("driver: the kernels' op layouts agree with this compiler's; every kernel is in the fatbin",
+          "[.][driver-layouts]") {
+    require_stub("layouts");
+    // The stub serves the kernels and pbf_op_layout from the fatbin's first cubin: the load
+    // succeeds only if every kernel the library asks for is there and the layouts nvcc chose are
+    // this host compiler's (on Windows: MinGW's LLP64 against nvcc's LP64).
+    const pbf_backend_info cuda = backend_info(PBF_BACKEND_CUDA, 0);
+    INFO("CUDA: status " << int(cuda.status) << ", \"" << cuda.message << "\"");
+    CHECK(cuda.status == PBF_BACKEND_STATUS_AVAILABLE);
+    CHECK(std::string(cuda.device_name) == "Stub GPU 86");
+    CHECK_THAT(cuda.message, Catch::StartsWith("CUDA device 0 (Stub GPU 86) through NVIDIA driver"));
+    CHECK(backend_info(PBF_BACKEND_AUTO, 0).backend == PBF_BACKEND_CUDA);
+    CHECK(stub_calls("cuModuleLoadData") == 1);  // loaded once, kept
+    CHECK(stub_calls("cuDevicePrimaryCtxRelease") == 0);
+}
+
+TEST_CASE("driver: an op whose layout differs from the kernels' -> DRIVER_ERROR", "[.][driver-layout-mismatch]") {
+    require_stub("layout-mismatch");
+    check_cuda_refused(PBF_BACKEND_STATUS_DRIVER_ERROR,
+                       {"libpbf's kernels and its host code disagree on", "mismatched sources or compilers"});
+    CHECK(stub_calls("cuDevicePrimaryCtxRelease") == stub_calls("cuDevicePrimaryCtxRetain"));
+}
+
 #else
 
 TEST_CASE("driver: a build without CUDA -> NOT_BUILT", "[.][driver-not-built]") {

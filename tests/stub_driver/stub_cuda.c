@@ -13,6 +13,12 @@
  *   no-binary      one device of compute capability 8.6 whose cuModuleLoadData answers
  *                  CUDA_ERROR_NO_BINARY_FOR_GPU for a fatbin and CUDA_ERROR_INVALID_IMAGE for
  *                  anything else (so a test tells whether the library handed it a fatbin)
+ *   layouts        that device "loads" the fatbin: the stub reads the first machine-code image
+ *                  (an ELF cubin) in it, finds the kernels and globals the library asks for in
+ *                  its symbol table and serves pbf_op_layout's initial data as the global's
+ *                  memory, so that the library's check of its ops' layouts against the kernels'
+ *                  runs without a GPU (nothing is launched: worlds are not created in this mode)
+ *   layout-mismatch  the same, with the first op's size in pbf_op_layout changed
  *
  * Built three ways (tests/CMakeLists.txt): exporting cuGetProcAddress_v2 and cuGetProcAddress
  * (as drivers of CUDA 12 and later do), cuGetProcAddress only (CUDA 11.3 to 11.8), or neither
@@ -38,6 +44,8 @@ typedef int CUresult;
 typedef int CUdevice;
 typedef void* CUcontext;
 typedef void* CUmodule;
+typedef void* CUfunction;
+typedef unsigned long long CUdeviceptr;
 enum {
     CUDA_SUCCESS = 0,
     CUDA_ERROR_INVALID_VALUE = 1,
@@ -46,6 +54,7 @@ enum {
     CUDA_ERROR_INVALID_IMAGE = 200,
     CUDA_ERROR_NO_BINARY_FOR_GPU = 209,
     CUDA_ERROR_NOT_FOUND = 500,
+    CUDA_ERROR_INVALID_HANDLE = 400,
     CUDA_ERROR_NOT_SUPPORTED = 801,
     CUDA_ERROR_SYSTEM_DRIVER_MISMATCH = 803,
     CU_DEVICE_ATTRIBUTE_COMPUTE_CAPABILITY_MAJOR = 75,
@@ -56,18 +65,21 @@ enum {
 /* The first word of a fatbin nvcc writes (-fatbin), little-endian. */
 #define FATBIN_MAGIC 0xBA55ED50u
 
-enum mode { NO_DEVICE, OLD_DRIVER, INIT_ERROR, NO_DEVICES, MISSING_ENTRY, OLD_GPU, NO_BINARY, UNKNOWN_MODE };
+enum mode {
+    NO_DEVICE, OLD_DRIVER, INIT_ERROR, NO_DEVICES, MISSING_ENTRY, OLD_GPU, NO_BINARY, LAYOUTS, LAYOUT_MISMATCH,
+    UNKNOWN_MODE
+};
 
 static enum mode mode(void) {
-    static const char* const names[] = {"no-device", "old-driver", "init-error", "no-devices",
-                                        "missing-entry", "old-gpu", "no-binary"};
+    static const char* const names[] = {"no-device", "old-driver", "init-error", "no-devices", "missing-entry",
+                                        "old-gpu", "no-binary", "layouts", "layout-mismatch"};
     const char* m = getenv("PBF_STUB_CUDA");
     for (int i = 0; m && i < UNKNOWN_MODE; ++i)
         if (strcmp(m, names[i]) == 0) return (enum mode)i;
     return UNKNOWN_MODE;
 }
 
-static int device_count(void) { return mode() == OLD_GPU || mode() == NO_BINARY ? 1 : 0; }
+static int device_count(void) { return mode() >= OLD_GPU && mode() <= LAYOUT_MISMATCH ? 1 : 0; }
 
 static struct {
     int init, ctx_retain, ctx_release, module_load;
@@ -158,12 +170,85 @@ static CUresult stub_cuDevicePrimaryCtxRelease(CUdevice d) {
     return CUDA_SUCCESS;
 }
 static CUresult stub_cuCtxSetCurrent(CUcontext c) { return c == &the_context ? CUDA_SUCCESS : CUDA_ERROR_INVALID_VALUE; }
+
+/* Little-endian reads at any alignment. */
+static uint64_t rd(const unsigned char* p, int bytes) {
+    uint64_t v = 0;
+    for (int i = bytes - 1; i >= 0; --i) v = (v << 8) | p[i];
+    return v;
+}
+
+/* The first ELF image of a fatbin: entries follow its 16-byte header, each with its kind (2:
+ * ELF, 1: PTX) at 0, its header's size at 4 and its payload's size at 8. */
+static const unsigned char* first_cubin(const unsigned char* fatbin) {
+    const uint64_t header = rd(fatbin + 6, 2), body = rd(fatbin + 8, 8);
+    const unsigned char *e = fatbin + header, *end = fatbin + header + body;
+    while (e + 16 <= end) {
+        const uint64_t ehead = rd(e + 4, 4), payload = rd(e + 8, 8);
+        if (rd(e, 2) == 2 && memcmp(e + ehead, "\x7f" "ELF", 4) == 0) return e + ehead;
+        e += ehead + payload;
+    }
+    return NULL;
+}
+
+/* A symbol's bytes in a 64-bit ELF image (its section's data at the symbol's value), or NULL. */
+static const unsigned char* elf_symbol(const unsigned char* elf, const char* name, uint64_t* size) {
+    const unsigned char* sh = elf + rd(elf + 40, 8);
+    const uint64_t shentsize = rd(elf + 58, 2), shnum = rd(elf + 60, 2);
+    for (uint64_t i = 0; i < shnum; ++i) {
+        const unsigned char* s = sh + i * shentsize;
+        if (rd(s + 4, 4) != 2) continue; /* SHT_SYMTAB */
+        const unsigned char* strtab = elf + rd(sh + rd(s + 40, 4) * shentsize + 24, 8);
+        const unsigned char* sym = elf + rd(s + 24, 8);
+        for (uint64_t k = 0; k < rd(s + 32, 8) / 24; ++k, sym += 24) {
+            const uint64_t shndx = rd(sym + 6, 2);
+            if (shndx == 0 || shndx >= shnum || strcmp((const char*)strtab + rd(sym, 4), name) != 0) continue;
+            *size = rd(sym + 16, 8);
+            return elf + rd(sh + shndx * shentsize + 24, 8) + rd(sym + 8, 8);
+        }
+    }
+    return NULL;
+}
+
+static const unsigned char* loaded_cubin;
 static CUresult stub_cuModuleLoadData(CUmodule* m, const void* image) {
     ++calls.module_load;
     *m = NULL;
     uint32_t magic = 0;
     if (image) memcpy(&magic, image, sizeof magic);
-    return magic == FATBIN_MAGIC ? CUDA_ERROR_NO_BINARY_FOR_GPU : CUDA_ERROR_INVALID_IMAGE;
+    if (magic != FATBIN_MAGIC) return CUDA_ERROR_INVALID_IMAGE;
+    if (mode() != LAYOUTS && mode() != LAYOUT_MISMATCH) return CUDA_ERROR_NO_BINARY_FOR_GPU;
+    loaded_cubin = first_cubin((const unsigned char*)image);
+    if (!loaded_cubin) return CUDA_ERROR_NO_BINARY_FOR_GPU;
+    *m = (CUmodule)&loaded_cubin;
+    return CUDA_SUCCESS;
+}
+static CUresult stub_cuModuleUnload(CUmodule m) { return m == (CUmodule)&loaded_cubin ? CUDA_SUCCESS : CUDA_ERROR_INVALID_HANDLE; }
+static CUresult stub_cuModuleGetFunction(CUfunction* f, CUmodule m, const char* name) {
+    uint64_t size = 0;
+    if (m != (CUmodule)&loaded_cubin) return CUDA_ERROR_INVALID_HANDLE;
+    *f = (CUfunction)elf_symbol(loaded_cubin, name, &size);
+    return *f ? CUDA_SUCCESS : CUDA_ERROR_NOT_FOUND;
+}
+/* A global's "device memory" is its initial data in the image. */
+static CUresult stub_cuModuleGetGlobal(CUdeviceptr* p, size_t* bytes, CUmodule m, const char* name) {
+    uint64_t size = 0;
+    if (m != (CUmodule)&loaded_cubin) return CUDA_ERROR_INVALID_HANDLE;
+    const unsigned char* data = elf_symbol(loaded_cubin, name, &size);
+    if (!data) return CUDA_ERROR_NOT_FOUND;
+    if (p) *p = (CUdeviceptr)(uintptr_t)data;
+    if (bytes) *bytes = (size_t)size;
+    return CUDA_SUCCESS;
+}
+static CUresult stub_cuMemcpyDtoH(void* dst, CUdeviceptr src, size_t n) {
+    memcpy(dst, (const void*)(uintptr_t)src, n);
+    if (mode() == LAYOUT_MISMATCH && n >= 4) { /* pbf_op_layout's first row: {size, align} */
+        uint32_t size;
+        memcpy(&size, dst, 4);
+        size += 8;
+        memcpy(dst, &size, 4);
+    }
+    return CUDA_SUCCESS;
 }
 /* Every other entry point: present, and refusing (none is called in the modes above). */
 static CUresult stub_not_supported(void) { return CUDA_ERROR_NOT_SUPPORTED; }
@@ -176,7 +261,8 @@ static const struct {
     STUB_ENTRY(cuDriverGetVersion), STUB_ENTRY(cuInit), STUB_ENTRY(cuGetErrorName), STUB_ENTRY(cuGetErrorString),
     STUB_ENTRY(cuDeviceGetCount), STUB_ENTRY(cuDeviceGet), STUB_ENTRY(cuDeviceGetName), STUB_ENTRY(cuDeviceGetAttribute),
     STUB_ENTRY(cuDevicePrimaryCtxRetain), STUB_ENTRY(cuDevicePrimaryCtxRelease), STUB_ENTRY(cuCtxSetCurrent),
-    STUB_ENTRY(cuModuleLoadData),
+    STUB_ENTRY(cuModuleLoadData), STUB_ENTRY(cuModuleUnload), STUB_ENTRY(cuModuleGetFunction),
+    STUB_ENTRY(cuModuleGetGlobal), STUB_ENTRY(cuMemcpyDtoH),
 };
 
 static void* find(const char* symbol) {
