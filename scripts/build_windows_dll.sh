@@ -1,17 +1,32 @@
 #!/usr/bin/env bash
-# Cross-builds the CPU-backend pbf.dll for 64-bit Windows with MinGW-w64 (no CUDA):
+# Cross-builds pbf.dll for 64-bit Windows with MinGW-w64: one DLL with both backends, the CPU
+# (OpenMP) and CUDA, whose kernels (a fatbin) are embedded in it:
 #
 #   bash scripts/build_windows_dll.sh [BUILD_DIR=build-mingw] [TARGET...]
 #
-# Output: BUILD_DIR/lib/pbf.dll (with its import library BUILD_DIR/libpbf.dll.a). The DLL
-# exports the pbf_* functions only (__cdecl, declared PBF_API in include/pbf_c_api.h) and links
-# libgcc, libstdc++, libgomp (OpenMP) and winpthreads statically: it needs no MinGW runtime DLL,
-# only Windows' own (KERNEL32.dll, msvcrt.dll and the like). The script checks both and fails
-# otherwise. TARGETs (default: pbf) are built as well, e.g. pbf_api_tests.
+# Output: BUILD_DIR/lib/pbf.dll (with its import library BUILD_DIR/libpbf.dll.a). The CUDA
+# backend's host code is plain C++ over the CUDA driver API: the DLL opens nvcuda.dll (from
+# System32) at run time, so it imports no CUDA DLL and loads on machines without an NVIDIA driver.
+# It takes cuda.h from the CUDA toolkit here (the Linux one: the driver API's declarations are the
+# same), searched after MinGW's own headers. The kernels are the same for every OS: PBF_CUDA_FATBIN
+# names a fatbin to embed (e.g. build/pbf_kernels.fatbin of a Linux build, as CI and
+# scripts/update_unity_plugins.sh do); without it, nvcc builds one here for PBF_CUDA_ARCHITECTURES.
+#
+# The script checks the DLL and fails otherwise (scripts/pbf_packages.py check-native): it exports
+# exactly the header's pbf_* functions (__cdecl, PBF_API); it imports only Windows' own DLLs
+# (libgcc, libstdc++, libgomp and winpthreads are linked in; no nvcuda.dll, no cudart); it
+# carries the fatbin. The last line gives its size. TARGETs (default: pbf) are built as well,
+# e.g. pbf_api_tests.
 #
 # Uses cmake/mingw-w64-x86_64.cmake; installs g++-mingw-w64-x86-64-posix (Debian/Ubuntu) when
 # missing. The C API tests are built and run under Wine by scripts/check_windows.sh.
-# Environment: PBF_JOBS (build parallelism, default nproc).
+# Environment:
+#   PBF_CUDA_FATBIN         a prebuilt fatbin to embed (default: nvcc builds one here)
+#   PBF_CUDA_ARCHITECTURES  architectures nvcc builds for without PBF_CUDA_FATBIN (default 90, as
+#                           scripts/build.sh; CMakeLists.txt lists the release set)
+#   PBF_WITH_CUDA           OFF for a CPU-only DLL (then checked to carry no kernels)
+#   PBF_WITH_INTEROP        OFF leaves the graphics interop out (default ON)
+#   PBF_JOBS                build parallelism (default nproc)
 set -euo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -35,10 +50,23 @@ if [ -f /usr/include/catch2/catch.hpp ]; then
 fi
 eigen_dir="$(dirname "$(find /usr/share/eigen3/cmake /usr/lib/cmake/eigen3 /usr/share/cmake/eigen3 -name Eigen3Config.cmake 2>/dev/null | head -n 1)")"
 
+case "${PBF_WITH_CUDA:-ON}" in
+  OFF | Off | off | 0 | NO | No | no | FALSE | False | false) with_cuda=OFF ;;
+  *) with_cuda=ON ;;
+esac
+fatbin="${PBF_CUDA_FATBIN:-}"
+if [ -n "$fatbin" ]; then
+  [ -f "$fatbin" ] || { echo "build_windows_dll.sh: PBF_CUDA_FATBIN=$fatbin: no such file" >&2; exit 1; }
+  fatbin="$(cd "$(dirname "$fatbin")" && pwd)/$(basename "$fatbin")"
+fi
+
 cmake -S "$root" -B "$build" \
   -DCMAKE_TOOLCHAIN_FILE="$root/cmake/mingw-w64-x86_64.cmake" \
   -DCMAKE_BUILD_TYPE=Release \
-  -DPBF_WITH_CUDA=OFF \
+  -DPBF_WITH_CUDA="$with_cuda" \
+  -DPBF_CUDA_FATBIN="$fatbin" \
+  -DPBF_CUDA_ARCHITECTURES="${PBF_CUDA_ARCHITECTURES:-90}" \
+  -DPBF_WITH_INTEROP="${PBF_WITH_INTEROP:-ON}" \
   -DPBF_BUILD_SAMPLES=OFF \
   -DPBF_BUILD_TESTS=ON \
   -DPBF_CATCH2_INCLUDE_DIR="$catch_dir" \
@@ -47,26 +75,14 @@ cmake --build "$build" --target "${targets[@]}" -j"${PBF_JOBS:-$(nproc)}"
 
 dll="$build/lib/pbf.dll"
 [ -f "$dll" ] || { echo "build_windows_dll.sh: $dll was not built" >&2; exit 1; }
-dump="$("$triple-objdump" -p "$dll")"
-# Exported names: the rows of the export name table, "[ n] name".
-exports="$(awk '/\[Ordinal\/Name Pointer\] Table/ {t = 1; next} t && /^[ \t]*\[ *[0-9]+\]/ {print $NF; next} t && NF == 0 {t = 0}' <<<"$dump")"
-count="$(grep -c . <<<"$exports" || true)"
-others="$(grep -v '^pbf_' <<<"$exports" || true)"
-if [ "$count" -eq 0 ] || [ -n "$others" ]; then
-  echo "build_windows_dll.sh: $dll exports $count names, these not pbf_*:" >&2
-  echo "${others:-(none exported)}" | head -20 >&2
+gpu=required
+[ "$with_cuda" = ON ] || gpu=absent
+if ! check="$(python3 "$root/scripts/pbf_packages.py" check-native "$dll" win-x64 "$gpu")"; then
+  echo "$check" >&2
+  echo "build_windows_dll.sh: $dll fails its checks" >&2
   exit 1
 fi
-# ... and every function the header declares is among them.
-declared="$(grep -oE 'PBF_CALL[[:space:]]+pbf_[a-z0-9_]+[[:space:]]*\(' include/pbf_c_api.h | grep -oE 'pbf_[a-z0-9_]+' | sort -u)"
-absent="$(comm -23 <(echo "$declared") <(sort -u <<<"$exports") | tr '\n' ' ')"
-if [ -n "${absent// /}" ]; then
-  echo "build_windows_dll.sh: $dll does not export: $absent" >&2
-  exit 1
-fi
-imports="$(awk '/DLL Name:/ {print $3}' <<<"$dump" | sort -u | paste -sd ' ')"
-if grep -q -i -E 'libgcc|libstdc\+\+|libgomp|libwinpthread' <<<"$imports"; then
-  echo "build_windows_dll.sh: $dll needs MinGW runtime DLLs: $imports" >&2
-  exit 1
-fi
-echo "build_windows_dll.sh: $dll ($(stat -c %s "$dll") bytes): $count exports, all pbf_*; imports $imports"
+imports="$(python3 "$root/scripts/pbf_packages.py" deps "$dll" | paste -sd ' ')"
+exports="$(python3 "$root/scripts/pbf_packages.py" exports "$dll" | grep -c .)"
+kernels="$(sed -n -E 's/.*carries libpbf.s CUDA kernels: (.*)$/\1/p' <<<"$check")"
+echo "build_windows_dll.sh: $dll ($(stat -c %s "$dll") bytes, CPU${kernels:+ and CUDA: $kernels}): $exports exports, all pbf_*; imports $imports"

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The Windows build, checked on Linux: cross-builds the CPU-backend pbf.dll with MinGW-w64
-# (scripts/build_windows_dll.sh: only pbf_* exported, no MinGW runtime DLLs needed), builds the
-# Catch2 suites that run on the CPU backend for Windows, and runs them under Wine:
+# The Windows build, checked on Linux: cross-builds pbf.dll with both backends with MinGW-w64
+# (scripts/build_windows_dll.sh: only pbf_* exported, only Windows' own DLLs imported, the CUDA
+# kernels embedded), builds the Catch2 suites that run on the CPU backend for Windows and the
+# driver tests, and runs them under Wine (which has no NVIDIA driver):
 #
 #   bash scripts/check_windows.sh [BUILD_DIR=build-mingw]
 #
@@ -10,6 +11,14 @@
 #   pbf_reliability_tests  fuzz-finding regressions, out of memory, capacity, threads
 #   pbf_unit_tests         white-box: SPH kernels, LDC, neighbour masks, colliders and the CPU
 #                          scenes (resting tank, dam break, nozzles, drains), on the static core
+#   pbf_backend_tests      how the DLL finds the GPU: one Wine process per case of
+#                          tests/stub_driver/cases.txt, as ctest runs them on Linux: no nvcuda.dll
+#                          in System32 (the stub planted beside the program must not be taken),
+#                          a driver path with no file, and the stub nvcuda.dll playing each
+#                          machine without a usable GPU
+#
+# PBF_CUDA_FATBIN (a Linux build's pbf_kernels.fatbin) spares the nvcc build of the kernels
+# (scripts/run_tests.sh passes build/'s).
 #
 # Test cases that cannot work under Windows would be excluded by Catch2 tag here (none are).
 # Wine runs headless in a temporary prefix (about 0.7 GB, made in some seconds and removed at
@@ -26,6 +35,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root" || exit 1
 build="${1:-build-mingw}"
 suites=(pbf_api_tests pbf_reliability_tests pbf_unit_tests)
+driver_suite=pbf_backend_tests
 # Catch2 test spec per suite (empty: every test case), e.g. "~[posix-only]".
 declare -A spec=([pbf_api_tests]="" [pbf_reliability_tests]="" [pbf_unit_tests]="")
 
@@ -41,7 +51,7 @@ command -v wine >/dev/null 2>&1 || skip "no wine and it could not be installed"
 echo "== cross-build pbf.dll and ${suites[*]} ($build/)"
 mkdir -p "$build"
 build_log="$build/check_windows.build.log"
-if ! bash scripts/build_windows_dll.sh "$build" "${suites[@]}" >"$build_log" 2>&1; then
+if ! bash scripts/build_windows_dll.sh "$build" "${suites[@]}" "$driver_suite" >"$build_log" 2>&1; then
   grep -E -B2 -A6 'error|Error|build_windows_dll.sh:' "$build_log" | head -60
   fail "the MinGW build ($build_log)"
 fi
@@ -88,6 +98,45 @@ for suite in "${suites[@]}"; do
     results+=("$suite: $line, ${secs} s")
   fi
 done
+
+# The driver cases: each its own process (the driver is opened once per process).
+winpath() { echo "Z:$(tr '/' '\\' <<<"$1")"; }
+stubs="$build_abs/tests/stub_driver"
+echo
+echo "== wine $build/tests/$driver_suite.exe, one process per case of tests/stub_driver/cases.txt"
+log="$build/check_windows.$driver_suite.log"
+: >"$log"
+start=$(date +%s)
+passed=0
+driver_failed=()
+while read -r name driver mode; do
+  case "$name" in "" | "#"*) continue ;; esac
+  case "$driver" in
+    system) path="" ;;
+    missing) path="$(winpath "$stubs/missing/nvcuda.dll")" ;;
+    *) path="$(winpath "$stubs/$driver/nvcuda.dll")" ;;
+  esac
+  [ "$mode" = "-" ] && mode=""
+  vars=()
+  [ -n "$path" ] && vars+=("PBF_CUDA_DRIVER=$path")
+  [ -n "$mode" ] && vars+=("PBF_STUB_CUDA=$mode")
+  echo "-- $name: PBF_CUDA_DRIVER=${path:-(unset)} PBF_STUB_CUDA=${mode:-(unset)}" >>"$log"
+  if env -u PBF_CUDA_DRIVER -u PBF_STUB_CUDA "${vars[@]}" \
+       wine "$build/tests/$driver_suite.exe" "[driver-$name]" --warn NoTests >>"$log" 2>&1; then
+    passed=$((passed + 1))
+  else
+    driver_failed+=("$name")
+  fi
+done <tests/stub_driver/cases.txt
+secs=$(( $(date +%s) - start ))
+if [ "${#driver_failed[@]}" -gt 0 ]; then
+  tr -d '\r' <"$log" | grep -E -B3 -A12 'FAILED|failed|^-- ' | head -80
+  results+=("$driver_suite FAILED: cases ${driver_failed[*]} ($log)")
+  failed=1
+else
+  echo "all $passed cases passed"
+  results+=("$driver_suite: $passed driver cases passed, ${secs} s")
+fi
 wineserver -k 2>/dev/null || true
 
 summary="$(printf '%s; ' "${results[@]}")"

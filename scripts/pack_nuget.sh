@@ -4,7 +4,7 @@
 #   bash scripts/pack_nuget.sh [LIBDIR=build/lib] [OUTDIR=bindings/csharp/build/nuget]
 #
 #   lib/netstandard2.1/Pbf.dll (+ Pbf.xml, Pbf.dll.config)  the bindings, compiled with Mono's mcs
-#   runtimes/linux-x64/native/libpbf.so                     from LIBDIR (a CPU build: PBF_WITH_CUDA=OFF)
+#   runtimes/linux-x64/native/libpbf.so                     from LIBDIR (a build with CUDA: scripts/build.sh)
 #   runtimes/win-x64/native/pbf.dll                         from $PBF_WINDOWS_DLL (default
 #                                                           build-mingw/lib/pbf.dll)
 #
@@ -44,7 +44,7 @@ fi
 source scripts/native_libs.sh
 so="$(find_libpbf "$libdir")"
 if [ -z "$so" ]; then
-  echo "pack_nuget.sh: no libpbf.so in '$libdir' (build libpbf first: scripts/build.sh, or CMake with PBF_WITH_CUDA=OFF)" >&2
+  echo "pack_nuget.sh: no libpbf.so in '$libdir' (build libpbf first: scripts/build.sh)" >&2
   exit 2
 fi
 

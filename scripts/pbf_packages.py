@@ -5,7 +5,11 @@
   pbf_packages.py header-functions               the pbf_* functions the header declares
   pbf_packages.py exports FILE                   the functions a libpbf.so (ELF) or pbf.dll (PE) exports
   pbf_packages.py deps FILE                      the libraries it needs (DT_NEEDED / PE imports)
-  pbf_packages.py check-native FILE KIND         KIND linux-x64 | win-x64: format, CPU, exports == header
+  pbf_packages.py check-native FILE KIND [GPU]   KIND linux-x64 | win-x64: format, CPU, exports == header,
+                                                 no CUDA library linked, the kernels' fatbin embedded
+                                                 (GPU: required (default) | absent: a CPU-only build)
+  pbf_packages.py native-selftest SO DLL         break copies of a libpbf.so and pbf.dll built with CUDA:
+                                                 the native checks must fail on each
   pbf_packages.py unity-metas DIR [--write]      list (or write) the .meta files DIR lacks
   pbf_packages.py unity-check DIR                validate a Unity package the way Unity's importer reads it
   pbf_packages.py unity-selftest DIR             break copies of DIR one way at a time: each must fail
@@ -71,11 +75,14 @@ def header_functions():
 
 
 class NativeInfo(object):
-    def __init__(self, fmt, machine, exports, needed):
+    def __init__(self, fmt, machine, exports, needed, sections=(), data=b""):
         self.format = fmt          # "ELF64" | "PE32+" | ...
         self.machine = machine     # "x86_64" | ...
         self.exports = exports     # set of exported function names
         self.needed = needed       # list of libraries it links against
+        self.sections = list(sections)  # (name, file offset, size) of each section with file data
+        self.fatbin = find_fatbin(data, self.sections)
+        self.size = len(data)
 
 
 def _elf_info(data):
@@ -83,13 +90,17 @@ def _elf_info(data):
         return NativeInfo("ELF (not 64-bit little-endian)", "?", set(), [])
     e_machine = struct.unpack_from("<H", data, 18)[0]
     e_shoff = struct.unpack_from("<Q", data, 40)[0]
-    e_shentsize, e_shnum = struct.unpack_from("<HH", data, 58)
-    sections = []
+    e_shentsize, e_shnum, e_shstrndx = struct.unpack_from("<HHH", data, 58)
+    sections, named = [], []
     for i in range(e_shnum):
         off = e_shoff + i * e_shentsize
         (name, stype, flags, addr, offset, size, link, info, align, entsize) = struct.unpack_from(
             "<IIQQQQIIQQ", data, off)
         sections.append((stype, offset, size, link, entsize))
+        named.append((name, stype, offset, size))
+    names_off = sections[e_shstrndx][1] if e_shstrndx < len(sections) else 0
+    with_data = [(data[names_off + n:data.index(b"\0", names_off + n)].decode(errors="replace"), o, sz)
+                 for n, t, o, sz in named if t not in (0, 8)]  # SHT_NULL, SHT_NOBITS: no file data
     exports, needed = set(), []
     for stype, offset, size, link, entsize in sections:
         if stype == 11:  # SHT_DYNSYM
@@ -111,7 +122,7 @@ def _elf_info(data):
                     end = data.index(b"\0", str_off + val)
                     needed.append(data[str_off + val:end].decode())
     machine = {62: "x86_64", 183: "arm64", 3: "x86"}.get(e_machine, "machine %d" % e_machine)
-    return NativeInfo("ELF64", machine, exports, needed)
+    return NativeInfo("ELF64", machine, exports, needed, with_data, data)
 
 
 def _pe_info(data):
@@ -124,11 +135,12 @@ def _pe_info(data):
     magic = struct.unpack_from("<H", data, opt)[0]
     fmt = {0x20B: "PE32+", 0x10B: "PE32"}.get(magic, "PE?")
     dirs = opt + (112 if magic == 0x20B else 96)
-    sections = []
+    sections, named = [], []
     sec = opt + opt_size
     for i in range(nsections):
         vsize, vaddr, rawsize, rawptr = struct.unpack_from("<IIII", data, sec + i * 40 + 8)
         sections.append((vaddr, max(vsize, rawsize), rawptr))
+        named.append((data[sec + i * 40:sec + i * 40 + 8].rstrip(b"\0").decode(errors="replace"), rawptr, rawsize))
 
     def off(rva):
         for vaddr, size, rawptr in sections:
@@ -156,7 +168,7 @@ def _pe_info(data):
             needed.append(cstr(off(fields[3])))
             d += 20
     machine = {0x8664: "x86_64", 0x14C: "x86", 0xAA64: "arm64"}.get(machine_id, "machine 0x%x" % machine_id)
-    return NativeInfo(fmt, machine, exports, needed)
+    return NativeInfo(fmt, machine, exports, needed, named, data)
 
 
 def native_info(path):
@@ -169,14 +181,56 @@ def native_info(path):
     return NativeInfo("unknown", "?", set(), [])
 
 
+# libpbf's CUDA kernels: one fatbin (nvcc -fatbin) placed in the library's read-only data
+# (cmake/pbf_fatbin.c.in), which the library hands to the driver at run time. A fatbin starts
+# with this magic (little-endian), a version, its header's size and the size of its entries.
+FATBIN_MAGIC = struct.pack("<I", 0xBA55ED50)
+READONLY_SECTIONS = (".rodata", ".rdata")
+
+
+def find_fatbin(data, sections):
+    """libpbf's embedded fatbin: {"section", "offset", "bytes", "archs"} or None. Looked for in the
+    read-only data section, where libpbf places it; a fatbin elsewhere (.nv_fatbin, where nvcc's
+    CUDA runtime registration puts kernels) is not libpbf's."""
+    for name, start, size in sections:
+        if name not in READONLY_SECTIONS:
+            continue
+        at = data.find(FATBIN_MAGIC, start, start + size)
+        while at >= 0:
+            version, header, body = struct.unpack_from("<HHQ", data, at + 4)
+            end = at + header + body
+            if version == 1 and header == 16 and body > 0 and end <= start + size:
+                archs, e = [], at + header
+                while e + 32 <= end:  # entries: kind (1 PTX, 2 ELF), header size, payload size, arch
+                    kind, _, ehead, payload = struct.unpack_from("<HHIQ", data, e)
+                    arch = struct.unpack_from("<I", data, e + 28)[0]
+                    if ehead < 32 or e + ehead + payload > end:
+                        break
+                    archs.append(("sm_%d" if kind == 2 else "compute_%d") % arch)
+                    e += ehead + payload
+                if archs:
+                    return {"section": name, "offset": at, "bytes": end - at, "archs": archs,
+                            "sha256": hashlib.sha256(data[at:end]).hexdigest()}
+            at = data.find(FATBIN_MAGIC, at + 4, start + size)
+    return None
+
+
+# What a library must not link against: libpbf opens the NVIDIA driver itself at run time.
+CUDA_LIBRARY = re.compile(r"^(libcudart|libcuda\.|nvcuda|cudart)", re.I)
+# Each binary with all its GPU code (every architecture) stays within this size.
+MAX_NATIVE_BYTES = 25 * 1000 * 1000
+
 # Libraries every Windows x64 machine has; anything else must ship beside pbf.dll.
 WINDOWS_SYSTEM_DLLS = {"kernel32.dll", "msvcrt.dll", "user32.dll", "advapi32.dll", "ws2_32.dll",
                        "bcrypt.dll", "ntdll.dll", "shell32.dll", "ole32.dll", "ucrtbase.dll",
                        "vcruntime140.dll", "msvcp140.dll", "gdi32.dll", "opengl32.dll"}
 
 
-def check_native(path, kind, report):
-    """Format, CPU and exports of a native libpbf against the header. kind: linux-x64 | win-x64."""
+def check_native(path, kind, report, gpu="required"):
+    """Format, CPU and exports of a native libpbf against the header, and that it carries the GPU:
+    libpbf's kernels embedded, no CUDA library linked. kind: linux-x64 | win-x64. gpu: "required",
+    "absent" (a CPU-only build: no kernels either), or why the kernels are not required here (their
+    absence is then a warning)."""
     name = os.path.relpath(path, ROOT) if path.startswith(ROOT) else path
     if not os.path.isfile(path):
         report.fail("%s: missing" % name)
@@ -195,8 +249,8 @@ def check_native(path, kind, report):
     else:
         report.ok("%s: exports exactly the header's %d pbf_* functions" % (name, len(want)))
     if kind == "win-x64":
-        foreign = [d for d in info.needed
-                   if d.lower() not in WINDOWS_SYSTEM_DLLS and not d.lower().startswith("api-ms-win-")]
+        foreign = [d for d in info.needed if d.lower() not in WINDOWS_SYSTEM_DLLS
+                   and not d.lower().startswith("api-ms-win-") and not CUDA_LIBRARY.match(d)]
         if foreign:
             report.fail("%s: needs %s, which a Windows machine does not have (link them statically)"
                         % (name, ", ".join(foreign)))
@@ -204,7 +258,43 @@ def check_native(path, kind, report):
             report.ok("%s: needs only system DLLs (%s)" % (name, ", ".join(info.needed)))
     else:
         report.note("%s: needs %s" % (name, ", ".join(info.needed)))
+    cuda = [d for d in info.needed if CUDA_LIBRARY.match(d)]
+    if cuda:
+        report.fail("%s: links %s: libpbf must open the NVIDIA driver at run time, not link it" % (name, ", ".join(cuda)))
+    else:
+        report.ok("%s: links no CUDA library" % name)
+    f = info.fatbin
+    runtime = [s for s, _, _ in info.sections if s == ".nv_fatbin"]
+    if gpu == "absent":
+        (report.fail if f else report.ok)("%s: %s (a CPU-only build)" % (name, "carries a fatbin" if f else "no CUDA kernels"))
+    elif f and not runtime:
+        report.ok("%s: carries libpbf's CUDA kernels: a fatbin of %.1f MB in %s (%s)"
+                  % (name, f["bytes"] / 1e6, f["section"], ", ".join(f["archs"])))
+    else:
+        why = ("its kernels are in .nv_fatbin, a CUDA runtime build's" if runtime
+               else "no fatbin in %s: a build without CUDA" % "/".join(READONLY_SECTIONS))
+        if gpu == "required":
+            report.fail("%s: does not carry libpbf's CUDA kernels (%s)" % (name, why))
+        else:
+            report.warn("%s: does not carry libpbf's CUDA kernels (%s); not required: %s" % (name, why, gpu))
+    if info.size > MAX_NATIVE_BYTES:
+        report.fail("%s: %.1f MB, over the %.0f MB a binary with all its GPU code may take"
+                    % (name, info.size / 1e6, MAX_NATIVE_BYTES / 1e6))
+    else:
+        report.note("%s: %.1f MB" % (name, info.size / 1e6))
     return info
+
+
+def check_same_kernels(infos, report):
+    """The Linux and the Windows library carry the same kernels: one nvcc build serves both."""
+    blobs = {name: info.fatbin for name, info in infos if info is not None and info.fatbin}
+    if len(blobs) < 2:
+        return
+    if len({f["sha256"] for f in blobs.values()}) == 1:
+        report.ok("%s carry the same kernels (fatbin sha256 %s)" % (" and ".join(blobs), next(iter(blobs.values()))["sha256"][:16]))
+    else:
+        report.fail("the kernels differ: %s" % "; ".join("%s %s (%s)" % (n, f["sha256"][:16], ", ".join(f["archs"]))
+                                                       for n, f in blobs.items()))
 
 
 def loaded_version(path):
@@ -560,6 +650,26 @@ def check_manifest(package, report):
         report.ok("package.json version %s == header version" % version)
 
 
+# The last version whose plugins were built without the GPU loader (a CPU-only pbf.dll, a CUDA
+# runtime libpbf.so). The committed plugins are refreshed once per release with a version bump;
+# from then on they must carry libpbf's kernels like every other build.
+LAST_VERSION_WITHOUT_GPU = (2, 0, 0)
+
+
+def plugin_gpu_rule(path, version):
+    """check_native's gpu for a committed plugin: "required", except for a plugin built before the
+    GPU went into every binary (of a version up to LAST_VERSION_WITHOUT_GPU and from sources
+    without pbf_get_backend_info)."""
+    try:
+        v = tuple(int(x) for x in version.split("."))
+    except ValueError:
+        v = (0, 0, 0)
+    if v > LAST_VERSION_WITHOUT_GPU or "pbf_get_backend_info" in native_info(path).exports:
+        return "required"
+    return ("a build of %s, from before libpbf carried the GPU in every binary; required once the plugins are "
+            "refreshed with a version bump" % version)
+
+
 def unity_check(package):
     report = Report("unity package")
     package = os.path.abspath(package)
@@ -692,6 +802,7 @@ def unity_check(package):
     require_windows = os.environ.get("PBF_UNITY_REQUIRE_WINDOWS", "1") != "0"
     strict = os.environ.get("PBF_UNITY_STRICT", "0") == "1"
     current = source_commit()
+    infos = []
     for fname, kind in (("libpbf.so", "linux-x64"), ("pbf.dll", "win-x64")):
         path = os.path.join(plugdir, fname)
         if not os.path.isfile(path):
@@ -701,7 +812,8 @@ def unity_check(package):
             else:
                 report.fail(msg)
             continue
-        check_native(path, kind, report)
+        row = prov.get(fname)
+        infos.append((fname, check_native(path, kind, report, plugin_gpu_rule(path, row[1] if row else header_version()))))
         if kind == "linux-x64":
             v = loaded_version(path)
             if v == header_version():
@@ -709,7 +821,6 @@ def unity_check(package):
             else:
                 report.fail("Plugins/x86_64/%s: pbf_get_version() = %s, header %s: refresh the plugins"
                             % (fname, v, header_version()))
-        row = prov.get(fname)
         if not row:
             report.fail("Plugins/x86_64/%s: no provenance row in Plugins/x86_64/README.md" % fname)
             continue
@@ -726,6 +837,7 @@ def unity_check(package):
                 report.fail(msg)
             else:
                 report.warn(msg + " (PBF_UNITY_STRICT=1 makes this a failure)")
+    check_same_kernels(infos, report)
     return report.close()
 
 
@@ -833,6 +945,66 @@ def _baseline_failures(package):
     return {l.strip()[6:] for l in out.getvalue().splitlines() if l.startswith("  FAIL")}
 
 
+def native_selftest(so, dll):
+    """Breaks copies of a libpbf.so and a pbf.dll built with CUDA one way at a time: the native
+    checks must fail on each."""
+    import contextlib
+    import io
+    import shutil
+    import tempfile
+    report = Report("native check self-test")
+    print("== self-test: the native library checks must fail on each of these broken copies")
+
+    def patch(old, new, where=None):
+        def f(data, info):
+            start = data.find(old) if where is None else where(data, info)
+            assert start >= 0, old
+            data[start:start + len(new)] = new
+        return f
+
+    def in_fatbin(offset):
+        return lambda data, info: info.fatbin["offset"] + offset
+
+    cases = [
+        ("libpbf.so without the fatbin's magic", "so", patch(None, b"\0\0\0\0", in_fatbin(0))),
+        ("pbf.dll without the fatbin's magic", "dll", patch(None, b"\0\0\0\0", in_fatbin(0))),
+        ("libpbf.so needing libcuda", "so", patch(b"libm.so.6\0", b"libcuda.1\0")),
+        ("pbf.dll importing nvcuda.dll", "dll", patch(b"msvcrt.dll\0", b"nvcuda.dll\0")),
+        ("pbf.dll with other kernels than libpbf.so", "dll", patch(None, b"\xA5", in_fatbin(4096))),
+    ]
+    sources = {"so": os.path.abspath(so), "dll": os.path.abspath(dll)}
+    lacking = [p for p in sources.values() if not os.path.isfile(p) or not native_info(p).fatbin]
+    if lacking:
+        print("native check self-test: skipped (%s: no build with the CUDA kernels)" % ", ".join(lacking))
+        return 77
+    for name, which, breakit in cases:
+        with tempfile.TemporaryDirectory() as tmp:
+            paths = {}
+            for k, src in sources.items():
+                paths[k] = os.path.join(tmp, os.path.basename(src))
+                shutil.copyfile(src, paths[k])
+            with open(paths[which], "rb") as f:
+                data = bytearray(f.read())
+            try:
+                breakit(data, native_info(paths[which]))
+            except Exception as e:
+                report.fail("%s: could not break the copy (%s)" % (name, e))
+                continue
+            with open(paths[which], "wb") as f:
+                f.write(data)
+            out = io.StringIO()
+            checked = Report("native")
+            with contextlib.redirect_stdout(out):
+                infos = [(k, check_native(paths[k], {"so": "linux-x64", "dll": "win-x64"}[k], checked)) for k in ("so", "dll")]
+                check_same_kernels(infos, checked)
+            fails = [l.strip()[6:] for l in out.getvalue().splitlines() if l.startswith("  FAIL")]
+            if fails:
+                report.ok("%s: caught (%s)" % (name, fails[0][:110]))
+            else:
+                report.fail("%s: NOT caught" % name)
+    return report.close()
+
+
 # ---------------------------------------------------------------------------------------------
 # NuGet
 
@@ -933,6 +1105,7 @@ def nupkg_check(path):
             report.fail("lib/netstandard2.1/Pbf.dll missing")
         import tempfile
         with tempfile.TemporaryDirectory() as tmp:
+            infos = []
             for entry, kind in (("runtimes/linux-x64/native/libpbf.so", "linux-x64"),
                                 ("runtimes/win-x64/native/pbf.dll", "win-x64")):
                 if entry not in names:
@@ -943,7 +1116,11 @@ def nupkg_check(path):
                         report.fail(msg)
                     continue
                 z.extract(entry, tmp)
-                check_native(os.path.join(tmp, entry), kind, _Prefixed(report, entry))
+                # The package ships the GPU: PBF_NUGET_REQUIRE_GPU=0 accepts CPU-only builds (a
+                # machine without nvcc), with a warning.
+                gpu = "required" if os.environ.get("PBF_NUGET_REQUIRE_GPU", "1") != "0" else "PBF_NUGET_REQUIRE_GPU=0"
+                infos.append((entry, check_native(os.path.join(tmp, entry), kind, _Prefixed(report, entry), gpu)))
+            check_same_kernels(infos, report)
     return report.close()
 
 
@@ -979,8 +1156,10 @@ def main(argv):
         print("\n".join(native_info(args[0]).needed))
     elif cmd == "check-native":
         r = Report("native")
-        check_native(os.path.abspath(args[0]), args[1], r)
+        check_native(os.path.abspath(args[0]), args[1], r, args[2] if len(args) > 2 else "required")
         return r.close()
+    elif cmd == "native-selftest":
+        return native_selftest(args[0], args[1])
     elif cmd == "unity-metas":
         return unity_metas(os.path.abspath(args[0]), "--write" in args)
     elif cmd == "unity-check":

@@ -4,13 +4,15 @@
 #   0. scripts/check_history.sh before the build (code, README and docs cite no issue numbers or
 #      periods of work) and scripts/check_links.py after it (every relative Markdown link
 #      resolves; it needs the python3 the build's package check installs); seconds each;
-#   1. ctest: the C/C++ suites (unit, CPU scenes, C ABI) and the version check (label
-#      packaging); the [gpu] suite shows as Skipped where no CUDA device can be used;
+#   1. ctest: the C/C++ suites (unit, CPU scenes, C ABI), the driver tests against the stub CUDA
+#      driver (label backend) and the version check (label packaging); the [gpu] suite shows as
+#      Skipped where no CUDA device can be used;
 #   2. bindings/csharp/run_tests.sh: the C# bindings' NUnit tests against build/lib;
 #   3. scripts/check_install.sh: build/ installed into a temporary prefix and used by a small C
 #      program through find_package(pbf) and through pkg-config;
-#   4. scripts/check_windows.sh: the MinGW-w64 pbf.dll (build-mingw/) and the C API tests under
-#      Wine; skipped, and said so, where the MinGW compiler or Wine cannot be installed;
+#   4. scripts/check_windows.sh: the MinGW-w64 pbf.dll (build-mingw/, with build/'s CUDA kernels)
+#      and the C API and driver tests under Wine; skipped, and said so, where the MinGW compiler
+#      or Wine cannot be installed;
 #   5. scripts/check_packages.sh: the Unity package (as Unity's importer reads it, its committed
 #      plugins against the header) and the NuGet package (packed, validated, consumed under Mono
 #      with build/lib).
@@ -64,8 +66,11 @@ suite csharp "C# bindings (bindings/csharp/run_tests.sh $build/lib)" \
   bash bindings/csharp/run_tests.sh "$build/lib"
 suite install "install and consume (scripts/check_install.sh $build)" \
   bash scripts/check_install.sh "$build"
-suite windows "Windows (scripts/check_windows.sh: MinGW-w64 pbf.dll, C API tests under Wine)" \
-  bash scripts/check_windows.sh build-mingw
+# The Windows DLL embeds the kernels this build's nvcc made (they are the same for every OS).
+windows_fatbin=""
+[ -f "$build/pbf_kernels.fatbin" ] && windows_fatbin="$build/pbf_kernels.fatbin"
+suite windows "Windows (scripts/check_windows.sh: MinGW-w64 pbf.dll, C API and driver tests under Wine)" \
+  env PBF_CUDA_FATBIN="$windows_fatbin" bash scripts/check_windows.sh build-mingw
 suite packages "packages (scripts/check_packages.sh $build/lib: Unity package, NuGet package)" \
   bash scripts/check_packages.sh "$build/lib"
 
