@@ -35,5 +35,6 @@ esac
 cmake -S "$root" -B "$build_dir" \
   -DCMAKE_BUILD_TYPE=Release \
   -DPBF_WITH_CUDA="$with_cuda" \
+  -DPBF_WARNINGS_AS_ERRORS="${PBF_WARNINGS_AS_ERRORS:-OFF}" \
   -DPBF_CUDA_ARCHITECTURES="${PBF_CUDA_ARCHITECTURES:-90}"
 cmake --build "$build_dir" "${targets[@]}" -j"$(nproc)"

@@ -64,6 +64,7 @@ cmake -S "$root" -B "$build" \
   -DCMAKE_TOOLCHAIN_FILE="$root/cmake/mingw-w64-x86_64.cmake" \
   -DCMAKE_BUILD_TYPE=Release \
   -DPBF_WITH_CUDA="$with_cuda" \
+  -DPBF_WARNINGS_AS_ERRORS="${PBF_WARNINGS_AS_ERRORS:-OFF}" \
   -DPBF_CUDA_FATBIN="$fatbin" \
   -DPBF_CUDA_ARCHITECTURES="${PBF_CUDA_ARCHITECTURES:-90}" \
   -DPBF_WITH_INTEROP="${PBF_WITH_INTEROP:-ON}" \
