@@ -99,7 +99,7 @@ Verdict validate_world_desc(const pbf_world_desc& d) {
         for (int a = 0; a < 3; ++a)
             V(d.domain_max[a] - d.domain_min[a] >= 4.0f * d.particle_radius, WORLD_DOMAIN_SIZE);
         // The box's grid may be hashed (any extent costs the same memory), but float must still
-        // resolve h within it: the open limit box (world.cpp) bounds the walls too.
+        // resolve h within it: the open limit box (solver/step_plan.cpp) bounds the walls too.
         const double limit = std::ldexp(double(d.particle_radius), 19);
         for (int a = 0; a < 3; ++a)
             V(std::fabs(double(d.domain_min[a])) <= limit && std::fabs(double(d.domain_max[a])) <= limit,

@@ -214,7 +214,7 @@ PBF_HD float half_space_share(float u, float inv_h, float& slope) {
 // is each edge quadrant's non-separable part, odd in the signed depth of either plane (so a
 // quadrant and its neighbour across a plane still sum to the exact half-space): -κ g(u) g(v),
 // g(u) = sgn(u) Φ(1 - 2Φ) at t = |u|/h (zero on the plane and beyond h), summed over a slab's two
-// planes into G_a. κ (box_edge_scale, world.cpp) gives a rest lattice rest density at an edge's
+// planes into G_a. κ (box_edge_scale, lattice.h) gives a rest lattice rest density at an edge's
 // diagonal site, as γ does at a face; faces keep their exact share (G vanishes there).
 // Approximation: corners take the edges' terms only. The closest point's half-space, which the
 // other analytic shapes use, counts the whole tangent plane there: it packed too much boundary

@@ -17,8 +17,8 @@ constexpr float kDiffuseSpray = 0.0f, kDiffuseFoam = 1.0f, kDiffuseBubble = 2.0f
 // within 32 bits (2^30 fluid particles x 3 + 2^26 diffuse < 2^32).
 constexpr uint32_t kMaxDiffusePerParticle = 3;
 
-// Ihmsen et al.'s constants in this solver's units, translated by the world (world.cpp,
-// diffuse_constants). capacity 0: no buffers and no pass.
+// Ihmsen et al.'s constants in this solver's units, translated by the step plan
+// (solver/step_plan.cpp, diffuse_constants). capacity 0: no buffers and no pass.
 struct DiffuseConstants {
     uint32_t capacity = 0;
     float trapped_air_min = 0.0f, trapped_air_max = 1.0f;  // τ_ta (m/s, weighted sum)

@@ -26,7 +26,7 @@ namespace pbf {
 
 // Hashed cell coordinates are clamped to ±2^30 (no float-to-int overflow at 1e30 m or inf;
 // coordinates ±1 still fit in int32). Positions never get that far (the open limit box,
-// world.cpp); only data an engine wrote straight into the device buffers could.
+// solver/step_plan.cpp); only data an engine wrote straight into the device buffers could.
 constexpr int32_t kHashCellLimit = 1 << 30;
 constexpr uint32_t kMinHashBits = 12, kMaxHashBits = 30;
 

@@ -1,6 +1,6 @@
 // What every per-particle operation receives by value (host and device): the world's constants,
-// computed once when the world is created or its solver parameters change, and the step
-// context of one substep (Δt and everything derived from it), built by the world per substep.
+// computed once when the world is created or its parameters change, and the step context of
+// one substep (Δt and everything derived from it); the step plan (solver/step_plan.h) derives both.
 #pragma once
 #include <cstdint>
 #include "limits.h"
@@ -143,7 +143,7 @@ struct WorldConstants {
     // walls: particle centres stay within [wall_min, wall_max]; the solid begins at the domain
     // box [boundary_min, boundary_max] one radius further out. An open level (desc.walls 0) has
     // no solid: boundary_* lie at ±FLT_MAX, so no particle is ever within h of them (no wall
-    // density, push or adhesion), and wall_* is the open limit box (world.cpp) that only keeps
+    // density, push or adhesion), and wall_* is the open limit box (solver/step_plan.cpp) that only keeps
     // coordinates where float still resolves the kernel.
     Vec3 wall_min, wall_max;
     Vec3 boundary_min, boundary_max;
@@ -154,9 +154,9 @@ struct WorldConstants {
     MaterialConstants materials;
 };
 
-// One substep: Δt and what depends on it. Built by the world for each substep it queues.
+// One substep: Δt and what depends on it. Built by the step plan for each substep of a frame step.
 struct StepContext {
-    float dt, inv_dt;
+    float dt, inv_dt;        // the substep's Δt (sub_dt), not the frame step's (StepInput::frame_dt)
     float lambda_epsilon;    // ε of λ (relaxation × the rest gradient norm)
     float error_damping;     // γ = τ / Δt: an error present at the substep's start relaxes by 1/(1 + γ)
     float ldc_k;             // LDC's K (1/s²)

@@ -408,7 +408,7 @@ struct DeltaOp {
         Vec3 c = xi;
         if (!(control && control->converged)) {  // converged: x* carries over unchanged
             Vec3 dp{0.0f, 0.0f, 0.0f};
-            // s_corr's k relaxes with Δt (StepContext::scorr_k, world.cpp).
+            // s_corr's k relaxes with Δt (StepContext::scorr_k, solver/step_plan.cpp).
             const float scorr_k = ctx.scorr_k;
             for_each_listed_neighbor(s.grid, cell_begin, masks, i, [&](uint32_t j) {
                 if (j == i) return;

@@ -8,7 +8,7 @@
 namespace pbf {
 
 // What the world computes (PBF_RENDER_* of the C API) and Yu & Turk's constants, translated to
-// this solver's units by the world (world.cpp, render_constants).
+// this solver's units by the step plan (solver/step_plan.cpp, render_constants).
 constexpr uint32_t kRenderSmoothed = 0x1u;
 constexpr uint32_t kRenderAnisotropy = 0x2u;
 struct RenderConstants {

@@ -90,7 +90,7 @@ Status World::step(float frame_dt) {
     });
     FrameState frame;
     frame.frame_dt = frame_dt;
-    frame.feedback = backend_->feedback();
+    if (desc_.solver.substeps == 0) frame.feedback = backend_->feedback();  // only the automatic count reads it
     frame.emitted_speed = emitted_speed_;
     frame.emitted_depth = emitted_depth_;
     frame.overlaps_pending = overlaps_pending_;
