@@ -241,7 +241,7 @@ public:
         return exec_.check("clearing a collider's force");
     }
 
-    // ---- meshes (issue 13): a field per mesh, its view in a row of the mesh table -------------
+    // ---- meshes: a field per mesh, its view in a row of the mesh table -------------
     Status create_mesh(const MeshBuild& b, uint32_t row) override {
         exec_.activate();
         if (row >= kMaxMeshes || mesh_values_[row]) return Status::error(PBF_ERROR_INTERNAL, "mesh row in use");
