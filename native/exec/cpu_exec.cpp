@@ -8,15 +8,8 @@
 
 #include "cpu_exec.h"
 
-#if defined(_WIN32)
-#ifndef NOMINMAX
-#define NOMINMAX
-#endif
-#ifndef WIN32_LEAN_AND_MEAN
-#define WIN32_LEAN_AND_MEAN
-#endif
-#include <windows.h>
-#else
+#include "../common/windows_lean.h"
+#if !defined(_WIN32)
 #include <unistd.h>
 #endif
 
