@@ -98,8 +98,10 @@ extern "C" __global__ void __launch_bounds__(kCudaScanBlock) pbf_scan_reduce(con
     if (threadIdx.x == 0) partials[blockIdx.x] = total;
 }
 
-// partials[0, count) := their exclusive scan, by one block.
-extern "C" __global__ void __launch_bounds__(kCudaScanBlock) pbf_scan_spine(uint32_t* partials, uint32_t count) {
+namespace {
+// data[0, count) := its exclusive scan, by one block, a tile at a time; returns its sum (to every
+// thread).
+__device__ uint32_t scan_in_place(uint32_t* data, uint32_t count) {
     __shared__ union {
         typename ScanLoad::TempStorage load;
         typename ScanStore::TempStorage store;
@@ -109,17 +111,24 @@ extern "C" __global__ void __launch_bounds__(kCudaScanBlock) pbf_scan_spine(uint
     for (uint32_t base = 0; base < count; base += kCudaScanTile) {
         const int valid = int(min(count - base, uint32_t(kCudaScanTile)));
         uint32_t items[kCudaScanItems];
-        ScanLoad(temp.load).Load(partials + base, items, valid, 0u);
+        ScanLoad(temp.load).Load(data + base, items, valid, 0u);
         __syncthreads();
         uint32_t aggregate = 0;
         ScanBlock(temp.scan).ExclusiveSum(items, items, aggregate);
         __syncthreads();
 #pragma unroll
         for (int k = 0; k < kCudaScanItems; ++k) items[k] += carry;
-        ScanStore(temp.store).Store(partials + base, items, valid);
+        ScanStore(temp.store).Store(data + base, items, valid);
         __syncthreads();
         carry += aggregate;
     }
+    return carry;
+}
+}  // namespace
+
+// partials[0, count) := their exclusive scan, by one block.
+extern "C" __global__ void __launch_bounds__(kCudaScanBlock) pbf_scan_spine(uint32_t* partials, uint32_t count) {
+    scan_in_place(partials, count);
 }
 
 // out = the exclusive scan of in[0, n), each tile offset by its scanned partial. out may be in.
@@ -180,28 +189,8 @@ extern "C" __global__ void __launch_bounds__(kCudaScanBlock) pbf_radix_upsweep(c
 // Block d: counts[d · tiles .. (d + 1) · tiles) := their exclusive scan; totals[d] := their sum.
 extern "C" __global__ void __launch_bounds__(kCudaScanBlock) pbf_radix_scan_rows(uint32_t* counts, uint32_t tiles,
                                                                                  uint32_t* totals) {
-    __shared__ union {
-        typename ScanLoad::TempStorage load;
-        typename ScanStore::TempStorage store;
-        typename ScanBlock::TempStorage scan;
-    } temp;
-    uint32_t* row = counts + uint64_t(blockIdx.x) * tiles;
-    uint32_t carry = 0;
-    for (uint32_t base = 0; base < tiles; base += kCudaScanTile) {
-        const int valid = int(min(tiles - base, uint32_t(kCudaScanTile)));
-        uint32_t items[kCudaScanItems];
-        ScanLoad(temp.load).Load(row + base, items, valid, 0u);
-        __syncthreads();
-        uint32_t aggregate = 0;
-        ScanBlock(temp.scan).ExclusiveSum(items, items, aggregate);
-        __syncthreads();
-#pragma unroll
-        for (int k = 0; k < kCudaScanItems; ++k) items[k] += carry;
-        ScanStore(temp.store).Store(row + base, items, valid);
-        __syncthreads();
-        carry += aggregate;
-    }
-    if (threadIdx.x == 0) totals[blockIdx.x] = carry;
+    const uint32_t total = scan_in_place(counts + uint64_t(blockIdx.x) * tiles, tiles);
+    if (threadIdx.x == 0) totals[blockIdx.x] = total;
 }
 
 extern "C" __global__ void __launch_bounds__(kCudaScanBlock) pbf_radix_downsweep(
