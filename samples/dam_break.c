@@ -11,13 +11,13 @@
 
 #include "pbf_c_api.h"
 
-#define CHECK(call)                                                                      \
-    do {                                                                                 \
-        pbf_result r_ = (call);                                                          \
-        if (r_ != PBF_OK) {                                                              \
+#define CHECK(call)                                                                         \
+    do {                                                                                    \
+        pbf_result r_ = (call);                                                             \
+        if (r_ != PBF_OK) {                                                                 \
             fprintf(stderr, "dam_break: %s failed: %s\n", #call, pbf_last_error_message()); \
-            return 1;                                                                    \
-        }                                                                                \
+            return 1;                                                                       \
+        }                                                                                   \
     } while (0)
 
 static const char* backend_name(pbf_backend b) { return b == PBF_BACKEND_CUDA ? "cuda" : "cpu"; }
@@ -38,9 +38,14 @@ int main(int argc, char** argv) {
 
     pbf_world_desc desc = pbf_world_desc_default();
     const char* backend = getenv("PBF_BACKEND");
-    if (backend && strcmp(backend, "cpu") == 0) desc.backend = PBF_BACKEND_CPU;
-    else if (backend && strcmp(backend, "cuda") == 0) desc.backend = PBF_BACKEND_CUDA;
-    else if (backend && *backend) { fprintf(stderr, "PBF_BACKEND must be cpu or cuda\n"); return 2; }
+    if (backend && strcmp(backend, "cpu") == 0)
+        desc.backend = PBF_BACKEND_CPU;
+    else if (backend && strcmp(backend, "cuda") == 0)
+        desc.backend = PBF_BACKEND_CUDA;
+    else if (backend && *backend) {
+        fprintf(stderr, "PBF_BACKEND must be cpu or cuda\n");
+        return 2;
+    }
     desc.max_particles = (uint32_t)(particles * 11 / 10 + 64);
     desc.particle_radius = 0.5f * spacing;
     const float domain_min[3] = {0.0f, 0.0f, 0.0f}, domain_max[3] = {4.0f * a, 2.5f * a, 0.5f * a};
@@ -68,9 +73,11 @@ int main(int argc, char** argv) {
     memcpy(block.box_max, bmax, sizeof bmax);
     uint32_t emitted = 0;
     CHECK(pbf_world_emit_block(world, &block, &emitted));
-    printf("dam break: %u particles, spacing %.4f m, backend %s (%s), %ld steps of 1/60 s, %u substeps, %ld iterations, LDC %s\n",
-           emitted, spacing, backend_name(info.backend), info.device_name, steps, desc.solver.substeps, iterations,
-           desc.solver.ldc_enabled ? "on" : "off");
+    printf(
+        "dam break: %u particles, spacing %.4f m, backend %s (%s), %ld steps of 1/60 s, %u substeps, %ld iterations, "
+        "LDC %s\n",
+        emitted, spacing, backend_name(info.backend), info.device_name, steps, desc.solver.substeps, iterations,
+        desc.solver.ldc_enabled ? "on" : "off");
 
     double total_ms = 0.0;
     pbf_step_stats stats = {0};
@@ -93,8 +100,9 @@ int main(int argc, char** argv) {
         }
     }
 
-    printf("\n| backend | device | particles | steps | iterations | LDC | ms/step | density error (mean over run) | "
-           "density error max (last) | kinetic energy (J) |\n");
+    printf(
+        "\n| backend | device | particles | steps | iterations | LDC | ms/step | density error (mean over run) | "
+        "density error max (last) | kinetic energy (J) |\n");
     printf("|---|---|---|---|---|---|---|---|---|---|\n");
     printf("| %s | %s | %u | %ld | %ld | %s | %.3f | %.5f | %.4f | %.4f |\n", backend_name(info.backend),
            info.device_name, stats.particle_count, steps, iterations, desc.solver.ldc_enabled ? "on" : "off",

@@ -11,13 +11,13 @@
 
 #include "pbf_c_api.h"
 
-#define CHECK(call)                                                                             \
-    do {                                                                                        \
-        pbf_result r_ = (call);                                                                 \
-        if (r_ != PBF_OK) {                                                                     \
+#define CHECK(call)                                                                            \
+    do {                                                                                       \
+        pbf_result r_ = (call);                                                                \
+        if (r_ != PBF_OK) {                                                                    \
             fprintf(stderr, "floating_box: %s failed: %s\n", #call, pbf_last_error_message()); \
-            return 1;                                                                           \
-        }                                                                                       \
+            return 1;                                                                          \
+        }                                                                                      \
     } while (0)
 
 int main(int argc, char** argv) {
@@ -72,8 +72,8 @@ int main(int argc, char** argv) {
         const float position[3] = {0.36f, y, 0.36f}, rotation[4] = {0, 0, 0, 1};
         CHECK(pbf_collider_set_target_pose(world, crate, position, rotation));
         if (step % 30 == 29)
-            printf("t %.2f s  crate bottom %.3f m  water force %.1f N (weight %.1f N)\n", (step + 1) * dt,
-                   y - half, f.force[1], mass * g);
+            printf("t %.2f s  crate bottom %.3f m  water force %.1f N (weight %.1f N)\n", (step + 1) * dt, y - half,
+                   f.force[1], mass * g);
     }
     CHECK(pbf_world_destroy(world));
     return 0;

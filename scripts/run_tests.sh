@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Checks the tree, builds libpbf (scripts/build.sh, into build/) and runs every test this machine
 # can run:
-#   0. scripts/check_history.sh before the build (code, README and docs cite no issue numbers or
-#      periods of work) and scripts/check_links.py after it (every relative Markdown link
-#      resolves; it needs the python3 the build's package check installs); seconds each;
+#   0. scripts/check_history.sh and scripts/check_format.sh before the build (code, README and
+#      docs cite no issue numbers or periods of work; the C/C++ sources are as clang-format
+#      formats them) and scripts/check_links.py after it (every relative Markdown link resolves;
+#      it needs the python3 the build's package check installs); seconds each;
 #   1. ctest: the C/C++ suites (unit, CPU scenes, C ABI), the driver tests against the stub CUDA
 #      driver (label backend) and the version check (label packaging); the [gpu] suite shows as
 #      Skipped where no CUDA device can be used;
@@ -23,9 +24,11 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root" || exit 1
 build="build"
 
-echo "== tree (scripts/check_history.sh, then scripts/check_links.py after the build)"
+echo "== tree (scripts/check_history.sh, scripts/check_format.sh, then scripts/check_links.py after the build)"
 bash scripts/check_history.sh
 history_rc=$?
+bash scripts/check_format.sh
+format_rc=$?
 
 if ! bash scripts/build.sh "$build"; then
   echo "run_tests.sh: the build failed" >&2
@@ -79,7 +82,7 @@ ctest_skipped="$(grep -c '(Skipped)$' "$build/run_tests.ctest.log")"
 
 echo
 echo "== summary"
-echo "tree:   history [exit $history_rc], links [exit $links_rc]"
+echo "tree:   history [exit $history_rc], format [exit $format_rc], links [exit $links_rc]"
 if [ -n "$ctest_summary" ]; then
   echo "ctest:  $ctest_summary ($ctest_skipped skipped) [exit $ctest_rc]"
 else
@@ -90,7 +93,7 @@ summary_line install: install "check_install.sh: " timed
 summary_line windows: windows "check_windows.sh: " timed
 summary_line packages: packages "packages: " timed
 
-if [ "$history_rc" -ne 0 ] || [ "$links_rc" -ne 0 ] || [ "$ctest_rc" -ne 0 ] || [ "$csharp_rc" -ne 0 ] || [ "$install_rc" -ne 0 ] || [ "$windows_rc" -ne 0 ] ||
+if [ "$history_rc" -ne 0 ] || [ "$format_rc" -ne 0 ] || [ "$links_rc" -ne 0 ] || [ "$ctest_rc" -ne 0 ] || [ "$csharp_rc" -ne 0 ] || [ "$install_rc" -ne 0 ] || [ "$windows_rc" -ne 0 ] ||
    [ "$packages_rc" -ne 0 ]; then
   echo "run_tests.sh: FAILED"
   exit 1

@@ -36,11 +36,11 @@ inline pbf_world_id pool(pbf_backend backend, float lx, float ly, float lz, floa
     auto fill = [&](float x0, float y0, float z0, float x1, float y1, float z1) {
         if (x1 > x0 + 1e-4f && y1 > y0 + 1e-4f && z1 > z0 + 1e-4f) scene::fill(w, x0, y0, z0, x1, y1, z1);
     };
-    fill(0, 0, 0, lx, std::min(hole.lo[1], depth), lz);                    // below the hole
-    fill(0, hole.hi[1], 0, lx, depth, lz);                                 // above it
-    fill(0, hole.lo[1], 0, hole.lo[0], top, lz);                           // beside it in x
+    fill(0, 0, 0, lx, std::min(hole.lo[1], depth), lz);  // below the hole
+    fill(0, hole.hi[1], 0, lx, depth, lz);               // above it
+    fill(0, hole.lo[1], 0, hole.lo[0], top, lz);         // beside it in x
     fill(hole.hi[0], hole.lo[1], 0, lx, top, lz);
-    fill(hole.lo[0], hole.lo[1], 0, hole.hi[0], top, hole.lo[2]);         // beside it in z
+    fill(hole.lo[0], hole.lo[1], 0, hole.hi[0], top, hole.lo[2]);  // beside it in z
     fill(hole.lo[0], hole.lo[1], hole.hi[2], hole.hi[0], top, lz);
     return w;
 }
@@ -101,8 +101,10 @@ inline double surface_level(const scene::Particles& p, const Box& b, float margi
         if (x > b.lo[0] - margin && x < b.hi[0] + margin && z > b.lo[2] - margin && z < b.hi[2] + margin) continue;
         const auto key = std::make_pair(int(std::floor(x / (2.0f * r))), int(std::floor(z / (2.0f * r))));
         auto it = top.find(key);
-        if (it == top.end()) top[key] = y;
-        else it->second = std::max(it->second, y);
+        if (it == top.end())
+            top[key] = y;
+        else
+            it->second = std::max(it->second, y);
     }
     REQUIRE(!top.empty());
     double sum = 0;
@@ -151,8 +153,8 @@ inline double submerged_box_force(pbf_backend backend, const Setup& setup, doubl
         if (step < 120) continue;
         const pbf_collider_force f = force(w, box);
         fy += f.force[1];
-        tau = std::max(tau, double(std::sqrt(f.torque[0] * f.torque[0] + f.torque[1] * f.torque[1] +
-                                             f.torque[2] * f.torque[2])));
+        tau = std::max(
+            tau, double(std::sqrt(f.torque[0] * f.torque[0] + f.torque[1] * f.torque[1] + f.torque[2] * f.torque[2])));
         ++n;
     }
     REQUIRE_PBF(pbf_world_destroy(w));
@@ -310,7 +312,7 @@ inline PaddleImpulses paddle(pbf_backend backend, bool ldc) {
 struct ManyBoxes {
     double support_over_weight = 0;
     std::vector<double> box_up;  // N, per box, in creation order
-    double buoyancy = 0;          // ρ g V of one box
+    double buoyancy = 0;         // ρ g V of one box
 };
 
 inline ManyBoxes many_boxes(pbf_backend backend) {
@@ -357,7 +359,8 @@ inline ManyBoxes many_boxes(pbf_backend backend) {
     const float still[4] = {0, 0, 0, 1};
     int k = 0;
     for (int step = 0; step < 90; ++step) {
-        for (size_t b = 0; b < boxes.size(); ++b) REQUIRE_PBF(pbf_collider_set_target_pose(w, boxes[b], at[b].data(), still));
+        for (size_t b = 0; b < boxes.size(); ++b)
+            REQUIRE_PBF(pbf_collider_set_target_pose(w, boxes[b], at[b].data(), still));
         REQUIRE_PBF(pbf_world_step(w, kDt));
         double push = -force(w, floor).force[1];
         for (size_t b = 0; b < boxes.size(); ++b) {
@@ -429,7 +432,8 @@ inline void check_many_boxes(pbf_backend backend) {
     double mean = 0;
     for (double f : r.box_up) mean += f / double(r.box_up.size());
     INFO("(256 boxes + floor) / weight of the water, LDC off: " << r.support_over_weight << "; boxes' upward force "
-         << *lo << " .. " << *hi << " N, mean " << mean << " N (rho g V = " << r.buoyancy << " N)");
+                                                                << *lo << " .. " << *hi << " N, mean " << mean
+                                                                << " N (rho g V = " << r.buoyancy << " N)");
     // Every push lands on its own collider's row: the 257 rows together carry the water exactly
     // (a push lost, or counted on two rows, would show here).
     CHECK(std::fabs(r.support_over_weight - 1.0) <= 0.005);

@@ -284,9 +284,9 @@ int pbf_header_c99_defaults_ok(void) {
     pbf_collider_desc c = pbf_collider_desc_default();
     pbf_solver_params p = pbf_solver_params_default();
     pbf_render_params r = pbf_render_params_default();
-    return r.struct_size == sizeof r && r.flags == 0 && w.render.struct_size == sizeof r && w.struct_size == sizeof w && w.header_version == PBF_VERSION && b.struct_size == sizeof b &&
-           e.struct_size == sizeof e && c.struct_size == sizeof c && p.struct_size == sizeof p &&
-           p.iterations == 4;
+    return r.struct_size == sizeof r && r.flags == 0 && w.render.struct_size == sizeof r && w.struct_size == sizeof w &&
+           w.header_version == PBF_VERSION && b.struct_size == sizeof b && e.struct_size == sizeof e &&
+           c.struct_size == sizeof c && p.struct_size == sizeof p && p.iterations == 4;
 }
 
 /* The interop section's inline defaults compile as C99 too. */
@@ -299,6 +299,6 @@ int pbf_header_c99_interop_defaults_ok(void) {
     pbf_external_sync y = pbf_external_sync_default();
     pbf_render_event_fn f = pbf_get_render_event_func();
     return g.struct_size == sizeof g && g.mode == PBF_COPY_ON_STEP && d.struct_size == sizeof d &&
-           d.mode == PBF_COPY_ON_RENDER_EVENT && x.struct_size == sizeof x && x.fd == -1 &&
-           s.struct_size == sizeof s && y.struct_size == sizeof y && f != NULL;
+           d.mode == PBF_COPY_ON_RENDER_EVENT && x.struct_size == sizeof x && x.fd == -1 && s.struct_size == sizeof s &&
+           y.struct_size == sizeof y && f != NULL;
 }

@@ -97,10 +97,10 @@ inline Shape cube_in_zero_gravity(pbf_backend backend, float surface_tension, fl
 
 // ---- two fluids in one tank ---------------------------------------------------------------------
 struct Stratification {
-    double light_above = 0.0;        // fraction of the light fluid above the interface
-    double error_mean[2] = {0, 0};   // mean max(ρ/ρ0 - 1, 0) of the heavy [0] and light [1] fluid
+    double light_above = 0.0;       // fraction of the light fluid above the interface
+    double error_mean[2] = {0, 0};  // mean max(ρ/ρ0 - 1, 0) of the heavy [0] and light [1] fluid
     double error_max[2] = {0, 0};
-    double depth_mean[2] = {0, 0};   // the same of the lowest kHeavyCount [0] and the other [1] particles
+    double depth_mean[2] = {0, 0};  // the same of the lowest kHeavyCount [0] and the other [1] particles
     double depth_max[2] = {0, 0};
 };
 
@@ -140,7 +140,8 @@ inline Stratification two_fluids(pbf_backend backend, float light_density, float
     std::vector<Sample> by_height;
     Stratification s;
     for (uint32_t i = 0; i < p.count; ++i)
-        by_height.push_back({p.pos[4 * i + 1], mat[i] == light.index ? 1 : 0, std::max(0.0, double(p.pos[4 * i + 3]) - 1.0)});
+        by_height.push_back(
+            {p.pos[4 * i + 1], mat[i] == light.index ? 1 : 0, std::max(0.0, double(p.pos[4 * i + 3]) - 1.0)});
     std::sort(by_height.begin(), by_height.end(), [](const Sample& a, const Sample& b) { return a.y < b.y; });
     uint32_t light_above = 0;
     for (size_t i = 0; i < by_height.size(); ++i) {
@@ -208,7 +209,8 @@ inline double shear_loss(pbf_backend backend, float viscosity, uint32_t substeps
         const scene::Particles p = scene::read(w);
         double e = 0;
         for (uint32_t i = 0; i < p.count; ++i)
-            e += p.vel[4 * i] * p.vel[4 * i] + p.vel[4 * i + 1] * p.vel[4 * i + 1] + p.vel[4 * i + 2] * p.vel[4 * i + 2];
+            e +=
+                p.vel[4 * i] * p.vel[4 * i] + p.vel[4 * i + 1] * p.vel[4 * i + 1] + p.vel[4 * i + 2] * p.vel[4 * i + 2];
         return e;
     };
     const double e0 = kinetic();
@@ -305,9 +307,8 @@ inline void check_stratification(pbf_backend backend) {
 inline void check_adhesion(pbf_backend backend) {
     const Drop with = drop_under_sphere(backend, 3000.0f, 200.0f, 2.0f);
     const Drop without = drop_under_sphere(backend, 0.0f, 200.0f, 2.0f);
-    INFO("centroid height after 2 s (started at 0.24 m, floor at 0): with adhesion " << with.centroid_y
-                                                                                     << " m, without "
-                                                                                     << without.centroid_y << " m");
+    INFO("centroid height after 2 s (started at 0.24 m, floor at 0): with adhesion "
+         << with.centroid_y << " m, without " << without.centroid_y << " m");
     CHECK(with.centroid_y >= 0.20);
     CHECK(without.centroid_y < 0.10);
 }
@@ -315,15 +316,17 @@ inline void check_adhesion(pbf_backend backend) {
 inline void check_viscosity_substeps(pbf_backend backend) {
     const double loss2 = shear_loss(backend, 0.2f, 2), loss8 = shear_loss(backend, 0.2f, 8);
     const double inviscid = shear_loss(backend, 0.0f, 8);
-    INFO("energy lost in 0.25 s: " << loss2 << " at 2 substeps, " << loss8 << " at 8, " << inviscid << " without viscosity");
+    INFO("energy lost in 0.25 s: " << loss2 << " at 2 substeps, " << loss8 << " at 8, " << inviscid
+                                   << " without viscosity");
     CHECK(std::fabs(loss2 - loss8) <= 0.1 * std::max(loss2, loss8));
     CHECK(loss8 > inviscid + 0.1);  // the viscosity, not the solver, dissipates
 }
 
 inline void check_honey(pbf_backend backend) {
     const Spread water = collapse(backend, 0.01f, 0.5f), honey = collapse(backend, 0.9f, 0.5f);
-    INFO("front after 0.5 s: water " << water.front << " m, honey " << honey.front << " m (column 0.2 m); highest: water "
-                                      << water.height << " m, honey " << honey.height << " m (column 0.32 m)");
+    INFO("front after 0.5 s: water " << water.front << " m, honey " << honey.front
+                                     << " m (column 0.2 m); highest: water " << water.height << " m, honey "
+                                     << honey.height << " m (column 0.32 m)");
     CHECK(honey.front - 0.2 <= 0.5 * (water.front - 0.2));
 }
 
@@ -331,8 +334,10 @@ inline void check_honey(pbf_backend backend) {
 // leaves water nearly behind.
 inline void check_plate_drag(pbf_backend backend) {
     const float speed = 0.1f;
-    const double water = carried_by_plate(backend, 0.01f, speed, 1.0f), honey = carried_by_plate(backend, 0.9f, speed, 1.0f);
-    INFO("mean velocity along the plate after 1 s (plate " << speed << " m/s): water " << water << ", honey " << honey << " m/s");
+    const double water = carried_by_plate(backend, 0.01f, speed, 1.0f),
+                 honey = carried_by_plate(backend, 0.9f, speed, 1.0f);
+    INFO("mean velocity along the plate after 1 s (plate " << speed << " m/s): water " << water << ", honey " << honey
+                                                           << " m/s");
     CHECK(honey >= 0.5 * speed);
     CHECK(water <= 0.1 * speed);
     CHECK(water >= 0.0);

@@ -13,8 +13,8 @@ using scene::set3;
 constexpr float kR = 0.02f, kSpacing = 2.0f * kR, kH = 4.0f * kR;
 
 struct Mesh {
-    std::vector<float> v;        // xyz
-    std::vector<uint32_t> i;     // 3 per triangle, counter-clockwise seen from outside
+    std::vector<float> v;     // xyz
+    std::vector<uint32_t> i;  // 3 per triangle, counter-clockwise seen from outside
     uint32_t add_vertex(float x, float y, float z) {
         v.insert(v.end(), {x, y, z});
         return uint32_t(v.size() / 3 - 1);
@@ -69,14 +69,14 @@ inline Mesh hollow_box(float ix, float iy, float iz, float wall) {
 inline Mesh icosphere(float R, int levels) {
     Mesh m;
     const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
-    const float base[12][3] = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                               {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+    const float base[12][3] = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                               {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
     auto on_sphere = [&](float x, float y, float z) {
         const float s = R / std::sqrt(x * x + y * y + z * z);
         return m.add_vertex(x * s, y * s, z * s);
     };
     for (const auto& p : base) on_sphere(p[0], p[1], p[2]);
-    std::vector<uint32_t> tris = {0, 11, 5, 0, 5,  1,  0, 1, 7, 0, 7,  10, 0, 10, 11, 1, 5, 9, 5, 11,
+    std::vector<uint32_t> tris = {0, 11, 5,  0, 5,  1, 0, 1, 7, 0, 7,  10, 0, 10, 11, 1, 5, 9, 5, 11,
                                   4, 11, 10, 2, 10, 7, 6, 7, 1, 8, 3,  9,  4, 3,  4,  2, 3, 2, 6, 3,
                                   6, 8,  3,  8, 9,  4, 9, 5, 2, 4, 11, 6,  2, 10, 8,  6, 7, 9, 8, 1};
     for (int l = 0; l < levels; ++l) {
@@ -85,8 +85,8 @@ inline Mesh icosphere(float R, int levels) {
             const auto key = std::make_pair(std::min(a, b), std::max(a, b));
             auto it = mid.find(key);
             if (it != mid.end()) return it->second;
-            const uint32_t k = on_sphere(m.v[3 * a] + m.v[3 * b], m.v[3 * a + 1] + m.v[3 * b + 1],
-                                         m.v[3 * a + 2] + m.v[3 * b + 2]);
+            const uint32_t k =
+                on_sphere(m.v[3 * a] + m.v[3 * b], m.v[3 * a + 1] + m.v[3 * b + 1], m.v[3 * a + 2] + m.v[3 * b + 2]);
             mid[key] = k;
             return k;
         };
@@ -199,8 +199,10 @@ inline PlaneResult pool_on_open_plane(pbf_backend backend) {
     r.count = p.count;
     for (uint32_t k = 0; k < p.count; ++k) {
         const float y = p.pos[4 * k + 1];
-        if (y < 0.2f) ++r.leaked;
-        else r.lowest = std::min(r.lowest, y);
+        if (y < 0.2f)
+            ++r.leaked;
+        else
+            r.lowest = std::min(r.lowest, y);
     }
     REQUIRE_PBF(pbf_world_destroy(w));
     return r;

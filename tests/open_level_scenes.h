@@ -13,10 +13,10 @@ using scene::set3;
 constexpr float kR = 0.04f, kBox = 2.0f;
 
 struct Puddle {
-    pbf_step_stats stats;   // after the last step
-    double mean[3] = {};    // the fluid's centre relative to the box's lower corner
-    double spread = 0.0;    // rms distance from that centre in x-z
-    double top = 0.0;       // the highest particle above the floor
+    pbf_step_stats stats;  // after the last step
+    double mean[3] = {};   // the fluid's centre relative to the box's lower corner
+    double spread = 0.0;   // rms distance from that centre in x-z
+    double top = 0.0;      // the highest particle above the floor
     uint32_t count = 0;
     bool finite = false;
 };
@@ -41,10 +41,10 @@ struct BoxPlanes {
 inline BoxPlanes add_box_planes(pbf_world_id w, const float o[3], const float e[3], bool dynamic = false) {
     const float s = 0.70710678f;
     const float floor_p[3] = {o[0], o[1], o[2]}, floor_q[4] = {0, 0, 0, 1};
-    const float lx_p[3] = {o[0], o[1], o[2]}, lx_q[4] = {0, 0, -s, s};          // normal +x
-    const float hx_p[3] = {o[0] + e[0], o[1], o[2]}, hx_q[4] = {0, 0, s, s};    // normal -x
-    const float lz_p[3] = {o[0], o[1], o[2]}, lz_q[4] = {s, 0, 0, s};           // normal +z
-    const float hz_p[3] = {o[0], o[1], o[2] + e[2]}, hz_q[4] = {-s, 0, 0, s};   // normal -z
+    const float lx_p[3] = {o[0], o[1], o[2]}, lx_q[4] = {0, 0, -s, s};         // normal +x
+    const float hx_p[3] = {o[0] + e[0], o[1], o[2]}, hx_q[4] = {0, 0, s, s};   // normal -x
+    const float lz_p[3] = {o[0], o[1], o[2]}, lz_q[4] = {s, 0, 0, s};          // normal +z
+    const float hz_p[3] = {o[0], o[1], o[2] + e[2]}, hz_q[4] = {-s, 0, 0, s};  // normal -z
     return BoxPlanes{{add_plane(w, floor_p, floor_q, dynamic), add_plane(w, lx_p, lx_q, dynamic),
                       add_plane(w, hx_p, hx_q, dynamic), add_plane(w, lz_p, lz_q, dynamic),
                       add_plane(w, hz_p, hz_q, dynamic)}};
@@ -93,8 +93,8 @@ inline void check_puddle_open_like_box(pbf_backend backend) {
                      << box.stats.kinetic_energy << " mean y " << box.mean[1] << " spread " << box.spread << " top "
                      << box.top);
     INFO("open: err " << open.stats.density_error_mean << " max " << open.stats.density_error_max << " ke "
-                      << open.stats.kinetic_energy << " mean y " << open.mean[1] << " spread " << open.spread
-                      << " top " << open.top);
+                      << open.stats.kinetic_energy << " mean y " << open.mean[1] << " spread " << open.spread << " top "
+                      << open.top);
     REQUIRE(box.finite);
     REQUIRE(open.finite);
     REQUIRE(open.count == box.count);

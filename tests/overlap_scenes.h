@@ -24,8 +24,10 @@ inline void check_collider_appears(pbf_backend backend, bool teleported, float d
     pbf_collider_id box{};
     if (teleported) REQUIRE_PBF(pbf_world_create_collider(w, &c, &box));
     for (int k = 0; k < 60; ++k) REQUIRE_PBF(pbf_world_step(w, kDt));
-    if (teleported) REQUIRE_PBF(pbf_collider_teleport(w, box, centre, identity));
-    else REQUIRE_PBF(pbf_world_create_collider(w, &c, &box));
+    if (teleported)
+        REQUIRE_PBF(pbf_collider_teleport(w, box, centre, identity));
+    else
+        REQUIRE_PBF(pbf_world_create_collider(w, &c, &box));
     const int steps = int(std::lround(0.1 / dt));
     double fastest = 0.0;
     uint32_t inside_box = 0;
@@ -50,9 +52,10 @@ inline void check_collider_appears(pbf_backend backend, bool teleported, float d
     for (uint32_t i = 0; i < p.count; ++i) positions.insert({p.pos[4 * i], p.pos[4 * i + 1], p.pos[4 * i + 2]});
     pbf_collider_force f{};
     REQUIRE_PBF(pbf_collider_get_force(w, box, &f));
-    INFO((teleported ? "teleported" : "created") << " into the pool, steps of " << dt << " s: fastest particle "
-         << fastest << " m/s over 0.1 s, " << inside_box << " particles within r of the box after its first step, "
-         << positions.size() << " distinct positions of " << p.count << ", force on it " << f.force[1] << " N");
+    INFO((teleported ? "teleported" : "created")
+         << " into the pool, steps of " << dt << " s: fastest particle " << fastest << " m/s over 0.1 s, " << inside_box
+         << " particles within r of the box after its first step, " << positions.size() << " distinct positions of "
+         << p.count << ", force on it " << f.force[1] << " N");
     CHECK(inside_box == 0u);
     CHECK(p.count == n);
     CHECK(positions.size() == p.count);

@@ -26,11 +26,11 @@ inline std::string failure(const char* call, pbf_result r) {
 }
 
 // Runs a call; on failure stores the message in `err` (if empty) and returns false.
-#define REL_CALL(err, call)                                         \
-    ([&]() {                                                        \
-        const pbf_result r_ = (call);                               \
+#define REL_CALL(err, call)                                                 \
+    ([&]() {                                                                \
+        const pbf_result r_ = (call);                                       \
         if (r_ != PBF_OK && (err).empty()) (err) = rel::failure(#call, r_); \
-        return r_ == PBF_OK;                                        \
+        return r_ == PBF_OK;                                                \
     }())
 
 // A few distinct scenes, so that concurrent worlds do different work: a block of water, a
@@ -189,7 +189,7 @@ inline std::string consistent(const Capture& c, uint32_t capacity) {
 
 // ---- scenario: N worlds on N threads against the same worlds one after another -------------
 struct ParallelResult {
-    std::vector<std::string> errors;      // per world, "" if fine
+    std::vector<std::string> errors;       // per world, "" if fine
     std::vector<std::string> differences;  // per world, "" if bit-identical
 };
 
@@ -226,13 +226,14 @@ inline ParallelResult parallel_vs_sequential(pbf_backend backend, int worlds, in
     }
     for (std::thread& t : threads) t.join();
     for (int k = 0; k < worlds; ++k)
-        if (res.errors[size_t(k)].empty()) res.differences[size_t(k)] = compare(sequential[size_t(k)], parallel[size_t(k)]);
+        if (res.errors[size_t(k)].empty())
+            res.differences[size_t(k)] = compare(sequential[size_t(k)], parallel[size_t(k)]);
     return res;
 }
 
 // ---- scenario: several threads calling into ONE world at once ----------------------------------
 struct SharedWorldResult {
-    std::string error;              // first unexpected result or inconsistency
+    std::string error;  // first unexpected result or inconsistency
     uint64_t steps = 0, reads = 0, copies = 0, edits = 0;
 };
 
@@ -343,7 +344,7 @@ inline SharedWorldResult shared_world(pbf_backend backend, double seconds) {
 
 // ---- scenario: pbf_world_destroy racing with calls from other threads ------------------------
 struct DestroyRaceResult {
-    std::string error;          // a result other than OK / INVALID_HANDLE (or CAPACITY for emits)
+    std::string error;  // a result other than OK / INVALID_HANDLE (or CAPACITY for emits)
     uint64_t ok = 0, invalid = 0;
 };
 
@@ -377,11 +378,21 @@ inline DestroyRaceResult destroy_race(pbf_backend backend, int rounds, int calle
                     std::memset(&m, 0, sizeof m);
                     m.struct_size = sizeof m;
                     switch ((k + t) % 8) {
-                        case 0: r = pbf_world_step(w.id, 1.0f / 60.0f); break;
-                        case 1: r = pbf_world_get_stats(w.id, &st); break;
-                        case 2: r = pbf_world_copy_positions(w.id, buf.data(), 4096, &n); break;
-                        case 3: r = pbf_world_get_particle_count(w.id, &n); break;
-                        case 4: r = pbf_world_emit_block(w.id, &b, &n); break;
+                        case 0:
+                            r = pbf_world_step(w.id, 1.0f / 60.0f);
+                            break;
+                        case 1:
+                            r = pbf_world_get_stats(w.id, &st);
+                            break;
+                        case 2:
+                            r = pbf_world_copy_positions(w.id, buf.data(), 4096, &n);
+                            break;
+                        case 3:
+                            r = pbf_world_get_particle_count(w.id, &n);
+                            break;
+                        case 4:
+                            r = pbf_world_emit_block(w.id, &b, &n);
+                            break;
                         case 5:
                             r = pbf_world_create_collider(w.id, &c, &cid);
                             if (r == PBF_OK) {

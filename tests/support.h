@@ -41,22 +41,22 @@ inline std::string last_message() { return pbf_last_error_message(); }
 
 // Asserts the exact result code, that the message names the code (the library prefixes it) and
 // that it mentions `needle` (the offending field or object).
-#define CHECK_FAILS(call, code, needle)                                                             \
-    do {                                                                                            \
-        const pbf_result r_ = (call);                                                               \
-        INFO(#call << " -> " << pbf_result_string(r_) << " \"" << last_message() << "\"");         \
-        CHECK(std::string(pbf_result_string(r_)) == std::string(pbf_result_string(code)));          \
-        if (r_ != PBF_OK) {                                                                         \
-            CHECK_THAT(last_message(), Catch::Contains(pbf_result_string(code)));                   \
-            CHECK_THAT(last_message(), Catch::Contains(needle));                                    \
-        }                                                                                           \
+#define CHECK_FAILS(call, code, needle)                                                    \
+    do {                                                                                   \
+        const pbf_result r_ = (call);                                                      \
+        INFO(#call << " -> " << pbf_result_string(r_) << " \"" << last_message() << "\""); \
+        CHECK(std::string(pbf_result_string(r_)) == std::string(pbf_result_string(code))); \
+        if (r_ != PBF_OK) {                                                                \
+            CHECK_THAT(last_message(), Catch::Contains(pbf_result_string(code)));          \
+            CHECK_THAT(last_message(), Catch::Contains(needle));                           \
+        }                                                                                  \
     } while (0)
 
-#define REQUIRE_OK(call)                                                                            \
-    do {                                                                                            \
-        const pbf_result r_ = (call);                                                               \
-        INFO(#call << " -> " << pbf_result_string(r_) << " \"" << last_message() << "\"");         \
-        REQUIRE(r_ == PBF_OK);                                                                      \
+#define REQUIRE_OK(call)                                                                   \
+    do {                                                                                   \
+        const pbf_result r_ = (call);                                                      \
+        INFO(#call << " -> " << pbf_result_string(r_) << " \"" << last_message() << "\""); \
+        REQUIRE(r_ == PBF_OK);                                                             \
     } while (0)
 
 inline bool same_id(pbf_emitter_id a, pbf_emitter_id b) { return a.index == b.index && a.generation == b.generation; }
@@ -178,7 +178,9 @@ inline bool same_bits(const std::vector<float>& a, const std::vector<float>& b) 
     return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0);
 }
 
-inline bool same_params(const pbf_solver_params& a, const pbf_solver_params& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+inline bool same_params(const pbf_solver_params& a, const pbf_solver_params& b) {
+    return std::memcmp(&a, &b, sizeof a) == 0;
+}
 
 // REQUIRE_OK under the name the scene tests use.
 #define REQUIRE_PBF(call) REQUIRE_OK(call)
@@ -313,9 +315,8 @@ inline float profiled_stage_ms(pbf_world_id w, const char* name, float dt = 1.0f
 
 // pbf_world_map_device_buffers(w, flags) into a zeroed struct.
 inline pbf_device_buffers map_buffers(pbf_world_id w, uint32_t flags = 0) {
-    return read_struct<pbf_device_buffers>(w, [flags](pbf_world_id id, pbf_device_buffers* out) {
-        return pbf_world_map_device_buffers(id, flags, out);
-    });
+    return read_struct<pbf_device_buffers>(
+        w, [flags](pbf_world_id id, pbf_device_buffers* out) { return pbf_world_map_device_buffers(id, flags, out); });
 }
 
 // Steps both worlds n times.
@@ -379,7 +380,8 @@ inline Diffuse read_diffuse(pbf_world_id w) {
     uint32_t n = 0;
     REQUIRE_PBF(pbf_world_copy_buffer(w, PBF_BUFFER_DIFFUSE_POSITIONS, d.pos.data(), d.pos.size() * sizeof(float), &n));
     REQUIRE(n == d.count);
-    REQUIRE_PBF(pbf_world_copy_buffer(w, PBF_BUFFER_DIFFUSE_VELOCITIES, d.vel.data(), d.vel.size() * sizeof(float), &n));
+    REQUIRE_PBF(
+        pbf_world_copy_buffer(w, PBF_BUFFER_DIFFUSE_VELOCITIES, d.vel.data(), d.vel.size() * sizeof(float), &n));
     REQUIRE(n == d.count);
     return d;
 }

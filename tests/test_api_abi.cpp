@@ -179,7 +179,8 @@ TEST_CASE("struct_size: every desc and out struct with a wrong size is refused",
             for (pbf_emitter_desc e : {nozzle_desc(), drain_desc()}) {
                 e.struct_size = size_of(sizeof e);
                 pbf_emitter_id id{5, 5};
-                CHECK_FAILS(pbf_world_create_emitter(w, &e, &id), PBF_ERROR_STRUCT_SIZE, "pbf_emitter_desc.struct_size");
+                CHECK_FAILS(pbf_world_create_emitter(w, &e, &id), PBF_ERROR_STRUCT_SIZE,
+                            "pbf_emitter_desc.struct_size");
                 CHECK(id.generation == 0);
             }
         }
@@ -193,8 +194,8 @@ TEST_CASE("struct_size: every desc and out struct with a wrong size is refused",
         // Out structs: refused, and not written.
         check_out_size_refused(w, pbf_world_get_info, size_of(sizeof(pbf_world_info)), &pbf_world_info::max_particles,
                                "pbf_world_info.struct_size");
-        check_out_size_refused(w, pbf_world_get_stats, size_of(sizeof(pbf_step_stats)),
-                               &pbf_step_stats::particle_count, "pbf_step_stats.struct_size");
+        check_out_size_refused(w, pbf_world_get_stats, size_of(sizeof(pbf_step_stats)), &pbf_step_stats::particle_count,
+                               "pbf_step_stats.struct_size");
         check_out_size_refused(w, pbf_world_map_positions, size_of(sizeof(pbf_mapped_buffer)), &pbf_mapped_buffer::data,
                                "pbf_mapped_buffer.struct_size");
         CHECK_FAILS(pbf_world_unmap(w), PBF_ERROR_INVALID_STATE, "mapped");  // nothing got mapped

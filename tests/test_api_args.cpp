@@ -6,14 +6,10 @@ namespace {
 
 // Every float solver parameter, with the name its refusal mentions.
 const std::pair<float pbf_solver_params::*, const char*> kSolverFloats[] = {
-    {&pbf_solver_params::relaxation, "relaxation"},
-    {&pbf_solver_params::scorr_k, "scorr_k"},
-    {&pbf_solver_params::scorr_n, "scorr_n"},
-    {&pbf_solver_params::scorr_dq, "scorr_dq"},
-    {&pbf_solver_params::xsph_c, "xsph_c"},
-    {&pbf_solver_params::vorticity_epsilon, "vorticity_epsilon"},
-    {&pbf_solver_params::ldc_gain, "ldc_gain"},
-    {&pbf_solver_params::max_speed, "max_speed"},
+    {&pbf_solver_params::relaxation, "relaxation"}, {&pbf_solver_params::scorr_k, "scorr_k"},
+    {&pbf_solver_params::scorr_n, "scorr_n"},       {&pbf_solver_params::scorr_dq, "scorr_dq"},
+    {&pbf_solver_params::xsph_c, "xsph_c"},         {&pbf_solver_params::vorticity_epsilon, "vorticity_epsilon"},
+    {&pbf_solver_params::ldc_gain, "ldc_gain"},     {&pbf_solver_params::max_speed, "max_speed"},
 };
 
 // Each of NaN, +Inf and -Inf in each of the N floats of `field` (a vector or a quaternion) of a
@@ -107,7 +103,12 @@ TEST_CASE("world desc: NaN, Inf and out-of-range fields are refused", "[api][nan
         {"max_particles 0", [](pbf_world_desc& d) { d.max_particles = 0; }, "max_particles"},
         {"max_particles 2^30+1", [](pbf_world_desc& d) { d.max_particles = (1u << 30) + 1; }, "max_particles"},
         {"backend 7", [](pbf_world_desc& d) { d.backend = static_cast<pbf_backend>(7); }, "backend"},
-        {"backend -1", [](pbf_world_desc& d) { const int32_t v = -1; std::memcpy(&d.backend, &v, sizeof v); }, "backend"},
+        {"backend -1",
+         [](pbf_world_desc& d) {
+             const int32_t v = -1;
+             std::memcpy(&d.backend, &v, sizeof v);
+         },
+         "backend"},
         {"cuda_device -1", [](pbf_world_desc& d) { d.cuda_device = -1; }, "cuda_device"},
         {"particle_radius 0", [](pbf_world_desc& d) { d.particle_radius = 0; }, "particle_radius"},
         {"particle_radius -1", [](pbf_world_desc& d) { d.particle_radius = -1; }, "particle_radius"},
@@ -173,7 +174,13 @@ TEST_CASE("emitter desc: NaN, Inf and out-of-range fields are refused", "[api][n
     }
 
     // Out-of-range fields: test_validate.cpp compares the check that refuses each.
-    refuse([] { pbf_emitter_desc e = nozzle_desc(); e.speed = 0; return e; }(), "speed");
+    refuse(
+        [] {
+            pbf_emitter_desc e = nozzle_desc();
+            e.speed = 0;
+            return e;
+        }(),
+        "speed");
 
     // set_enabled and set_transform validate too.
     pbf_emitter_id nz{}, dr{};
@@ -232,12 +239,48 @@ TEST_CASE("collider desc and set_pose: NaN, Inf and out-of-range fields are refu
         {"shape 99", [] { return collider_desc(static_cast<pbf_collider_shape>(99)); }, "shape"},
         {"unset shape", [] { return pbf_collider_desc_default(); }, "shape"},
         {"motion 5", [] { return collider_desc(PBF_SHAPE_SPHERE, static_cast<pbf_collider_motion>(5)); }, "motion"},
-        {"zero quaternion", [] { pbf_collider_desc c = collider_desc(PBF_SHAPE_BOX); c.rotation[3] = 0; return c; }, "rotation"},
-        {"friction 1.5", [] { pbf_collider_desc c = collider_desc(PBF_SHAPE_BOX); c.friction = 1.5f; return c; }, "friction"},
-        {"friction -0.5", [] { pbf_collider_desc c = collider_desc(PBF_SHAPE_BOX); c.friction = -0.5f; return c; }, "friction"},
-        {"sphere radius 0", [] { pbf_collider_desc c = collider_desc(PBF_SHAPE_SPHERE); c.radius = 0; return c; }, "radius"},
-        {"capsule half_height -1", [] { pbf_collider_desc c = collider_desc(PBF_SHAPE_CAPSULE); c.half_height = -1; return c; }, "half_height"},
-        {"box half_extents 0", [] { pbf_collider_desc c = collider_desc(PBF_SHAPE_BOX); c.half_extents[1] = 0; return c; }, "half_extents"},
+        {"zero quaternion",
+         [] {
+             pbf_collider_desc c = collider_desc(PBF_SHAPE_BOX);
+             c.rotation[3] = 0;
+             return c;
+         },
+         "rotation"},
+        {"friction 1.5",
+         [] {
+             pbf_collider_desc c = collider_desc(PBF_SHAPE_BOX);
+             c.friction = 1.5f;
+             return c;
+         },
+         "friction"},
+        {"friction -0.5",
+         [] {
+             pbf_collider_desc c = collider_desc(PBF_SHAPE_BOX);
+             c.friction = -0.5f;
+             return c;
+         },
+         "friction"},
+        {"sphere radius 0",
+         [] {
+             pbf_collider_desc c = collider_desc(PBF_SHAPE_SPHERE);
+             c.radius = 0;
+             return c;
+         },
+         "radius"},
+        {"capsule half_height -1",
+         [] {
+             pbf_collider_desc c = collider_desc(PBF_SHAPE_CAPSULE);
+             c.half_height = -1;
+             return c;
+         },
+         "half_height"},
+        {"box half_extents 0",
+         [] {
+             pbf_collider_desc c = collider_desc(PBF_SHAPE_BOX);
+             c.half_extents[1] = 0;
+             return c;
+         },
+         "half_extents"},
     };
     for (const Case& c : cases) {
         INFO(c.what);

@@ -54,7 +54,7 @@ TEST_CASE("capacity: a nozzle in a full world emits nothing", "[api][capacity][e
     pbf_emitter_desc nd = nozzle_desc();
     nd.position[1] = 0.9f;
     nd.particles_per_second = 6000.0f;  // 100 per step
-    nd.speed = 12.0f;                    // so that the disc carries it (6780 per second)
+    nd.speed = 12.0f;                   // so that the disc carries it (6780 per second)
     pbf_emitter_id e{};
     REQUIRE_OK(pbf_world_create_emitter(w, &nd, &e));
     for (int i = 0; i < 10; ++i) {

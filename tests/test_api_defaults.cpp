@@ -32,9 +32,9 @@ std::map<std::string, Values> stated_defaults(const std::string& header, const s
     const std::regex field(R"(^\s+(?:const\s+)?\w+\**\s+\**(\w+)(?:\[\d+\])?;(.*)$)");
     const std::string number = R"(-?\d+(?:\.\d+)?(?:e[+-]?\d+)?)";
     // "(default 0.5)", "(defaults 2 and 8)", "(default 0, -9.81, 0)", or "1 (default)".
-    const std::regex stated("defaults?\\s+(" + number + "(?:\\s*(?:,|and|\\.\\.)\\s*" + number + ")*)|(" + number +
-                            ")\\s+\\(default\\)",
-                            std::regex::icase);
+    const std::regex stated(
+        "defaults?\\s+(" + number + "(?:\\s*(?:,|and|\\.\\.)\\s*" + number + ")*)|(" + number + ")\\s+\\(default\\)",
+        std::regex::icase);
     const std::regex each(number);
 
     // Each field's comment runs from its declaration to the next declaration.

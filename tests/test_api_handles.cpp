@@ -186,15 +186,15 @@ TEST_CASE("stale handles: colliders", "[api][handle][collider]") {
 
 // Per-world slot tables use the same indices; generations from one process-wide counter keep
 // world A's first emitter handle from matching world B's first emitter.
-TEST_CASE("handles: an emitter handle of one world is refused by another world that has emitters",
-          "[api][handle]") {
+TEST_CASE("handles: an emitter handle of one world is refused by another world that has emitters", "[api][handle]") {
     TestWorld a, b;
     pbf_emitter_desc dd = drain_desc();
     dd.enabled = 0;
     pbf_emitter_id ea{}, eb{};
     REQUIRE_OK(pbf_world_create_emitter(a, &dd, &ea));
     REQUIRE_OK(pbf_world_create_emitter(b, &dd, &eb));
-    INFO("A's emitter {" << ea.index << ", " << ea.generation << "}, B's {" << eb.index << ", " << eb.generation << "}");
+    INFO("A's emitter {" << ea.index << ", " << ea.generation << "}, B's {" << eb.index << ", " << eb.generation
+                         << "}");
     CHECK_FAILS(pbf_emitter_set_enabled(b, ea, 1), PBF_ERROR_INVALID_HANDLE, "emitter");
     pbf_collider_desc cd = collider_desc(PBF_SHAPE_SPHERE);
     pbf_collider_id ca{}, cb{};

@@ -69,7 +69,8 @@ TEST_CASE("interop: pbf_world_register_d3d11_buffer refuses bad arguments before
     pbf_d3d11_buffer_desc d = valid_d3d11_desc();
 
     CHECK_FAILS(pbf_world_register_d3d11_buffer(w.id, &d, nullptr), PBF_ERROR_INVALID_ARGUMENT, "out_buffer");
-    CHECK_FAILS(pbf_world_register_d3d11_buffer(w.id, nullptr, &id), PBF_ERROR_INVALID_ARGUMENT, "pbf_d3d11_buffer_desc");
+    CHECK_FAILS(pbf_world_register_d3d11_buffer(w.id, nullptr, &id), PBF_ERROR_INVALID_ARGUMENT,
+                "pbf_d3d11_buffer_desc");
     CHECK(is_zero(id));  // cleared on every failure
 
     struct Case {
@@ -80,15 +81,16 @@ TEST_CASE("interop: pbf_world_register_d3d11_buffer refuses bad arguments before
     };
     const Case cases[] = {
         {"struct_size", [](pbf_d3d11_buffer_desc& x) { x.struct_size -= 8; }, PBF_ERROR_STRUCT_SIZE, "struct_size"},
-        {"NULL buffer", [](pbf_d3d11_buffer_desc& x) { x.buffer = nullptr; }, PBF_ERROR_INVALID_ARGUMENT, "ID3D11Buffer"},
+        {"NULL buffer", [](pbf_d3d11_buffer_desc& x) { x.buffer = nullptr; }, PBF_ERROR_INVALID_ARGUMENT,
+         "ID3D11Buffer"},
         {"unknown source",
          [](pbf_d3d11_buffer_desc& x) {
              const int32_t bad = 9;  // past the last pbf_buffer
              std::memcpy(&x.source, &bad, sizeof bad);
          },
          PBF_ERROR_INVALID_ARGUMENT, "source"},
-        {"materials (bytes)", [](pbf_d3d11_buffer_desc& x) { x.source = PBF_BUFFER_MATERIALS; }, PBF_ERROR_INVALID_ARGUMENT,
-         "graphics buffers"},
+        {"materials (bytes)", [](pbf_d3d11_buffer_desc& x) { x.source = PBF_BUFFER_MATERIALS; },
+         PBF_ERROR_INVALID_ARGUMENT, "graphics buffers"},
         {"unknown mode",
          [](pbf_d3d11_buffer_desc& x) {
              const int32_t bad = 7;
@@ -98,8 +100,8 @@ TEST_CASE("interop: pbf_world_register_d3d11_buffer refuses bad arguments before
         {"manual mode", [](pbf_d3d11_buffer_desc& x) { x.mode = PBF_COPY_MANUAL; }, PBF_ERROR_INVALID_ARGUMENT,
          "no manual copy"},
         {"capacity 0", [](pbf_d3d11_buffer_desc& x) { x.capacity = 0; }, PBF_ERROR_INVALID_ARGUMENT, "capacity"},
-        {"offset not a multiple of 16", [](pbf_d3d11_buffer_desc& x) { x.offset_bytes = 8; }, PBF_ERROR_INVALID_ARGUMENT,
-         "multiple of 16"},
+        {"offset not a multiple of 16", [](pbf_d3d11_buffer_desc& x) { x.offset_bytes = 8; },
+         PBF_ERROR_INVALID_ARGUMENT, "multiple of 16"},
         {"draw args offset not a multiple of 4", [](pbf_d3d11_buffer_desc& x) { x.draw_args_offset_bytes = 2; },
          PBF_ERROR_INVALID_ARGUMENT, "draw_args_offset_bytes"},
         {"reserved0", [](pbf_d3d11_buffer_desc& x) { x.reserved0 = 1; }, PBF_ERROR_INVALID_ARGUMENT, "reserved0"},
@@ -163,10 +165,12 @@ TEST_CASE("interop: graphics buffer registrations on a CPU world, a stale world,
         REQUIRE_OK(pbf_world_destroy(gone));
         w.release();
         CHECK_FAILS(pbf_world_register_d3d11_buffer(gone, &d, &id),
-                    d3d11 ? PBF_ERROR_INVALID_HANDLE : PBF_ERROR_BACKEND_UNAVAILABLE, "pbf_world_register_d3d11_buffer");
+                    d3d11 ? PBF_ERROR_INVALID_HANDLE : PBF_ERROR_BACKEND_UNAVAILABLE,
+                    "pbf_world_register_d3d11_buffer");
         CHECK(is_zero(id));
         CHECK_FAILS(pbf_world_unregister_d3d11_buffer(gone, pbf_d3d11_buffer_id{0, 1}),
-                    d3d11 ? PBF_ERROR_INVALID_HANDLE : PBF_ERROR_BACKEND_UNAVAILABLE, "pbf_world_unregister_d3d11_buffer");
+                    d3d11 ? PBF_ERROR_INVALID_HANDLE : PBF_ERROR_BACKEND_UNAVAILABLE,
+                    "pbf_world_unregister_d3d11_buffer");
     }
     SECTION("a source the world does not compute: INVALID_STATE naming the flag, where the build has the API") {
         pbf_d3d11_buffer_desc smooth = d;
@@ -181,7 +185,8 @@ TEST_CASE("interop: graphics buffer registrations on a CPU world, a stale world,
     }
     SECTION("unregistering a handle the world never gave out") {
         // No interop state on a CPU world: every handle is stale (or the build lacks the API).
-        for (pbf_d3d11_buffer_id forged : {pbf_d3d11_buffer_id{0, 0}, pbf_d3d11_buffer_id{0, 1}, pbf_d3d11_buffer_id{5, 77}})
+        for (pbf_d3d11_buffer_id forged :
+             {pbf_d3d11_buffer_id{0, 0}, pbf_d3d11_buffer_id{0, 1}, pbf_d3d11_buffer_id{5, 77}})
             CHECK_FAILS(pbf_world_unregister_d3d11_buffer(w.id, forged),
                         d3d11 ? PBF_ERROR_INVALID_HANDLE : PBF_ERROR_BACKEND_UNAVAILABLE,
                         d3d11 ? "not live in this world" : "pbf_world_unregister_d3d11_buffer");

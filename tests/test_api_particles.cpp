@@ -183,8 +183,8 @@ TEST_CASE("a failed call changes nothing", "[api][atomic]") {
     CHECK_FAILS(pbf_world_step(w, 0.0f), PBF_ERROR_INVALID_ARGUMENT, "dt");
     CHECK_FAILS(pbf_world_step(w, kInf), PBF_ERROR_INVALID_ARGUMENT, "dt");
     pbf_solver_params bad = params;
-    bad.iterations = 3;    // a valid change ...
-    bad.max_speed = -1.0f; // ... in a refused struct must not be applied
+    bad.iterations = 3;     // a valid change ...
+    bad.max_speed = -1.0f;  // ... in a refused struct must not be applied
     CHECK_FAILS(pbf_world_set_solver_params(w, &bad), PBF_ERROR_INVALID_ARGUMENT, "max_speed");
     const float g[3] = {0, kNaN, 0};
     CHECK_FAILS(pbf_world_set_gravity(w, g), PBF_ERROR_INVALID_ARGUMENT, "gravity");

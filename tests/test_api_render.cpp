@@ -58,7 +58,8 @@ bool inside_by(const RenderData& r, uint32_t i, const Box& b, float margin, std:
 
 }  // namespace
 
-TEST_CASE("render: defaults, and a lattice block: round inside, flat on top, smoothing keeps the interior", "[api][render]") {
+TEST_CASE("render: defaults, and a lattice block: round inside, flat on top, smoothing keeps the interior",
+          "[api][render]") {
     const pbf_render_params p = pbf_render_params_default();
     CHECK(p.struct_size == sizeof p);
     CHECK(p.flags == 0u);
@@ -173,8 +174,10 @@ TEST_CASE("render: off costs nothing; on, its bytes, passes and pointers are acc
     // Profiled, the "render data" stage takes no time without render data: no pass ran.
     for (TestWorld* t : {&off, &both}) {
         const float ms = profiled_stage_ms(*t, "render data");
-        if (t == &off) CHECK(ms == 0.0f);
-        else CHECK(ms > 0.0f);
+        if (t == &off)
+            CHECK(ms == 0.0f);
+        else
+            CHECK(ms > 0.0f);
     }
     CHECK(world_info(off).render_updates == 0u);
 
@@ -212,25 +215,26 @@ TEST_CASE("render: pbf_world_copy_buffer and render params refuse bad input, and
     uint32_t written = 99;
 
     SECTION("render data off: INVALID_STATE naming the flag") {
-        CHECK_FAILS(pbf_world_copy_buffer(off, PBF_BUFFER_ANISOTROPY, out.data(), 48, &written), PBF_ERROR_INVALID_STATE,
-                    "PBF_RENDER_ANISOTROPY");
+        CHECK_FAILS(pbf_world_copy_buffer(off, PBF_BUFFER_ANISOTROPY, out.data(), 48, &written),
+                    PBF_ERROR_INVALID_STATE, "PBF_RENDER_ANISOTROPY");
         CHECK(written == 0u);
         CHECK_FAILS(pbf_world_copy_buffer(off, PBF_BUFFER_SMOOTHED_POSITIONS, out.data(), 16, &written),
                     PBF_ERROR_INVALID_STATE, "PBF_RENDER_SMOOTHED_POSITIONS");
         // Only smoothed positions on: anisotropy is still refused.
         TestWorld smooth(render_desc(PBF_RENDER_SMOOTHED_POSITIONS));
-        CHECK_FAILS(pbf_world_copy_buffer(smooth, PBF_BUFFER_ANISOTROPY, out.data(), 48, &written), PBF_ERROR_INVALID_STATE,
-                    "render data is off");
+        CHECK_FAILS(pbf_world_copy_buffer(smooth, PBF_BUFFER_ANISOTROPY, out.data(), 48, &written),
+                    PBF_ERROR_INVALID_STATE, "render data is off");
         CHECK(out[0] == -7.0f);
     }
     SECTION("NULL, wrong sizes, unknown sources, stale handles") {
-        CHECK_FAILS(pbf_world_copy_buffer(on, PBF_BUFFER_ANISOTROPY, nullptr, 48, &written), PBF_ERROR_INVALID_ARGUMENT, "NULL");
-        CHECK_FAILS(pbf_world_copy_buffer(on, PBF_BUFFER_ANISOTROPY, out.data(), 47, &written), PBF_ERROR_INVALID_ARGUMENT,
-                    "multiple of the source's element size 48");
+        CHECK_FAILS(pbf_world_copy_buffer(on, PBF_BUFFER_ANISOTROPY, nullptr, 48, &written), PBF_ERROR_INVALID_ARGUMENT,
+                    "NULL");
+        CHECK_FAILS(pbf_world_copy_buffer(on, PBF_BUFFER_ANISOTROPY, out.data(), 47, &written),
+                    PBF_ERROR_INVALID_ARGUMENT, "multiple of the source's element size 48");
         CHECK_FAILS(pbf_world_copy_buffer(on, PBF_BUFFER_SMOOTHED_POSITIONS, out.data(), 8, &written),
                     PBF_ERROR_INVALID_ARGUMENT, "element size 16");
-        CHECK_FAILS(pbf_world_copy_buffer(on, static_cast<pbf_buffer>(0), out.data(), 48, &written), PBF_ERROR_INVALID_ARGUMENT,
-                    "source");
+        CHECK_FAILS(pbf_world_copy_buffer(on, static_cast<pbf_buffer>(0), out.data(), 48, &written),
+                    PBF_ERROR_INVALID_ARGUMENT, "source");
         CHECK_FAILS(pbf_world_copy_buffer(on, static_cast<pbf_buffer>(-1), out.data(), 48, &written),
                     PBF_ERROR_INVALID_ARGUMENT, "source");
         CHECK_FAILS(pbf_world_copy_buffer(pbf_world_id{77, 3}, PBF_BUFFER_POSITIONS, out.data(), 16, &written),
@@ -312,7 +316,8 @@ TEST_CASE("render: parameters change between steps, flags stay the creation's", 
         CHECK_FAILS(pbf_world_set_render_params(w, nullptr), PBF_ERROR_INVALID_ARGUMENT, "NULL");
         CHECK_FAILS(pbf_world_get_render_params(w, nullptr), PBF_ERROR_INVALID_ARGUMENT, "NULL");
         bad = q;
-        CHECK_FAILS(pbf_world_get_render_params(pbf_world_id{5, 5}, &bad), PBF_ERROR_INVALID_HANDLE, "pbf_world_get_render_params");
+        CHECK_FAILS(pbf_world_get_render_params(pbf_world_id{5, 5}, &bad), PBF_ERROR_INVALID_HANDLE,
+                    "pbf_world_get_render_params");
         pbf_render_params now = pbf_render_params_default();
         REQUIRE_OK(pbf_world_get_render_params(w, &now));
         CHECK(std::memcmp(&now, &q, sizeof q) == 0);

@@ -117,7 +117,9 @@ int stub_calls(const char* entry) {
     const std::string path = env("PBF_CUDA_DRIVER");
 #if defined(_WIN32)
     void* lib = reinterpret_cast<void*>(GetModuleHandleA(path.c_str()));
-    auto fn = lib ? reinterpret_cast<int (*)(const char*)>(GetProcAddress(static_cast<HMODULE>(lib), "pbf_stub_cuda_calls")) : nullptr;
+    auto fn =
+        lib ? reinterpret_cast<int (*)(const char*)>(GetProcAddress(static_cast<HMODULE>(lib), "pbf_stub_cuda_calls"))
+            : nullptr;
 #else
     void* lib = dlopen(path.c_str(), RTLD_NOW | RTLD_NOLOAD);
     auto fn = lib ? reinterpret_cast<int (*)(const char*)>(dlsym(lib, "pbf_stub_cuda_calls")) : nullptr;
@@ -129,8 +131,10 @@ int stub_calls(const char* entry) {
 
 // The case's environment, as tests/stub_driver/cases.txt gives it.
 void require_stub(const char* mode) {
-    INFO("run through ctest -L backend (or scripts/check_windows.sh): PBF_CUDA_DRIVER must name the stub driver "
-         "and PBF_STUB_CUDA be " << mode);
+    INFO(
+        "run through ctest -L backend (or scripts/check_windows.sh): PBF_CUDA_DRIVER must name the stub driver "
+        "and PBF_STUB_CUDA be "
+        << mode);
     REQUIRE(!env("PBF_CUDA_DRIVER").empty());
     REQUIRE(env("PBF_STUB_CUDA") == mode);
 }
@@ -261,8 +265,9 @@ TEST_CASE("driver: the embedded fatbin reaches the driver; no code for the GPU -
     require_stub("no-binary");
     // The stub answers NO_BINARY_FOR_GPU only for an image that starts as a fatbin does
     // (INVALID_IMAGE otherwise, which would be DRIVER_ERROR).
-    check_cuda_refused(PBF_BACKEND_STATUS_DEVICE_UNSUPPORTED,
-                       {"have no code that runs on Stub GPU 86 (compute capability 8.6)", "CUDA_ERROR_NO_BINARY_FOR_GPU"});
+    check_cuda_refused(
+        PBF_BACKEND_STATUS_DEVICE_UNSUPPORTED,
+        {"have no code that runs on Stub GPU 86 (compute capability 8.6)", "CUDA_ERROR_NO_BINARY_FOR_GPU"});
     CHECK(stub_calls("cuModuleLoadData") >= 1);
     // Each failed load gives back the context it took.
     CHECK(stub_calls("cuDevicePrimaryCtxRetain") == stub_calls("cuModuleLoadData"));

@@ -74,8 +74,8 @@ void check_queries(const std::vector<Collider>& shapes, const ColliderGridCapaci
             const int expected = overlaps(shapes[k].bounds, lo, hi) ? 1 : 0;
             met += uint64_t(expected);
             if (calls[k] != expected) {
-                INFO("query " << q << " path " << len << " collider " << k << ": called " << calls[k] << " times, expected "
-                              << expected);
+                INFO("query " << q << " path " << len << " collider " << k << ": called " << calls[k]
+                              << " times, expected " << expected);
                 REQUIRE(calls[k] == expected);
             }
         }
@@ -114,7 +114,8 @@ TEST_CASE("collider grid: 1 km from the origin", "[collider_grid]") {
 TEST_CASE("collider grid: few colliders, or none bounded, build no grid", "[collider_grid]") {
     std::mt19937 rng(17);
     ColliderGridLists lists;
-    build_collider_grid(random_colliders(kLinearColliders, Vec3{0, 0, 0}, rng), kReach, collider_grid_capacity(64), &lists);
+    build_collider_grid(random_colliders(kLinearColliders, Vec3{0, 0, 0}, rng), kReach, collider_grid_capacity(64),
+                        &lists);
     CHECK(lists.bucket_begin.empty());
     std::vector<Collider> planes(40);
     for (Collider& c : planes)
@@ -146,7 +147,8 @@ std::vector<Vec3> surface_samples(const Collider& c, std::mt19937& rng) {
     std::vector<Vec3> pts;
     if (c.shape == kShapeBox) {
         for (int m = 0; m < 8; ++m)
-            pts.push_back(Vec3{m & 1 ? c.half_extents.x : -c.half_extents.x, m & 2 ? c.half_extents.y : -c.half_extents.y,
+            pts.push_back(Vec3{m & 1 ? c.half_extents.x : -c.half_extents.x,
+                               m & 2 ? c.half_extents.y : -c.half_extents.y,
                                m & 4 ? c.half_extents.z : -c.half_extents.z});
         return pts;
     }
@@ -185,8 +187,9 @@ TEST_CASE("collider grid: a turning collider's step bounds hold it at every pose
             const float angle = small(rng), sn = std::sin(0.5f * angle) / std::fmax(length(axis), 1e-6f);
             const Quat r{axis.x * sn, axis.y * sn, axis.z * sn, std::cos(0.5f * angle)};
             const Quat a = k.from_rotation;  // r * a
-            k.to_rotation = Quat{r.w * a.x + r.x * a.w + r.y * a.z - r.z * a.y, r.w * a.y - r.x * a.z + r.y * a.w + r.z * a.x,
-                                 r.w * a.z + r.x * a.y - r.y * a.x + r.z * a.w, r.w * a.w - r.x * a.x - r.y * a.y - r.z * a.z};
+            k.to_rotation =
+                Quat{r.w * a.x + r.x * a.w + r.y * a.z - r.z * a.y, r.w * a.y - r.x * a.z + r.y * a.w + r.z * a.x,
+                     r.w * a.z + r.x * a.y - r.y * a.x + r.z * a.w, r.w * a.w - r.x * a.x - r.y * a.y - r.z * a.z};
         }
         const Bounds b = swept_bounds(c, k);
         const std::vector<Vec3> pts = surface_samples(c, rng);
@@ -224,4 +227,3 @@ TEST_CASE("collider grid: a collider kilometres wide among small ones is walked 
     CHECK(always);
     check_queries(shapes, collider_grid_capacity(256), Vec3{0, 0, 0}, rng);
 }
-

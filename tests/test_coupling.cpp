@@ -79,13 +79,15 @@ TEST_CASE("coupling: 256 dynamic kinematic boxes each record their own push, and
 // The same checks where docs/physics.md (Two-way coupling) says buoyancy is accurate: the box 12
 // particle diameters across (radius 0.01 m) and the fluid held within 0.3 % of its rest density
 // (adaptive iterations, up to 16). The [gpu] twins also run at 24 diameters.
-TEST_CASE("coupling: resolved (12 particle diameters, density held within 0.3 %), a submerged box feels rho g V within 5 %",
-          "[coupling]") {
+TEST_CASE(
+    "coupling: resolved (12 particle diameters, density held within 0.3 %), a submerged box feels rho g V within 5 %",
+    "[coupling]") {
     check_archimedes(PBF_BACKEND_CPU, resolved(0.01f));
 }
 
-TEST_CASE("coupling: resolved (12 particle diameters, density held within 0.3 %), a box of 500 kg/m3 floats half "
-          "submerged within 5 %",
-          "[coupling]") {
+TEST_CASE(
+    "coupling: resolved (12 particle diameters, density held within 0.3 %), a box of 500 kg/m3 floats half "
+    "submerged within 5 %",
+    "[coupling]") {
     check_floating(PBF_BACKEND_CPU, resolved(0.01f));
 }

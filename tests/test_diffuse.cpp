@@ -87,11 +87,10 @@ TEST_CASE("diffuse: defaults; a breaking dam makes them at its front, a resting 
     }
     const pbf_step_stats s = stats(dam);
     const Diffuse d = read_diffuse(dam);
-    INFO("first diffuse particles at step " << first_step << ", " << front_lead << " m ahead of the fluid's centre; "
-                                            << d.count << " live after 90 steps (" << d.of_kind(PBF_DIFFUSE_SPRAY)
-                                            << " spray, " << d.of_kind(PBF_DIFFUSE_FOAM) << " foam, "
-                                            << d.of_kind(PBF_DIFFUSE_BUBBLE) << " bubbles), "
-                                            << s.diffuse_generated_total << " generated");
+    INFO("first diffuse particles at step "
+         << first_step << ", " << front_lead << " m ahead of the fluid's centre; " << d.count
+         << " live after 90 steps (" << d.of_kind(PBF_DIFFUSE_SPRAY) << " spray, " << d.of_kind(PBF_DIFFUSE_FOAM)
+         << " foam, " << d.of_kind(PBF_DIFFUSE_BUBBLE) << " bubbles), " << s.diffuse_generated_total << " generated");
     CHECK(first_step > 0);
     CHECK(first_step < 30);
     CHECK(front_lead > 0.05);
@@ -130,7 +129,8 @@ TEST_CASE("diffuse: never more than the capacity; what did not fit is counted", 
     CHECK(d.count == s.diffuse_count);
     std::vector<float> big(4 * 100, -7.0f);
     uint32_t written = 0;
-    REQUIRE_PBF(pbf_world_copy_buffer(w, PBF_BUFFER_DIFFUSE_POSITIONS, big.data(), big.size() * sizeof(float), &written));
+    REQUIRE_PBF(
+        pbf_world_copy_buffer(w, PBF_BUFFER_DIFFUSE_POSITIONS, big.data(), big.size() * sizeof(float), &written));
     CHECK(written == s.diffuse_count);
     REQUIRE_PBF(pbf_world_destroy(w));
 }
@@ -158,7 +158,8 @@ TEST_CASE("diffuse: lifetimes run down; with generation off every one dissolves"
     for (uint32_t i = 0; i < after.count; ++i) aged += after.vel[4 * i + 3];
     double was = 0.0;
     for (uint32_t i = 0; i < before.count; ++i) was += before.vel[4 * i + 3];
-    INFO("remaining lifetime summed: " << was << " s over " << before.count << " -> " << aged << " s over " << after.count);
+    INFO("remaining lifetime summed: " << was << " s over " << before.count << " -> " << aged << " s over "
+                                       << after.count);
     CHECK(aged < was);
     // No generation: bubbles surface, everything dissolves within a few lifetimes.
     const uint64_t generated = stats(w).diffuse_generated_total;
@@ -171,9 +172,9 @@ TEST_CASE("diffuse: lifetimes run down; with generation off every one dissolves"
 TEST_CASE("diffuse: kinds behave: spray falls, bubbles rise, foam rides a still surface", "[api][diffuse]") {
     pbf_world_id w = still_tank(16);
     // The water's surface is at y = 0.3 m.
-    const float pos[] = {0.3f, 0.6f, 0.15f, PBF_DIFFUSE_SPRAY,   // in the air
-                         0.3f, 0.1f, 0.15f, PBF_DIFFUSE_BUBBLE,  // 0.2 m deep
-                         0.3f, 0.29f, 0.15f, PBF_DIFFUSE_FOAM};  // on the surface
+    const float pos[] = {0.3f, 0.6f,  0.15f, PBF_DIFFUSE_SPRAY,   // in the air
+                         0.3f, 0.1f,  0.15f, PBF_DIFFUSE_BUBBLE,  // 0.2 m deep
+                         0.3f, 0.29f, 0.15f, PBF_DIFFUSE_FOAM};   // on the surface
     const float vel[] = {0, 0, 0, 5.0f, 0, 0, 0, 5.0f, 0, 0, 0, 5.0f};
     uint32_t added = 0;
     REQUIRE_PBF(pbf_world_add_diffuse(w, pos, vel, 3, &added));

@@ -23,9 +23,9 @@ frames::FrameResult run_cut(bool dam, uint32_t substeps, uint32_t iterations, bo
 }
 
 void check_ok(const frames::FrameResult& r) {
-    INFO("verdict " << r.verdict << ": max (KE + dPE) / Mga " << r.max_energy_gain << ", vmax " << r.vmax
-                    << " m/s (" << r.vmax_ratio << " x sqrt(2 g 2a)), error mean " << r.err_mean << " max "
-                    << r.err_max << ", KE_end " << r.ke_end << " Mga, vmax_end " << r.vmax_end << " m/s, substeps "
+    INFO("verdict " << r.verdict << ": max (KE + dPE) / Mga " << r.max_energy_gain << ", vmax " << r.vmax << " m/s ("
+                    << r.vmax_ratio << " x sqrt(2 g 2a)), error mean " << r.err_mean << " max " << r.err_max
+                    << ", KE_end " << r.ke_end << " Mga, vmax_end " << r.vmax_end << " m/s, substeps "
                     << r.substeps_mean << " (max " << r.substeps_max << "), clamped " << r.clamp_fraction);
     CHECK(r.particles == 2u * 32u * 32u * 6u);
     CHECK(r.frames_run == 120);

@@ -140,7 +140,8 @@ TEST_CASE("CUDA and CPU agree on render data: after an emission and after a step
         for (uint32_t i = 0; i < a.count; ++i) {
             const uint32_t j = gpu_index.at(pa.ids[i]);
             for (int k = 0; k < 3; ++k)
-                worst_smoothed = std::max(worst_smoothed, double(std::fabs(a.smoothed[4 * i + k] - b.smoothed[4 * j + k])));
+                worst_smoothed =
+                    std::max(worst_smoothed, double(std::fabs(a.smoothed[4 * i + k] - b.smoothed[4 * j + k])));
             const auto ea = ellipsoid(a, i), eb = ellipsoid(b, j);
             for (int k = 0; k < 6; ++k) worst_ellipsoid = std::max(worst_ellipsoid, std::fabs(ea[k] - eb[k]) / r2);
         }

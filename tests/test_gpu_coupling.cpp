@@ -55,12 +55,14 @@ TEST_CASE("coupling on CUDA: a paddle feels the reaction of the momentum it give
     check_paddle(PBF_BACKEND_CUDA);
 }
 
-TEST_CASE("coupling on CUDA: 256 dynamic kinematic boxes each record their own push, and with the floor carry the water",
-          "[gpu][coupling][colliders]") {
+TEST_CASE(
+    "coupling on CUDA: 256 dynamic kinematic boxes each record their own push, and with the floor carry the water",
+    "[gpu][coupling][colliders]") {
     check_many_boxes(PBF_BACKEND_CUDA);
 }
 
-TEST_CASE("coupling on CUDA: the force table is device memory and agrees with pbf_collider_get_force", "[gpu][coupling]") {
+TEST_CASE("coupling on CUDA: the force table is device memory and agrees with pbf_collider_get_force",
+          "[gpu][coupling]") {
     const Box b{{0.24f, 0.16f, 0.24f}, {0.48f, 0.40f, 0.48f}};
     pbf_world_id w = pool(PBF_BACKEND_CUDA, 0.72f, 0.8f, 0.72f, 0.56f, b);
     const pbf_collider_id box = add_box(w, b, PBF_MOTION_STATIC);

@@ -20,7 +20,7 @@ KindsRun kinds_after_10_steps(pbf_backend backend) {
     pbf_world_id w = create(d);
     REQUIRE(fill(w, 0, 0, 0, 0.6f, 0.3f, 0.3f) == 432u);
     for (int s = 0; s < 30; ++s) REQUIRE_PBF(pbf_world_step(w, kDt));
-    const float pos[] = {0.3f, 0.6f, 0.15f, PBF_DIFFUSE_SPRAY, 0.3f, 0.1f, 0.15f, PBF_DIFFUSE_BUBBLE,
+    const float pos[] = {0.3f, 0.6f,  0.15f, PBF_DIFFUSE_SPRAY, 0.3f, 0.1f, 0.15f, PBF_DIFFUSE_BUBBLE,
                          0.3f, 0.29f, 0.15f, PBF_DIFFUSE_FOAM};
     const float vel[] = {0, 0, 0, 5.0f, 0, 0, 0, 5.0f, 0, 0, 0, 5.0f};
     REQUIRE_PBF(pbf_world_add_diffuse(w, pos, vel, 3, nullptr));
@@ -40,7 +40,8 @@ double fluid_velocity_difference(const Particles& a, const Particles& b) {
         REQUIRE(a.ids[i] < row.size());
         const int64_t j = row[a.ids[i]];
         REQUIRE(j >= 0);
-        for (int c = 0; c < 3; ++c) worst = std::max(worst, double(std::fabs(a.vel[4 * i + c] - b.vel[4 * size_t(j) + c])));
+        for (int c = 0; c < 3; ++c)
+            worst = std::max(worst, double(std::fabs(a.vel[4 * i + c] - b.vel[4 * size_t(j) + c])));
     }
     return worst;
 }
@@ -73,7 +74,8 @@ TEST_CASE("CUDA and CPU agree on diffuse particles: injected kinds move alike", 
     }
 }
 
-TEST_CASE("CUDA diffuse particles at a breaking dam: comparable to the CPU, capacity and lifetime kept", "[gpu][diffuse]") {
+TEST_CASE("CUDA diffuse particles at a breaking dam: comparable to the CPU, capacity and lifetime kept",
+          "[gpu][diffuse]") {
     pbf_world_id cpu = diffuse_dam(PBF_BACKEND_CPU, 20000), gpu = diffuse_dam(PBF_BACKEND_CUDA, 20000);
     step_both(cpu, gpu, 60);
     // A splashing flow is chaotic: rounding makes the backends' particles differ after a few

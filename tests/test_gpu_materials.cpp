@@ -7,7 +7,8 @@ TEST_CASE("materials on CUDA: a cube with surface tension relaxes to a sphere an
     check_sphere(PBF_BACKEND_CUDA);
 }
 
-TEST_CASE("materials on CUDA: two fluids of 1000 and 500 kg/m3 stratify without extra compression", "[gpu][materials]") {
+TEST_CASE("materials on CUDA: two fluids of 1000 and 500 kg/m3 stratify without extra compression",
+          "[gpu][materials]") {
     check_stratification(PBF_BACKEND_CUDA);
 }
 

@@ -33,11 +33,11 @@ using namespace scene;
 
 namespace {
 
-#define CHECK_CODE(call, code)                                                                        \
-    do {                                                                                              \
-        const pbf_result r_ = (call);                                                                 \
-        INFO(#call << " -> " << pbf_result_string(r_) << ": " << pbf_last_error_message());           \
-        CHECK(std::string(pbf_result_string(r_)) == std::string(pbf_result_string(code)));           \
+#define CHECK_CODE(call, code)                                                              \
+    do {                                                                                    \
+        const pbf_result r_ = (call);                                                       \
+        INFO(#call << " -> " << pbf_result_string(r_) << ": " << pbf_last_error_message()); \
+        CHECK(std::string(pbf_result_string(r_)) == std::string(pbf_result_string(code)));  \
     } while (0)
 
 uint32_t support() {
@@ -226,7 +226,8 @@ TEST_CASE("interop: the ABI refuses bad arguments, stale handles, CPU worlds; in
         CHECK_CODE(pbf_world_import_semaphore(w, &s, &sid), PBF_ERROR_INVALID_ARGUMENT);  // fd -1
         CHECK_CODE(pbf_world_release_semaphore(w, forged_semaphore()), PBF_ERROR_INVALID_HANDLE);
         CHECK_CODE(pbf_world_release_external_buffer(w, pbf_external_buffer_id{0, 0}), PBF_ERROR_INVALID_HANDLE);
-        CHECK_CODE(pbf_world_copy_to_external_buffer(w, pbf_external_buffer_id{2, 99}, nullptr), PBF_ERROR_INVALID_HANDLE);
+        CHECK_CODE(pbf_world_copy_to_external_buffer(w, pbf_external_buffer_id{2, 99}, nullptr),
+                   PBF_ERROR_INVALID_HANDLE);
 
 #if defined(__unix__)
         // A failed import leaves the fd with the caller (here: /dev/null is no GPU memory).
@@ -415,8 +416,7 @@ bool gl_usable(const Gl& gl) {
 // Runs body(gl) where this libpbf has CUDA-GL interop and EGL works; says why not otherwise.
 template <class Body>
 void with_gl(Body body) {
-    if (!has_interop(PBF_INTEROP_SUPPORT_OPENGL, "this libpbf has no CUDA-GL interop (built without CUDA)"))
-        return;
+    if (!has_interop(PBF_INTEROP_SUPPORT_OPENGL, "this libpbf has no CUDA-GL interop (built without CUDA)")) return;
     Gl gl;
     if (gl_usable(gl)) body(gl);
 }
@@ -442,8 +442,7 @@ TEST_CASE("interop GL: buffers equal copy-out after a step; the render path adds
 #if !PBF_TEST_HAVE_EGL_GL
     WARN("not built: EGL or the OpenGL headers were not found when configuring");
 #else
-    if (!has_interop(PBF_INTEROP_SUPPORT_OPENGL, "this libpbf has no CUDA-GL interop (built without CUDA)"))
-        return;
+    if (!has_interop(PBF_INTEROP_SUPPORT_OPENGL, "this libpbf has no CUDA-GL interop (built without CUDA)")) return;
     Gl gl;
     if (!gl_usable(gl)) return;
     pbf_world_id w = small_world(PBF_BACKEND_CUDA);
@@ -455,7 +454,8 @@ TEST_CASE("interop GL: buffers equal copy-out after a step; the render path adds
 
     // On-step buffers: positions with draw args {n, 1, 0, 0}, velocities at an offset, ids with
     // instanced draw args {4, n, 0, 0}.
-    const GLuint pos = gl.buffer(size_t(cap) * 16), vel = gl.buffer(size_t(cap) * 16 + 64), ids = gl.buffer(size_t(cap) * 4);
+    const GLuint pos = gl.buffer(size_t(cap) * 16), vel = gl.buffer(size_t(cap) * 16 + 64),
+                 ids = gl.buffer(size_t(cap) * 4);
     const GLuint pos_args = gl.buffer(16), ids_args = gl.buffer(32);
     const pbf_gl_buffer_id pos_id = register_gl(w, pos, PBF_BUFFER_POSITIONS, PBF_COPY_ON_STEP, cap, pos_args);
     const pbf_gl_buffer_id vel_id = register_gl(w, vel, PBF_BUFFER_VELOCITIES, PBF_COPY_ON_STEP, cap, 0, 0, 64);
@@ -526,7 +526,8 @@ TEST_CASE("interop GL: buffers equal copy-out after a step; the render path adds
         CHECK(std::memcmp(gl.read<float>(pos, size_t(r2.count) * 4).data(), r2.pos.data(), size_t(r2.count) * 16) == 0);
         CHECK(std::memcmp(gl.read<float>(rbuf, size_t(r.count) * 4).data(), r.pos.data(), size_t(r.count) * 16) == 0);
         pbf_get_render_event_func()(PBF_RENDER_EVENT_ALL_WORLDS);
-        CHECK(std::memcmp(gl.read<float>(rbuf, size_t(r2.count) * 4).data(), r2.pos.data(), size_t(r2.count) * 16) == 0);
+        CHECK(std::memcmp(gl.read<float>(rbuf, size_t(r2.count) * 4).data(), r2.pos.data(), size_t(r2.count) * 16) ==
+              0);
         // Unregistering queues it for the render thread; the handle is refused at once.
         REQUIRE_PBF(pbf_world_unregister_gl_buffer(w, rid));
         CHECK_CODE(pbf_world_unregister_gl_buffer(w, rid), PBF_ERROR_INVALID_HANDLE);
@@ -634,9 +635,10 @@ TEST_CASE("interop: render data through device pointers and GL buffers equals co
     const uint32_t cap = b.capacity;
     std::vector<float> smoothed(size_t(cap) * 4), aniso(size_t(cap) * 12);
     cudaStream_t stream = static_cast<cudaStream_t>(b.cuda_stream);
-    REQUIRE(cudaMemcpyAsync(smoothed.data(), b.smoothed_positions, smoothed.size() * 4, cudaMemcpyDeviceToHost, stream) ==
+    REQUIRE(cudaMemcpyAsync(smoothed.data(), b.smoothed_positions, smoothed.size() * 4, cudaMemcpyDeviceToHost,
+                            stream) == cudaSuccess);
+    REQUIRE(cudaMemcpyAsync(aniso.data(), b.anisotropy, aniso.size() * 4, cudaMemcpyDeviceToHost, stream) ==
             cudaSuccess);
-    REQUIRE(cudaMemcpyAsync(aniso.data(), b.anisotropy, aniso.size() * 4, cudaMemcpyDeviceToHost, stream) == cudaSuccess);
     REQUIRE(cudaStreamSynchronize(stream) == cudaSuccess);
     REQUIRE_PBF(pbf_world_unmap(w));
     const RenderData r = read_render(w);
@@ -668,7 +670,8 @@ TEST_CASE("interop: render data through device pointers and GL buffers equals co
 #endif
 }
 
-TEST_CASE("interop: diffuse particles through device pointers and GL buffers equal copy-out", "[gpu][interop][diffuse]") {
+TEST_CASE("interop: diffuse particles through device pointers and GL buffers equal copy-out",
+          "[gpu][interop][diffuse]") {
 #if !PBF_TEST_HAVE_CUDART
     WARN("not built: the test needs the CUDA runtime (a CUDA build)");
 #else
@@ -685,8 +688,10 @@ TEST_CASE("interop: diffuse particles through device pointers and GL buffers equ
     std::vector<float> pos(size_t(cap) * 4), vel(size_t(cap) * 4);
     uint32_t count = 0;
     cudaStream_t stream = static_cast<cudaStream_t>(b.cuda_stream);
-    REQUIRE(cudaMemcpyAsync(pos.data(), b.diffuse_positions, pos.size() * 4, cudaMemcpyDeviceToHost, stream) == cudaSuccess);
-    REQUIRE(cudaMemcpyAsync(vel.data(), b.diffuse_velocities, vel.size() * 4, cudaMemcpyDeviceToHost, stream) == cudaSuccess);
+    REQUIRE(cudaMemcpyAsync(pos.data(), b.diffuse_positions, pos.size() * 4, cudaMemcpyDeviceToHost, stream) ==
+            cudaSuccess);
+    REQUIRE(cudaMemcpyAsync(vel.data(), b.diffuse_velocities, vel.size() * 4, cudaMemcpyDeviceToHost, stream) ==
+            cudaSuccess);
     REQUIRE(cudaMemcpyAsync(&count, b.diffuse_count_device, 4, cudaMemcpyDeviceToHost, stream) == cudaSuccess);
     REQUIRE(cudaStreamSynchronize(stream) == cudaSuccess);
     REQUIRE_PBF(pbf_world_unmap(w));

@@ -81,7 +81,8 @@ TEST_CASE("materials: defaults, and the default material is the world's", "[mate
     CHECK(desc_of(w, ids[0]).viscosity == 0.03f);
     CHECK(desc_of(w, ids[0]).surface_tension == 10.0f);
     changed.rest_density = 1000.0f;
-    CHECK_FAILS(pbf_world_set_material(w, ids[0], &changed), PBF_ERROR_INVALID_ARGUMENT, "default material's rest_density");
+    CHECK_FAILS(pbf_world_set_material(w, ids[0], &changed), PBF_ERROR_INVALID_ARGUMENT,
+                "default material's rest_density");
 }
 
 TEST_CASE("materials: particles carry their material through steps and copy-out", "[materials][api]") {
@@ -160,7 +161,8 @@ TEST_CASE("materials: refusals name the field, the handle or the use", "[materia
     bad = m;
     bad.struct_size = 8;
     refused(bad, PBF_ERROR_STRUCT_SIZE, "pbf_material_desc");
-    CHECK_FAILS(pbf_world_create_material(w, nullptr, &id), PBF_ERROR_INVALID_ARGUMENT, "pbf_material_desc pointer is NULL");
+    CHECK_FAILS(pbf_world_create_material(w, nullptr, &id), PBF_ERROR_INVALID_ARGUMENT,
+                "pbf_material_desc pointer is NULL");
     CHECK_FAILS(pbf_world_create_material(w, &m, nullptr), PBF_ERROR_INVALID_ARGUMENT, "out_material");
 
     // The default material stays; a material in use stays; a full table refuses.

@@ -150,9 +150,7 @@ TEST_CASE("mesh: water on a sphere mesh keeps the distance it keeps from the ana
     check_sphere_contact(PBF_BACKEND_CPU);
 }
 
-TEST_CASE("mesh: an open plane holds a pool on its shell", "[mesh][physics]") {
-    check_open_plane(PBF_BACKEND_CPU);
-}
+TEST_CASE("mesh: an open plane holds a pool on its shell", "[mesh][physics]") { check_open_plane(PBF_BACKEND_CPU); }
 
 namespace {
 // The container recipe of docs/api.md: a block of water emitted inside a box mesh 0.6 m across
@@ -215,8 +213,7 @@ TEST_CASE("mesh: a closed box is solid; an open shell or a hollow box holds wate
     }
 }
 
-TEST_CASE("mesh: a closed container moved 20 radii and turned 30 degrees per frame keeps its water",
-          "[mesh][leak]") {
+TEST_CASE("mesh: a closed container moved 20 radii and turned 30 degrees per frame keeps its water", "[mesh][leak]") {
     check_no_leak(PBF_BACKEND_CPU);
 }
 

@@ -87,8 +87,8 @@ std::vector<Vec3> jittered_lattice(float spacing, int nx, int ny, int nz, float 
     for (int z = 0; z < nz; ++z)
         for (int y = 0; y < ny; ++y)
             for (int x = 0; x < nx; ++x)
-                p.push_back(Vec3{(x + 0.5f) * spacing + u(rng), (y + 0.5f) * spacing + u(rng),
-                                 (z + 0.5f) * spacing + u(rng)});
+                p.push_back(
+                    Vec3{(x + 0.5f) * spacing + u(rng), (y + 0.5f) * spacing + u(rng), (z + 0.5f) * spacing + u(rng)});
     return p;
 }
 
@@ -164,7 +164,7 @@ uint32_t shortest_collision(uint32_t bits, uint32_t reach) {
     uint32_t best = reach + 1;
     for (int32_t dz = -int32_t(reach); dz <= int32_t(reach); ++dz)
         for (int32_t dy = -int32_t(reach); dy <= int32_t(reach); ++dy) {
-            if (dy == 0 && dz == 0) continue;  // then only multiples of num_cells along x collide
+            if (dy == 0 && dz == 0) continue;              // then only multiples of num_cells along x collide
             const uint32_t r = key_of_cell(g, 0, dy, dz);  // v.x ≡ -r: the nearest is -r or N - r
             const uint32_t dx = std::min(r, g.num_cells - r);
             best = std::min(best, std::max({dx, uint32_t(std::abs(dy)), uint32_t(std::abs(dz))}));
@@ -257,7 +257,8 @@ TEST_CASE("hashed grid: two far-apart fluids whose cells share keys are not neig
         return rho;
     };
     std::map<std::array<float, 3>, double> alone_rho;
-    for (uint32_t i = 0; i < alone.n(); ++i) alone_rho[{alone.pos[i].x, alone.pos[i].y, alone.pos[i].z}] = density(alone, i);
+    for (uint32_t i = 0; i < alone.n(); ++i)
+        alone_rho[{alone.pos[i].x, alone.pos[i].y, alone.pos[i].z}] = density(alone, i);
     size_t matched = 0;
     for (uint32_t i = 0; i < pair.n(); ++i) {
         const auto it = alone_rho.find({pair.pos[i].x, pair.pos[i].y, pair.pos[i].z});

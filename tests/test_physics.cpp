@@ -151,8 +151,8 @@ std::pair<double, double> ldc_once(float gain, uint32_t seed) {
     sc.densities(sc.pos);
     std::vector<Vec4> start = sc.pos;
     const double before = interior_spread(start, sc.density, sc.s.rest_density, lo, hi);
-    sc.run(PredictOp{sc.s, sc.ctx, sc.cell_begin.data(), sc.density.data(), sc.pos.data(), sc.vel.data(),
-                     sc.pred.data()});
+    sc.run(
+        PredictOp{sc.s, sc.ctx, sc.cell_begin.data(), sc.density.data(), sc.pos.data(), sc.vel.data(), sc.pred.data()});
     sc.densities(sc.pred);
     const double after = interior_spread(start, sc.density, sc.s.rest_density, lo, hi);
     return {before, after};
@@ -163,8 +163,8 @@ TEST_CASE("LDC applied once reduces the spread of densities on a perturbed latti
     for (uint32_t seed : {1u, 2u, 3u}) {
         const auto [before, after] = ldc_once(0.1f, seed);
         INFO("seed " << seed << ": spread " << before << " -> " << after);
-        CHECK(before > 0.02);           // the jitter made a real spread
-        CHECK(after < 0.85 * before);   // LDC smooths it
+        CHECK(before > 0.02);          // the jitter made a real spread
+        CHECK(after < 0.85 * before);  // LDC smooths it
     }
 }
 
@@ -180,8 +180,8 @@ TEST_CASE("LDC off leaves a resting lattice at rest (gravity off)", "[ldc]") {
             for (int x = 0; x < 4; ++x) sc.add(Vec3{x * 0.05f, y * 0.05f, z * 0.05f});
     sc.finish();
     sc.s.ldc_enabled = 0;
-    sc.run(PredictOp{sc.s, sc.ctx, sc.cell_begin.data(), sc.density.data(), sc.pos.data(), sc.vel.data(),
-                     sc.pred.data()});
+    sc.run(
+        PredictOp{sc.s, sc.ctx, sc.cell_begin.data(), sc.density.data(), sc.pos.data(), sc.vel.data(), sc.pred.data()});
     for (uint32_t i = 0; i < sc.n(); ++i) {
         CHECK(sc.pred[i].x == sc.pos[i].x);
         CHECK(sc.pred[i].y == sc.pos[i].y);
@@ -211,19 +211,22 @@ TEST_CASE("density constraint: λ < 0 only where compressed, and Δp reduces com
         REQUIRE(k > 0);
         return e / k;
     };
-    sc.run(LambdaOp{sc.s, sc.ctx, sc.cell_begin.data(), sc.masks(), 1u, sc.pos.data(), sc.pred.data(), sc.density.data(), nullptr});
+    sc.run(LambdaOp{sc.s, sc.ctx, sc.cell_begin.data(), sc.masks(), 1u, sc.pos.data(), sc.pred.data(),
+                    sc.density.data(), nullptr});
     const double error_before = interior_error();
     CHECK(error_before > 0.2);
     const uint32_t centre = (n / 2) * n * n + (n / 2) * n + n / 2;
     CHECK(sc.pred[centre].w < 0.0f);
     CHECK(sc.pred[0].w == 0.0f);  // a corner particle is under-dense: unilateral, no pull
     for (int it = 0; it < 4; ++it) {
-        sc.run(LambdaOp{sc.s, sc.ctx, sc.cell_begin.data(), sc.masks(), 0u, sc.pos.data(), sc.pred.data(), sc.density.data(), nullptr});
+        sc.run(LambdaOp{sc.s, sc.ctx, sc.cell_begin.data(), sc.masks(), 0u, sc.pos.data(), sc.pred.data(),
+                        sc.density.data(), nullptr});
         sc.run(DeltaOp{sc.s, sc.ctx, sc.cell_begin.data(), sc.masks(), sc.pos.data(), sc.pred.data(),
                        sc.corrected.data(), nullptr});
         std::swap(sc.pred, sc.corrected);
     }
-    sc.run(LambdaOp{sc.s, sc.ctx, sc.cell_begin.data(), sc.masks(), 0u, sc.pos.data(), sc.pred.data(), sc.density.data(), nullptr});
+    sc.run(LambdaOp{sc.s, sc.ctx, sc.cell_begin.data(), sc.masks(), 0u, sc.pos.data(), sc.pred.data(),
+                    sc.density.data(), nullptr});
     const double error_after = interior_error();
     INFO("interior compressive error " << error_before << " -> " << error_after);
     CHECK(error_after < 0.5 * error_before);
@@ -274,8 +277,8 @@ TEST_CASE("particle ids wrap past 0xFFFFFFFE to 0 and never take the dead marker
     unsigned long long emitted = 0;
     std::vector<Vec4> pos(8), vel(8);
     std::vector<uint32_t> ids(8, 7u);
-    const EmitBlockOp block{&count, &next_id, 8u, Vec3{0, 0, 0}, 0.1f, 2u, 2u, Vec3{0, 0, 0},
-                            pos.data(), vel.data(), ids.data()};
+    const EmitBlockOp block{&count, &next_id,      8u,         Vec3{0, 0, 0}, 0.1f,      2u,
+                            2u,     Vec3{0, 0, 0}, pos.data(), vel.data(),    ids.data()};
     for (uint32_t k = 0; k < 4; ++k) block(k);
     CommitEmissionOp{&count, &next_id, &emitted, 8u, 4u}(0);
     CHECK(ids[0] == 0xFFFFFFFDu);
@@ -305,7 +308,8 @@ TEST_CASE("collider friction is Coulomb: tangential motion removed up to mu time
     CHECK(free.x == Approx(1.0f * r).epsilon(1e-6));
 }
 
-TEST_CASE("boundary density: a box's share is the half-space's at a face, 1/4 at an edge, 1/8 at a corner", "[boundary]") {
+TEST_CASE("boundary density: a box's share is the half-space's at a face, 1/4 at an edge, 1/8 at a corner",
+          "[boundary]") {
     Scene sc(0.04f);
     sc.s.boundary_scale = 1.0f;
     const float h = sc.s.h;
@@ -332,7 +336,8 @@ TEST_CASE("boundary density: a box's share is the half-space's at a face, 1/4 at
     const float grad[3] = {b.gradient.x, b.gradient.y, b.gradient.z};
     for (int a = 0; a < 3; ++a) {
         const float numeric = (box_boundary(sc.s, c, pose, p + axes[a]).density_ratio -
-                               box_boundary(sc.s, c, pose, p - axes[a]).density_ratio) / (2.0f * e);
+                               box_boundary(sc.s, c, pose, p - axes[a]).density_ratio) /
+                              (2.0f * e);
         CHECK(grad[a] == Approx(numeric).margin(0.05f / h));
     }
 }
@@ -351,7 +356,9 @@ TEST_CASE("boundary density: a rest lattice around a box's edge has rest density
     c.shape = kShapeBox;
     c.half_extents = Vec3{1.0f, 1.0f, 1.0f};
     const ColliderPose pose{Vec3{-1.0f, 1.0f, 0.0f}, rotation_matrix(Quat{0.0f, 0.0f, 0.0f, 1.0f})};
-    const auto site = [&](int i, int j, int k) { return Vec3{(i + 0.5f) * spacing, (j - 0.5f) * spacing, k * spacing}; };
+    const auto site = [&](int i, int j, int k) {
+        return Vec3{(i + 0.5f) * spacing, (j - 0.5f) * spacing, k * spacing};
+    };
     const auto in_box = [](int i, int j) { return i < 0 && j > 0; };
     const auto density_ratio = [&](int i, int j) {  // the site (i, j, 0): its fluid neighbours plus the box's share
         const Vec3 p = site(i, j, 0);
@@ -362,7 +369,8 @@ TEST_CASE("boundary density: a rest lattice around a box's edge has rest density
                     if (!in_box(a, b)) rho += poly6(length_sq(p - site(a, b, k)), sc.s.h2, sc.s.poly6_coef);
         return rho * sc.s.mass * sc.s.inv_rest_density + box_boundary(sc.s, c, pose, p).density_ratio;
     };
-    const int sites[4][2] = {{0, 0}, {0, 1}, {-1, 0}, {0, 2}};  // diagonal, beside the face, under the bottom, a layer up
+    const int sites[4][2] = {
+        {0, 0}, {0, 1}, {-1, 0}, {0, 2}};  // diagonal, beside the face, under the bottom, a layer up
     sc.s.box_edge_scale = 0.0f;
     CHECK(density_ratio(0, 0) > 1.009f);
     CHECK(density_ratio(0, 1) < 0.991f);
@@ -376,9 +384,11 @@ TEST_CASE("boundary density: a rest lattice around a box's edge has rest density
     const BoundarySample b = box_boundary(sc.s, c, pose, p);
     const float e = 1e-4f;
     const float numeric_x = (box_boundary(sc.s, c, pose, p + Vec3{e, 0, 0}).density_ratio -
-                             box_boundary(sc.s, c, pose, p - Vec3{e, 0, 0}).density_ratio) / (2.0f * e);
+                             box_boundary(sc.s, c, pose, p - Vec3{e, 0, 0}).density_ratio) /
+                            (2.0f * e);
     const float numeric_y = (box_boundary(sc.s, c, pose, p + Vec3{0, e, 0}).density_ratio -
-                             box_boundary(sc.s, c, pose, p - Vec3{0, e, 0}).density_ratio) / (2.0f * e);
+                             box_boundary(sc.s, c, pose, p - Vec3{0, e, 0}).density_ratio) /
+                            (2.0f * e);
     CHECK(b.gradient.x == Approx(numeric_x).margin(0.05f / h));
     CHECK(b.gradient.y == Approx(numeric_y).margin(0.05f / h));
 }

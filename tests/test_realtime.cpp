@@ -83,20 +83,22 @@ TEST_CASE("a settled pool stays calm after one step of any dt from 1e-5 to 1/30 
 // growing as 1/Δt); below Δt = τ it now pushes k/(2γ²), bounded as Δt → 0 (docs/physics.md).
 TEST_CASE("a freshly emitted block stays calm through 200 steps of 1e-5 s, with and without s_corr", "[realtime]") {
     for (float scorr_k : {0.0f, pbf_solver_params_default().scorr_k}) {
-        with_and_without_ldc([&](pbf_world_id w, uint32_t ldc) {
-            const uint32_t n = fill(w, 0, 0, 0, 0.3f, 0.3f, 0.15f);
-            double top = 0.0;
-            for (int k = 0; k < 200; ++k) {
-                REQUIRE_PBF(pbf_world_step(w, 1e-5f));
-                top = std::max(top, measure(w).top_speed);
-            }
-            const Particles p = read(w);
-            INFO("s_corr k " << scorr_k << ", LDC " << ldc << ": fastest particle " << top
-                             << " m/s within 2 ms (gravity alone: 0.02 m/s)");
-            CHECK(p.count == n);
-            CHECK(all_finite(p));
-            CHECK(top < 0.5);  // the issue's "at rest" bound
-        }, scorr_k);
+        with_and_without_ldc(
+            [&](pbf_world_id w, uint32_t ldc) {
+                const uint32_t n = fill(w, 0, 0, 0, 0.3f, 0.3f, 0.15f);
+                double top = 0.0;
+                for (int k = 0; k < 200; ++k) {
+                    REQUIRE_PBF(pbf_world_step(w, 1e-5f));
+                    top = std::max(top, measure(w).top_speed);
+                }
+                const Particles p = read(w);
+                INFO("s_corr k " << scorr_k << ", LDC " << ldc << ": fastest particle " << top
+                                 << " m/s within 2 ms (gravity alone: 0.02 m/s)");
+                CHECK(p.count == n);
+                CHECK(all_finite(p));
+                CHECK(top < 0.5);  // the issue's "at rest" bound
+            },
+            scorr_k);
     }
 }
 
@@ -333,7 +335,8 @@ TEST_CASE("a block emitted into a collider is moved out of it without flinging i
         closest = std::min(closest, std::sqrt(dx * dx + dy * dy + dz * dz));
     }
     const PoolState s = measure(w);
-    INFO("closest centre " << closest << " m from the sphere's (radius 0.12 m), fastest particle " << s.top_speed << " m/s");
+    INFO("closest centre " << closest << " m from the sphere's (radius 0.12 m), fastest particle " << s.top_speed
+                           << " m/s");
     CHECK(p.count == n);
     CHECK(closest >= 0.12f + 0.02f - 1e-3f);
     CHECK(s.top_speed < 2.0);

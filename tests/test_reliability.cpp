@@ -26,7 +26,6 @@ using scene::set3;
 
 namespace {
 
-
 pbf_world_desc cpu_desc(uint32_t capacity = 1024) {
     pbf_world_desc d = pbf_world_desc_default();
     d.backend = PBF_BACKEND_CPU;
@@ -117,7 +116,9 @@ TEST_CASE("fuzz: emission far outside the grid is refused or clipped to the wall
         OwnedWorld w(d);
         pbf_block_desc b = pbf_block_desc_default();
         std::memcpy(b.box_min, p, sizeof b.box_min);
-        for (int a = 0; a < 3; ++a) b.box_max[a] = std::fabs(p[a]) > 1.0f ? std::nextafter(p[a], std::numeric_limits<float>::infinity()) : p[a] + 0.1f;
+        for (int a = 0; a < 3; ++a)
+            b.box_max[a] =
+                std::fabs(p[a]) > 1.0f ? std::nextafter(p[a], std::numeric_limits<float>::infinity()) : p[a] + 0.1f;
         uint32_t n = 7;
         CHECK(pbf_world_emit_block(w.id, &b, &n) == PBF_ERROR_INVALID_ARGUMENT);
         CHECK(n == 0u);
@@ -178,13 +179,12 @@ TEST_CASE("fuzz: tiny dt, huge gravity and huge max_speed keep every velocity fi
 // Finding 5: a radius or rest density whose SPH constants over- or underflow in float (a denormal
 // rest density, a radius of 1e-30 m in a matching domain, 1e10 m) was accepted: every density
 // and velocity NaN. Now refused at creation.
-TEST_CASE("fuzz: radius and rest density whose SPH constants leave float range are refused",
-          "[reliability][fuzz]") {
+TEST_CASE("fuzz: radius and rest density whose SPH constants leave float range are refused", "[reliability][fuzz]") {
     struct Case {
         float radius, rest_density, span;
     };
-    const Case cases[] = {{0.025f, 3.57e-43f, 0.5f},  {0.025f, FLT_MIN, 0.5f}, {0.025f, FLT_MAX, 0.5f},
-                          {1e-30f, 1000.0f, 1e-28f},  {1e10f, 1000.0f, 1e11f}, {1e20f, 1000.0f, 1e21f}};
+    const Case cases[] = {{0.025f, 3.57e-43f, 0.5f}, {0.025f, FLT_MIN, 0.5f}, {0.025f, FLT_MAX, 0.5f},
+                          {1e-30f, 1000.0f, 1e-28f}, {1e10f, 1000.0f, 1e11f}, {1e20f, 1000.0f, 1e21f}};
     for (const Case& c : cases) {
         pbf_world_desc d = cpu_desc();
         d.particle_radius = c.radius;
@@ -253,8 +253,8 @@ TEST_CASE("memory: a world above 3/4 of physical memory fails with OUT_OF_MEMORY
     for (double factor : {1.0, 2.0, 1024.0}) {
         pbf_world_desc d = cpu_desc(uint32_t(std::min(wanted * factor, double(1u << 30))));
         pbf_world_id id{5, 5};
-        INFO(d.max_particles << " particles, ~" << d.max_particles * per_particle / 1e9 << " GB of "
-                             << phys / 1e9 << " GB");
+        INFO(d.max_particles << " particles, ~" << d.max_particles * per_particle / 1e9 << " GB of " << phys / 1e9
+                             << " GB");
         const pbf_result r = pbf_world_create(&d, &id);
         CHECK(r == PBF_ERROR_OUT_OF_MEMORY);
         CHECK(id.generation == 0);
@@ -272,8 +272,7 @@ TEST_CASE("memory: a world above 3/4 of physical memory fails with OUT_OF_MEMORY
 }
 
 // ---- capacity -----------------------------------------------------------------------------------------
-TEST_CASE("capacity: emitting past capacity is refused cleanly, by blocks and by nozzles",
-          "[reliability][capacity]") {
+TEST_CASE("capacity: emitting past capacity is refused cleanly, by blocks and by nozzles", "[reliability][capacity]") {
     const pbf_world_desc d = cpu_desc(300);
     OwnedWorld w(d);
     // A block of 10^3 lattice points: 300 fit, the call says so.

@@ -54,7 +54,8 @@ TEST_CASE("render: the Jacobi eigen solver agrees with Eigen on random and degen
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 3; ++c) a(r, c) = u(rng);
         // Covariance-like (positive semi-definite, at the scale of h² = 1e-2 m²) and indefinite.
-        const Eigen::Matrix3f m = t % 2 ? Eigen::Matrix3f(1e-2f * a * a.transpose()) : Eigen::Matrix3f(a + a.transpose());
+        const Eigen::Matrix3f m =
+            t % 2 ? Eigen::Matrix3f(1e-2f * a * a.transpose()) : Eigen::Matrix3f(a + a.transpose());
         check_decomposition(m);
     }
     SECTION("degenerate") {

@@ -263,12 +263,11 @@ TEST_CASE("adaptive iterations stop at the error target and report the iteration
     run(0.02f, 8, 1, &loose_error, &loose_iterations);
     run(0.002f, 8, 1, &tight_error, &tight_iterations);
     INFO("fixed 8: error " << fixed_error << ", iterations " << fixed_iterations << "; target 2%: " << loose_error
-                           << ", " << loose_iterations << "; target 0.2%: " << tight_error << ", "
-                           << tight_iterations);
-    CHECK(fixed_iterations == Approx(16.0));       // 8 per substep, 2 substeps: reported exactly
-    CHECK(loose_iterations < tight_iterations);    // a looser target needs fewer iterations
+                           << ", " << loose_iterations << "; target 0.2%: " << tight_error << ", " << tight_iterations);
+    CHECK(fixed_iterations == Approx(16.0));     // 8 per substep, 2 substeps: reported exactly
+    CHECK(loose_iterations < tight_iterations);  // a looser target needs fewer iterations
     CHECK(tight_iterations <= fixed_iterations);
-    CHECK(loose_error < 0.03);                     // measured after the step: near the target
+    CHECK(loose_error < 0.03);  // measured after the step: near the target
     CHECK(tight_error <= loose_error);
     // A target met before any correction still runs one iteration per substep (2 substeps).
     double easy_error, easy_iterations;

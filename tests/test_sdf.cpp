@@ -53,7 +53,8 @@ float max_error(const Field& f, float box, Analytic analytic, float* worst_norma
         const float band = f.view.band;
         // Beyond the grid the field says band + the distance to the grid: compared as the band.
         worst = std::max(worst, std::fabs(clampf(d, -band, band) - clampf(d_true, -band, band)));
-        if (std::fabs(d_true) < kKernel && !std::isnan(n_true.x)) *worst_normal = std::min(*worst_normal, dot(n, n_true));
+        if (std::fabs(d_true) < kKernel && !std::isnan(n_true.x))
+            *worst_normal = std::min(*worst_normal, dot(n, n_true));
     }
     return worst;
 }
@@ -67,11 +68,14 @@ TEST_CASE("sdf: a sphere mesh's field matches the analytic sphere within one cel
     REQUIRE(f.view.cell == kRadius);
     CHECK(f.reach == Approx(R));
     float normal = 0.0f;
-    const float err = max_error(f, R + 0.15f, [&](Vec3 p, Vec3& n) {
-        const float len = length(p);
-        n = p * (1.0f / len);
-        return len - R;
-    }, &normal);
+    const float err = max_error(
+        f, R + 0.15f,
+        [&](Vec3 p, Vec3& n) {
+            const float len = length(p);
+            n = p * (1.0f / len);
+            return len - R;
+        },
+        &normal);
     INFO("max |error| " << err << " m, cell " << f.view.cell << ", worst normal cos " << normal);
     CHECK(err <= f.view.cell);
     CHECK(normal > 0.95f);
@@ -82,18 +86,22 @@ TEST_CASE("sdf: a box mesh's field matches the analytic box within one cell, ins
     const mesh::Mesh m = mesh::box(e[0], e[1], e[2]);
     const Field f(m.desc());
     float normal = 0.0f;
-    const float err = max_error(f, 0.35f, [&](Vec3 p, Vec3& n) {
-        const Vec3 a{std::fabs(p.x) - e[0], std::fabs(p.y) - e[1], std::fabs(p.z) - e[2]};
-        const Vec3 out = max3(a, Vec3{0, 0, 0});
-        const float inside = std::fmin(std::fmax(a.x, std::fmax(a.y, a.z)), 0.0f);
-        // Normals only off the edges (where the analytic one is a face's): NaN marks the rest.
-        const int faces = (a.x > -kKernel) + (a.y > -kKernel) + (a.z > -kKernel);
-        n = faces == 1 ? Vec3{a.x > -kKernel ? std::copysign(1.0f, p.x) : 0.0f, a.y > -kKernel ? std::copysign(1.0f, p.y) : 0.0f,
-                              a.z > -kKernel ? std::copysign(1.0f, p.z) : 0.0f}
-                       : Vec3{NAN, NAN, NAN};
-        if (length(out) > 0.0f) n = Vec3{NAN, NAN, NAN};
-        return length(out) + inside;
-    }, &normal);
+    const float err = max_error(
+        f, 0.35f,
+        [&](Vec3 p, Vec3& n) {
+            const Vec3 a{std::fabs(p.x) - e[0], std::fabs(p.y) - e[1], std::fabs(p.z) - e[2]};
+            const Vec3 out = max3(a, Vec3{0, 0, 0});
+            const float inside = std::fmin(std::fmax(a.x, std::fmax(a.y, a.z)), 0.0f);
+            // Normals only off the edges (where the analytic one is a face's): NaN marks the rest.
+            const int faces = (a.x > -kKernel) + (a.y > -kKernel) + (a.z > -kKernel);
+            n = faces == 1 ? Vec3{a.x > -kKernel ? std::copysign(1.0f, p.x) : 0.0f,
+                                  a.y > -kKernel ? std::copysign(1.0f, p.y) : 0.0f,
+                                  a.z > -kKernel ? std::copysign(1.0f, p.z) : 0.0f}
+                           : Vec3{NAN, NAN, NAN};
+            if (length(out) > 0.0f) n = Vec3{NAN, NAN, NAN};
+            return length(out) + inside;
+        },
+        &normal);
     INFO("max |error| " << err << " m, cell " << f.view.cell << ", worst normal cos " << normal);
     CHECK(err <= f.view.cell);
     CHECK(normal > 0.95f);

@@ -71,7 +71,7 @@ TEST_CASE("spiky gradient points from i toward j and vanishes outside h", "[sph]
     const Vec3 xi{0.3f, 0.2f, 0.1f}, xj{0.33f, 0.24f, 0.1f};
     const Vec3 d = xi - xj;
     const Vec3 g = spiky_gradient_r2(d, dot(d, d), h, coef);
-    CHECK(dot(g, xj - xi) > 0.0f);                          // toward the neighbour
+    CHECK(dot(g, xj - xi) > 0.0f);                                                    // toward the neighbour
     CHECK(length(cross(g, xj - xi)) < 1e-6f * length(g) * length(xj - xi) + 1e-12f);  // along the line
     CHECK(length(spiky_gradient_r2(Vec3{0.2f, 0, 0}, 0.04f, h, coef)) == 0.0f);
     CHECK(length(spiky_gradient_r2(Vec3{0, 0, 0}, 0.0f, h, coef)) == 0.0f);  // no NaN at r = 0

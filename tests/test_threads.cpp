@@ -22,8 +22,7 @@ TEST_CASE("threads: N worlds stepped on N threads give bit-identical results to 
     rel::check_parallel(r);
 }
 
-TEST_CASE("threads: concurrent step, stats, copies and edits on ONE world stay consistent",
-          "[threads][reliability]") {
+TEST_CASE("threads: concurrent step, stats, copies and edits on ONE world stay consistent", "[threads][reliability]") {
     const rel::SharedWorldResult r = rel::shared_world(PBF_BACKEND_CPU, 1.5);
     rel::check_shared_world(r);
 }

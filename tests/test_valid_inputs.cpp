@@ -18,8 +18,9 @@ constexpr double kAtRest = 1.0;
 double top_speed(const Particles& p) {
     double top = 0.0;
     for (uint32_t i = 0; i < p.count; ++i)
-        top = std::max(top, std::sqrt(double(p.vel[4 * i]) * p.vel[4 * i] + double(p.vel[4 * i + 1]) * p.vel[4 * i + 1] +
-                                      double(p.vel[4 * i + 2]) * p.vel[4 * i + 2]));
+        top =
+            std::max(top, std::sqrt(double(p.vel[4 * i]) * p.vel[4 * i] + double(p.vel[4 * i + 1]) * p.vel[4 * i + 1] +
+                                    double(p.vel[4 * i + 2]) * p.vel[4 * i + 2]));
     return top;
 }
 
@@ -118,8 +119,9 @@ void check_density_ratio_100(bool heavy_on_top) {
     materials::fill(w, heavy_on_top ? heavy : light, upper_lo, upper_hi);
     const double first = run_top(w, 0.5), last = run_top(w, 0.5);
     const double bound = free_fall_front(0.3) + kAtRest;
-    INFO((heavy_on_top ? "heavy over light" : "light over heavy") << ": fastest particle over the first 0.5 s " << first
-         << " m/s (bound " << bound << "), over the next 0.5 s " << last << " m/s (at rest: " << kAtRest << ")");
+    INFO((heavy_on_top ? "heavy over light" : "light over heavy")
+         << ": fastest particle over the first 0.5 s " << first << " m/s (bound " << bound << "), over the next 0.5 s "
+         << last << " m/s (at rest: " << kAtRest << ")");
     CHECK(std::max(first, last) <= bound);
     if (!heavy_on_top) CHECK(last <= kAtRest);
     REQUIRE_PBF(pbf_world_destroy(w));
@@ -140,7 +142,8 @@ TEST_CASE("valid inputs: one step of 1e-7 s on a stirred pool changes nothing", 
     const double after = top_speed(w);
     const double later = run_top(w, 0.5), twin_later = run_top(twin, 0.5);
     INFO("fastest particle before the 1e-7 s step " << before << " m/s, after it " << after
-         << " m/s; over the next 0.5 s " << later << " m/s (twin without the tiny step: " << twin_later << " m/s)");
+                                                    << " m/s; over the next 0.5 s " << later
+                                                    << " m/s (twin without the tiny step: " << twin_later << " m/s)");
     CHECK(after <= before + 0.5);
     CHECK(later <= twin_later + 0.5);
     REQUIRE_PBF(pbf_world_destroy(w));
@@ -161,7 +164,8 @@ TEST_CASE("valid inputs: one 1 s step, then a step of 1e-7, 1e-3 or 1/60 s, leav
         const double after_next = top_speed(w);
         const double later = run_top(w, 0.25);
         INFO("after 1 s: fastest " << after_huge << " m/s (density error max " << err_huge << "); after the step of "
-             << next << " s: " << after_next << " m/s; over the next 0.25 s: " << later << " m/s");
+                                   << next << " s: " << after_next << " m/s; over the next 0.25 s: " << later
+                                   << " m/s");
         CHECK(after_huge <= kAtRest);
         CHECK(after_next <= kAtRest);
         CHECK(later <= kAtRest);
@@ -210,7 +214,8 @@ TEST_CASE("valid inputs: a thin plate swept at 20 m/s throws no particle faster 
 // stands 1 degree off level, as no real one is level: a perfect lattice in a level tank is an
 // unstable equilibrium that a deterministic solver could keep forever (the interface then tilts
 // by 3.5 mm across the tank, a fraction of a spacing).
-TEST_CASE("valid inputs: water placed over oil overturns in the time gravity gives", "[valid][materials][!shouldfail]") {
+TEST_CASE("valid inputs: water placed over oil overturns in the time gravity gives",
+          "[valid][materials][!shouldfail]") {
     pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.0125f, 0.4f, 0.9f, 0.1f, 2048);
     set3(d.gravity, float(kG * std::sin(M_PI / 180.0)), float(-kG * std::cos(M_PI / 180.0)), 0.0f);
     pbf_world_id w = create(d);
@@ -308,7 +313,8 @@ TEST_CASE("valid inputs: a box created fully inside a settled pool flings no wat
 // above it, and the surface rises by 0.1 m. No particle may move faster than the fall over that
 // rise (Ritter's front) plus the at-rest allowance, at 1/60 s steps (over 0.25 s) and at 1e-4 s
 // steps (over 0.02 s).
-TEST_CASE("valid inputs: a plane created under the surface of a pool flings no water", "[valid][collide][!shouldfail]") {
+TEST_CASE("valid inputs: a plane created under the surface of a pool flings no water",
+          "[valid][collide][!shouldfail]") {
     for (float dt : {1.0f / 60.0f, 1e-4f}) {
         pbf_world_id w = deep_pool();
         pbf_collider_desc c = pbf_collider_desc_default();
@@ -318,7 +324,8 @@ TEST_CASE("valid inputs: a plane created under the surface of a pool flings no w
         REQUIRE_PBF(pbf_world_create_collider(w, &c, &plane));
         const double bound = free_fall_front(0.1) + kAtRest;
         const double top = run_top(w, dt > 1e-3f ? 0.25 : 0.02, dt);
-        INFO("steps of " << dt << " s: fastest particle " << top << " m/s after the plane appeared (bound " << bound << " m/s)");
+        INFO("steps of " << dt << " s: fastest particle " << top << " m/s after the plane appeared (bound " << bound
+                         << " m/s)");
         CHECK(top <= bound);
         REQUIRE_PBF(pbf_world_destroy(w));
     }
@@ -340,7 +347,6 @@ TEST_CASE("valid inputs: a fluid 100 times denser placed over another falls thro
     check_density_ratio_100(true);
 }
 
-
 // A 0.2 m cube of a material with surface tension and cohesion at their documented maximum
 // (10,000 /s2 each) in zero gravity, no walls: it pulls itself into a drop, whose oscillations the
 // viscosity damps. Over the last half second of two it is at rest (the at-rest allowance) and its
@@ -359,8 +365,8 @@ TEST_CASE("valid inputs: surface tension and cohesion at their maximum in zero g
     for (int k = 0; k < 90; ++k) REQUIRE_PBF(pbf_world_step(w, kDt));
     const double last = run_top(w, 0.5);
     const Momenta mo = momenta(read(w), mass);
-    INFO(n << " particles; fastest over the last 0.5 s of 2 s: " << last << " m/s; |P| " << norm3(mo.p) << " kg m/s (scale "
-         << mo.mass * last << ")");
+    INFO(n << " particles; fastest over the last 0.5 s of 2 s: " << last << " m/s; |P| " << norm3(mo.p)
+           << " kg m/s (scale " << mo.mass * last << ")");
     CHECK(last <= kAtRest);
     CHECK(norm3(mo.p) <= 0.01 * mo.mass * std::max(last, 1e-2));
     REQUIRE_PBF(pbf_world_destroy(w));
@@ -385,8 +391,8 @@ TEST_CASE("valid inputs: a drop at rest in zero gravity does not spin up", "[val
         top = std::max(top, top_speed(p));
     }
     const double tolerance = 0.01 * scale + mass * n * radius * 1e-4;
-    INFO(n << " particles; largest |L| " << worst << " kg m2/s, tolerance " << tolerance << " (sum m|x-c||v| up to " << scale
-         << "); fastest particle " << top << " m/s");
+    INFO(n << " particles; largest |L| " << worst << " kg m2/s, tolerance " << tolerance << " (sum m|x-c||v| up to "
+           << scale << "); fastest particle " << top << " m/s");
     CHECK(worst <= tolerance);
     REQUIRE_PBF(pbf_world_destroy(w));
 }
@@ -396,7 +402,8 @@ TEST_CASE("valid inputs: a drop at rest in zero gravity does not spin up", "[val
 // engine integrates a body (upright, vertical only; the engine's floor stops it). Once it rests
 // on the floor, the water's push (about its buoyancy, half its weight) cannot lift it: over the
 // last second of three it stays on the floor.
-TEST_CASE("valid inputs: a heavy box resting on the floor of a pool does not chatter", "[valid][coupling][!shouldfail]") {
+TEST_CASE("valid inputs: a heavy box resting on the floor of a pool does not chatter",
+          "[valid][coupling][!shouldfail]") {
     const float half = 0.12f;
     const coupling::Box hole{{0.12f, 1.0f, 0.12f}, {0.36f, 1.0f, 0.36f}};  // above the water: nothing left out
     pbf_world_id w = coupling::pool(PBF_BACKEND_CPU, 0.48f, 0.8f, 0.48f, 0.36f, hole);
@@ -422,8 +429,8 @@ TEST_CASE("valid inputs: a heavy box resting on the floor of a pool does not cha
         const float pos[3] = {0.24f, float(y), 0.24f}, rot[4] = {0, 0, 0, 1};
         REQUIRE_PBF(pbf_collider_set_target_pose(w, box, pos, rot));
     }
-    INFO("over the last second: the box left the floor in " << lifts << " of 60 steps, up to " << highest
-         << " m; peak upward push " << peak_force << " x its weight");
+    INFO("over the last second: the box left the floor in "
+         << lifts << " of 60 steps, up to " << highest << " m; peak upward push " << peak_force << " x its weight");
     CHECK(lifts == 0);
     REQUIRE_PBF(pbf_world_destroy(w));
 }

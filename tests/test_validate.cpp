@@ -19,11 +19,11 @@ using pbf::api::last_validation_check;
 namespace {
 
 // The call fails with the check's code and the thread's last check is `check`.
-#define CHECK_REFUSED_BY(call, check)                                                              \
-    do {                                                                                           \
-        const pbf_result r_ = (call);                                                              \
-        INFO(#call << " -> " << pbf_result_string(r_) << " \"" << pbf_last_error_message() << "\""); \
-        CHECK(r_ == pbf::api::check_code(check));                                                  \
+#define CHECK_REFUSED_BY(call, check)                                                                     \
+    do {                                                                                                  \
+        const pbf_result r_ = (call);                                                                     \
+        INFO(#call << " -> " << pbf_result_string(r_) << " \"" << pbf_last_error_message() << "\"");      \
+        CHECK(r_ == pbf::api::check_code(check));                                                         \
         CHECK(std::string(pbf::api::check_name(last_validation_check())) == pbf::api::check_name(check)); \
     } while (0)
 
@@ -60,7 +60,9 @@ TEST_CASE("validate: world desc and solver parameters name the failed check", "[
         Check check;
     };
     const Case cases[] = {
-        {"another header major", [](pbf_world_desc& d) { d.header_version = PBF_MAKE_VERSION(PBF_VERSION_MAJOR + 1, 0, 0); }, Check::WORLD_HEADER_VERSION},
+        {"another header major",
+         [](pbf_world_desc& d) { d.header_version = PBF_MAKE_VERSION(PBF_VERSION_MAJOR + 1, 0, 0); },
+         Check::WORLD_HEADER_VERSION},
         {"backend 7", [](pbf_world_desc& d) { d.backend = static_cast<pbf_backend>(7); }, Check::WORLD_BACKEND},
         {"cuda_device -1", [](pbf_world_desc& d) { d.cuda_device = -1; }, Check::WORLD_CUDA_DEVICE},
         {"max_particles 0", [](pbf_world_desc& d) { d.max_particles = 0; }, Check::WORLD_MAX_PARTICLES},
@@ -85,19 +87,26 @@ TEST_CASE("validate: world desc and solver parameters name the failed check", "[
         {"render smoothing 1.01", [](pbf_world_desc& d) { d.render.smoothing = 1.01f; }, Check::RENDER_SMOOTHING},
         {"render smoothing -0.1", [](pbf_world_desc& d) { d.render.smoothing = -0.1f; }, Check::RENDER_SMOOTHING},
         {"render max_stretch 0.5", [](pbf_world_desc& d) { d.render.max_stretch = 0.5f; }, Check::RENDER_MAX_STRETCH},
-        {"render max_stretch Inf", [](pbf_world_desc& d) { d.render.max_stretch = INFINITY; }, Check::RENDER_MAX_STRETCH},
+        {"render max_stretch Inf", [](pbf_world_desc& d) { d.render.max_stretch = INFINITY; },
+         Check::RENDER_MAX_STRETCH},
         {"render scale 0", [](pbf_world_desc& d) { d.render.scale = 0.0f; }, Check::RENDER_SCALE},
         {"render scale 101", [](pbf_world_desc& d) { d.render.scale = 101.0f; }, Check::RENDER_SCALE},
-        {"render isolated_scale -1", [](pbf_world_desc& d) { d.render.isolated_scale = -1.0f; }, Check::RENDER_ISOLATED_SCALE},
-        {"render isolated_scale NaN", [](pbf_world_desc& d) { d.render.isolated_scale = NAN; }, Check::RENDER_ISOLATED_SCALE},
-        {"render min_neighbors 1001", [](pbf_world_desc& d) { d.render.min_neighbors = 1001; }, Check::RENDER_MIN_NEIGHBORS},
+        {"render isolated_scale -1", [](pbf_world_desc& d) { d.render.isolated_scale = -1.0f; },
+         Check::RENDER_ISOLATED_SCALE},
+        {"render isolated_scale NaN", [](pbf_world_desc& d) { d.render.isolated_scale = NAN; },
+         Check::RENDER_ISOLATED_SCALE},
+        {"render min_neighbors 1001", [](pbf_world_desc& d) { d.render.min_neighbors = 1001; },
+         Check::RENDER_MIN_NEIGHBORS},
         {"render reserved0 1", [](pbf_world_desc& d) { d.render.reserved0 = 1; }, Check::RENDER_RESERVED0},
         {"max_diffuse -1", [](pbf_world_desc& d) { d.diffuse.max_diffuse = uint32_t(-1); }, Check::DIFFUSE_CAPACITY},
         {"diffuse energy_min NaN", [](pbf_world_desc& d) { d.diffuse.energy_min = NAN; }, Check::DIFFUSE_THRESHOLDS},
-        {"diffuse wave_crest min = max", [](pbf_world_desc& d) { d.diffuse.wave_crest_min = d.diffuse.wave_crest_max; }, Check::DIFFUSE_THRESHOLDS},
-        {"diffuse trapped_air_rate -1", [](pbf_world_desc& d) { d.diffuse.trapped_air_rate = -1.0f; }, Check::DIFFUSE_RATES},
+        {"diffuse wave_crest min = max", [](pbf_world_desc& d) { d.diffuse.wave_crest_min = d.diffuse.wave_crest_max; },
+         Check::DIFFUSE_THRESHOLDS},
+        {"diffuse trapped_air_rate -1", [](pbf_world_desc& d) { d.diffuse.trapped_air_rate = -1.0f; },
+         Check::DIFFUSE_RATES},
         {"diffuse lifetime 0", [](pbf_world_desc& d) { d.diffuse.lifetime = 0.0f; }, Check::DIFFUSE_LIFETIME},
-        {"diffuse spray above bubble", [](pbf_world_desc& d) { d.diffuse.spray_max_neighbors = 21; }, Check::DIFFUSE_NEIGHBORS},
+        {"diffuse spray above bubble", [](pbf_world_desc& d) { d.diffuse.spray_max_neighbors = 21; },
+         Check::DIFFUSE_NEIGHBORS},
         {"diffuse buoyancy Inf", [](pbf_world_desc& d) { d.diffuse.buoyancy = INFINITY; }, Check::DIFFUSE_MOTION},
     };
     for (const Case& c : cases) {
@@ -128,20 +137,98 @@ TEST_CASE("validate: emitter descs and transforms name the failed check", "[api]
         Check check;
     };
     const Case cases[] = {
-        {"type 0", [] { pbf_emitter_desc e = nozzle_desc(); e.type = static_cast<pbf_emitter_type>(0); return e; }, Check::EMITTER_TYPE},
-        {"type 3", [] { pbf_emitter_desc e = nozzle_desc(); e.type = static_cast<pbf_emitter_type>(3); return e; }, Check::EMITTER_TYPE},
+        {"type 0",
+         [] {
+             pbf_emitter_desc e = nozzle_desc();
+             e.type = static_cast<pbf_emitter_type>(0);
+             return e;
+         },
+         Check::EMITTER_TYPE},
+        {"type 3",
+         [] {
+             pbf_emitter_desc e = nozzle_desc();
+             e.type = static_cast<pbf_emitter_type>(3);
+             return e;
+         },
+         Check::EMITTER_TYPE},
         {"unset type", [] { return pbf_emitter_desc_default(); }, Check::EMITTER_TYPE},
-        {"enabled 2", [] { pbf_emitter_desc e = nozzle_desc(); e.enabled = 2; return e; }, Check::EMITTER_ENABLED},
-        {"drain enabled 2", [] { pbf_emitter_desc e = drain_desc(); e.enabled = 2; return e; }, Check::EMITTER_ENABLED},
-        {"speed 0", [] { pbf_emitter_desc e = nozzle_desc(); e.speed = 0; return e; }, Check::NOZZLE_SPEED},
-        {"radius -1", [] { pbf_emitter_desc e = nozzle_desc(); e.radius = -1; return e; }, Check::NOZZLE_RADIUS},
-        {"rate 0", [] { pbf_emitter_desc e = nozzle_desc(); e.particles_per_second = 0; return e; }, Check::NOZZLE_RATE},
-        {"rate 2e9", [] { pbf_emitter_desc e = nozzle_desc(); e.particles_per_second = 2e9f; return e; }, Check::NOZZLE_RATE},
-        {"zero direction", [] { pbf_emitter_desc e = nozzle_desc(); e.direction[1] = 0; return e; }, Check::NOZZLE_DIRECTION},
-        {"nozzle position NaN", [] { pbf_emitter_desc e = nozzle_desc(); e.position[0] = NAN; return e; }, Check::NOZZLE_FINITE},
-        {"inverted drain", [] { pbf_emitter_desc e = drain_desc(); std::swap(e.box_min[0], e.box_max[0]); return e; }, Check::DRAIN_BOX},
-        {"drain box Inf", [] { pbf_emitter_desc e = drain_desc(); e.box_max[2] = INFINITY; return e; }, Check::DRAIN_FINITE},
-        {"drain with NaN speed", [] { pbf_emitter_desc e = drain_desc(); e.speed = NAN; return e; }, Check::EMITTER_UNUSED_FINITE},
+        {"enabled 2",
+         [] {
+             pbf_emitter_desc e = nozzle_desc();
+             e.enabled = 2;
+             return e;
+         },
+         Check::EMITTER_ENABLED},
+        {"drain enabled 2",
+         [] {
+             pbf_emitter_desc e = drain_desc();
+             e.enabled = 2;
+             return e;
+         },
+         Check::EMITTER_ENABLED},
+        {"speed 0",
+         [] {
+             pbf_emitter_desc e = nozzle_desc();
+             e.speed = 0;
+             return e;
+         },
+         Check::NOZZLE_SPEED},
+        {"radius -1",
+         [] {
+             pbf_emitter_desc e = nozzle_desc();
+             e.radius = -1;
+             return e;
+         },
+         Check::NOZZLE_RADIUS},
+        {"rate 0",
+         [] {
+             pbf_emitter_desc e = nozzle_desc();
+             e.particles_per_second = 0;
+             return e;
+         },
+         Check::NOZZLE_RATE},
+        {"rate 2e9",
+         [] {
+             pbf_emitter_desc e = nozzle_desc();
+             e.particles_per_second = 2e9f;
+             return e;
+         },
+         Check::NOZZLE_RATE},
+        {"zero direction",
+         [] {
+             pbf_emitter_desc e = nozzle_desc();
+             e.direction[1] = 0;
+             return e;
+         },
+         Check::NOZZLE_DIRECTION},
+        {"nozzle position NaN",
+         [] {
+             pbf_emitter_desc e = nozzle_desc();
+             e.position[0] = NAN;
+             return e;
+         },
+         Check::NOZZLE_FINITE},
+        {"inverted drain",
+         [] {
+             pbf_emitter_desc e = drain_desc();
+             std::swap(e.box_min[0], e.box_max[0]);
+             return e;
+         },
+         Check::DRAIN_BOX},
+        {"drain box Inf",
+         [] {
+             pbf_emitter_desc e = drain_desc();
+             e.box_max[2] = INFINITY;
+             return e;
+         },
+         Check::DRAIN_FINITE},
+        {"drain with NaN speed",
+         [] {
+             pbf_emitter_desc e = drain_desc();
+             e.speed = NAN;
+             return e;
+         },
+         Check::EMITTER_UNUSED_FINITE},
     };
     for (const Case& c : cases) {
         INFO(c.what);
@@ -184,13 +271,20 @@ TEST_CASE("validate: collider descs and poses name the failed check", "[api][val
     };
     const Case cases[] = {
         {"shape 9", [](pbf_collider_desc& c) { c.shape = static_cast<pbf_collider_shape>(9); }, Check::COLLIDER_SHAPE},
-        {"motion 5", [](pbf_collider_desc& c) { c.motion = static_cast<pbf_collider_motion>(5); }, Check::COLLIDER_MOTION},
+        {"motion 5", [](pbf_collider_desc& c) { c.motion = static_cast<pbf_collider_motion>(5); },
+         Check::COLLIDER_MOTION},
         {"zero quaternion", [](pbf_collider_desc& c) { c.rotation[3] = 0; }, Check::COLLIDER_POSE},
         {"friction 2", [](pbf_collider_desc& c) { c.friction = 2; }, Check::COLLIDER_FRICTION},
         {"radius 0", [](pbf_collider_desc& c) { c.radius = 0; }, Check::COLLIDER_RADIUS},
-        {"capsule half_height -1", [](pbf_collider_desc& c) { c.shape = PBF_SHAPE_CAPSULE; c.half_height = -1; }, Check::COLLIDER_HALF_HEIGHT},
+        {"capsule half_height -1",
+         [](pbf_collider_desc& c) {
+             c.shape = PBF_SHAPE_CAPSULE;
+             c.half_height = -1;
+         },
+         Check::COLLIDER_HALF_HEIGHT},
         {"box extents 0", [](pbf_collider_desc& c) { c.shape = PBF_SHAPE_BOX; }, Check::COLLIDER_HALF_EXTENTS},
-        {"sphere with NaN extents", [](pbf_collider_desc& c) { c.half_extents[1] = NAN; }, Check::COLLIDER_UNUSED_FINITE},
+        {"sphere with NaN extents", [](pbf_collider_desc& c) { c.half_extents[1] = NAN; },
+         Check::COLLIDER_UNUSED_FINITE},
         {"dynamic 2", [](pbf_collider_desc& c) { c.dynamic = 2; }, Check::COLLIDER_DYNAMIC},
         {"centre NaN", [](pbf_collider_desc& c) { c.center_of_mass[2] = NAN; }, Check::COLLIDER_CENTER},
     };
@@ -210,9 +304,11 @@ TEST_CASE("validate: pbf_world_copy_buffer names the failed check", "[api][valid
     w.emit_default_block();
     float out[48];
     uint32_t written = 7;
-    CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, static_cast<pbf_buffer>(0), out, sizeof out, &written), Check::COPY_SOURCE);
+    CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, static_cast<pbf_buffer>(0), out, sizeof out, &written),
+                     Check::COPY_SOURCE);
     CHECK(written == 0u);
-    CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, static_cast<pbf_buffer>(9), out, sizeof out, &written), Check::COPY_SOURCE);
+    CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, static_cast<pbf_buffer>(9), out, sizeof out, &written),
+                     Check::COPY_SOURCE);
     CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, PBF_BUFFER_POSITIONS, out, 20, &written), Check::COPY_OUT_SIZE);
     CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, PBF_BUFFER_ANISOTROPY, out, 32, &written), Check::COPY_OUT_SIZE);
     CHECK_REFUSED_BY(pbf_world_copy_buffer(w.id, PBF_BUFFER_IDS, out, 6, &written), Check::COPY_OUT_SIZE);

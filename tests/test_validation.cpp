@@ -29,11 +29,11 @@
 
 namespace {
 
-#define REQUIRE_OK(call)                                                                        \
-    do {                                                                                        \
-        const pbf_result r_ = (call);                                                           \
-        INFO(#call << " -> " << pbf_result_string(r_) << ": " << pbf_last_error_message());    \
-        REQUIRE(r_ == PBF_OK);                                                                  \
+#define REQUIRE_OK(call)                                                                    \
+    do {                                                                                    \
+        const pbf_result r_ = (call);                                                       \
+        INFO(#call << " -> " << pbf_result_string(r_) << ": " << pbf_last_error_message()); \
+        REQUIRE(r_ == PBF_OK);                                                              \
     } while (0)
 
 struct Curve {
@@ -95,9 +95,9 @@ void check_against_martin_moyce(const Curve& c) {
         table << p.T << "  " << p.Z << "  " << z << "  " << (z / p.Z - 1.0) << "\n";
     }
     INFO(table.str());
-    INFO("fitted shift δ = " << m.shift << ", worst relative error " << m.worst_rel_error << " at T = "
-                             << m.worst_T << " (unshifted " << m.worst_rel_error_unshifted << "), "
-                             << m.points << " table points, bound margin min(1 + 2T - Z) = " << m.bound_margin);
+    INFO("fitted shift δ = " << m.shift << ", worst relative error " << m.worst_rel_error << " at T = " << m.worst_T
+                             << " (unshifted " << m.worst_rel_error_unshifted << "), " << m.points
+                             << " table points, bound margin min(1 + 2T - Z) = " << m.bound_margin);
     CHECK(m.points == 12);
     CHECK(m.shift <= 0.2);
     CHECK(m.worst_rel_error <= 0.10);

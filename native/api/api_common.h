@@ -41,18 +41,18 @@ pbf_result guarded(const char* fn, F&& body) {
     }
 }
 
-#define PBF_REQUIRE(cond, code, msg)                    \
-    do {                                                \
+#define PBF_REQUIRE(cond, code, msg)                         \
+    do {                                                     \
         if (!(cond)) return ::pbf::api::fail((code), (msg)); \
     } while (0)
 #define PBF_REQUIRE_ARG(cond, msg) PBF_REQUIRE(cond, PBF_ERROR_INVALID_ARGUMENT, std::string(fn) + ": " + (msg))
 
 pbf_result check_struct(const char* fn, const char* type, const void* p, uint32_t struct_size, size_t expected);
-#define PBF_CHECK_STRUCT(type, p)                                                            \
-    do {                                                                                     \
+#define PBF_CHECK_STRUCT(type, p)                                                                                \
+    do {                                                                                                         \
         if (pbf_result r_ = ::pbf::api::check_struct(fn, #type, (p), (p) ? (p)->struct_size : 0u, sizeof(type)); \
-            r_ != PBF_OK)                                                                    \
-            return r_;                                                                       \
+            r_ != PBF_OK)                                                                                        \
+            return r_;                                                                                           \
     } while (0)
 
 // The world computes source (a render buffer is only there when desc.render.flags asked for it):
@@ -60,8 +60,9 @@ pbf_result check_struct(const char* fn, const char* type, const void* p, uint32_
 inline pbf_result require_buffer(const char* fn, World& w, pbf_buffer source) {
     if (w.has_buffer(source)) return PBF_OK;
     if (source == PBF_BUFFER_DIFFUSE_POSITIONS || source == PBF_BUFFER_DIFFUSE_VELOCITIES)
-        return fail(PBF_ERROR_INVALID_STATE, std::string(fn) + ": diffuse particles are off: this world has no "
-                                                               "diffuse capacity (create it with desc.diffuse.max_diffuse > 0)");
+        return fail(PBF_ERROR_INVALID_STATE, std::string(fn) +
+                                                 ": diffuse particles are off: this world has no "
+                                                 "diffuse capacity (create it with desc.diffuse.max_diffuse > 0)");
     const char* flag = source == PBF_BUFFER_ANISOTROPY ? "PBF_RENDER_ANISOTROPY" : "PBF_RENDER_SMOOTHED_POSITIONS";
     return fail(PBF_ERROR_INVALID_STATE, std::string(fn) + ": render data is off: this world does not compute " +
                                              (source == PBF_BUFFER_ANISOTROPY ? "anisotropy" : "smoothed positions") +
@@ -98,8 +99,8 @@ private:
     pbf_result result_ = PBF_OK;
 };
 
-#define PBF_LOCK_WORLD(w, id)           \
-    ::pbf::api::WorldLock w(fn, id);    \
+#define PBF_LOCK_WORLD(w, id)        \
+    ::pbf::api::WorldLock w(fn, id); \
     if (!w) return w.result()
 
 }  // namespace pbf::api

@@ -9,7 +9,8 @@ using pbf::api::guarded;
 
 extern "C" {
 
-PBF_API pbf_result PBF_CALL pbf_world_create_collider(pbf_world_id id, const pbf_collider_desc* d, pbf_collider_id* out) {
+PBF_API pbf_result PBF_CALL pbf_world_create_collider(pbf_world_id id, const pbf_collider_desc* d,
+                                                      pbf_collider_id* out) {
     const char* fn = "pbf_world_create_collider";
     return guarded(fn, [&]() -> pbf_result {
         PBF_REQUIRE_ARG(out != nullptr, "out_collider is NULL");
@@ -31,7 +32,7 @@ PBF_API pbf_result PBF_CALL pbf_world_destroy_collider(pbf_world_id id, pbf_coll
 }
 
 PBF_API pbf_result PBF_CALL pbf_collider_set_target_pose(pbf_world_id id, pbf_collider_id c, const float position[3],
-                                                        const float rotation[4]) {
+                                                         const float rotation[4]) {
     const char* fn = "pbf_collider_set_target_pose";
     return guarded(fn, [&]() -> pbf_result {
         PBF_VALIDATE(pbf::api::validate_collider_pose(position, rotation));
@@ -41,7 +42,7 @@ PBF_API pbf_result PBF_CALL pbf_collider_set_target_pose(pbf_world_id id, pbf_co
 }
 
 PBF_API pbf_result PBF_CALL pbf_collider_teleport(pbf_world_id id, pbf_collider_id c, const float position[3],
-                                                 const float rotation[4]) {
+                                                  const float rotation[4]) {
     const char* fn = "pbf_collider_teleport";
     return guarded(fn, [&]() -> pbf_result {
         PBF_VALIDATE(pbf::api::validate_collider_pose(position, rotation));

@@ -95,8 +95,8 @@ PBF_API pbf_result PBF_CALL pbf_render_params_init(pbf_render_params* p, uint32_
     if (pbf_result r = start("pbf_render_params_init", "pbf_render_params", p, struct_size); r != PBF_OK) return r;
     p->flags = 0;
     p->smoothing = 0.9f;
-    p->max_stretch = 4.0f;   // Yu & Turk's k_r
-    p->scale = 1.0f;         // k_s, relative to a rest lattice
+    p->max_stretch = 4.0f;     // Yu & Turk's k_r
+    p->scale = 1.0f;           // k_s, relative to a rest lattice
     p->isolated_scale = 0.5f;  // Yu & Turk's k_n
     p->min_neighbors = 6;
     return PBF_OK;
@@ -148,14 +148,16 @@ PBF_API pbf_result PBF_CALL pbf_gl_buffer_desc_init(pbf_gl_buffer_desc* d, uint3
 }
 
 PBF_API pbf_result PBF_CALL pbf_d3d11_buffer_desc_init(pbf_d3d11_buffer_desc* d, uint32_t struct_size) {
-    if (pbf_result r = start("pbf_d3d11_buffer_desc_init", "pbf_d3d11_buffer_desc", d, struct_size); r != PBF_OK) return r;
+    if (pbf_result r = start("pbf_d3d11_buffer_desc_init", "pbf_d3d11_buffer_desc", d, struct_size); r != PBF_OK)
+        return r;
     d->source = PBF_BUFFER_POSITIONS;
     d->mode = PBF_COPY_ON_RENDER_EVENT;  // the D3D11 device context is the render thread's
     return PBF_OK;
 }
 
 PBF_API pbf_result PBF_CALL pbf_external_buffer_desc_init(pbf_external_buffer_desc* d, uint32_t struct_size) {
-    if (pbf_result r = start("pbf_external_buffer_desc_init", "pbf_external_buffer_desc", d, struct_size); r != PBF_OK) return r;
+    if (pbf_result r = start("pbf_external_buffer_desc_init", "pbf_external_buffer_desc", d, struct_size); r != PBF_OK)
+        return r;
     d->fd = -1;
     d->source = PBF_BUFFER_POSITIONS;
     d->mode = PBF_COPY_MANUAL;

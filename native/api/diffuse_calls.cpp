@@ -27,9 +27,10 @@ PBF_API pbf_result PBF_CALL pbf_world_set_diffuse_params(pbf_world_id id, const 
         PBF_LOCK_WORLD(w, id);
         const uint32_t capacity = w->diffuse_params().max_diffuse;
         PBF_REQUIRE(p->max_diffuse == capacity, PBF_ERROR_INVALID_STATE,
-                    std::string(fn) + ": diffuse.max_diffuse is fixed at world creation (its buffers are allocated "
-                                      "then): this world has " + std::to_string(capacity) + ", got " +
-                        std::to_string(p->max_diffuse));
+                    std::string(fn) +
+                        ": diffuse.max_diffuse is fixed at world creation (its buffers are allocated "
+                        "then): this world has " +
+                        std::to_string(capacity) + ", got " + std::to_string(p->max_diffuse));
         w->set_diffuse_params(*p);
         return PBF_OK;
     });

@@ -84,12 +84,12 @@ pbf_result move_emitter(const char* fn, pbf_world_id id, pbf_emitter_id e, const
 extern "C" {
 
 PBF_API pbf_result PBF_CALL pbf_emitter_set_nozzle(pbf_world_id id, pbf_emitter_id e, const float position[3],
-                                                  const float direction[3]) {
+                                                   const float direction[3]) {
     return move_emitter("pbf_emitter_set_nozzle", id, e, position, direction, PBF_EMITTER_NOZZLE);
 }
 
 PBF_API pbf_result PBF_CALL pbf_emitter_set_drain_box(pbf_world_id id, pbf_emitter_id e, const float box_min[3],
-                                                     const float box_max[3]) {
+                                                      const float box_max[3]) {
     return move_emitter("pbf_emitter_set_drain_box", id, e, box_min, box_max, PBF_EMITTER_DRAIN);
 }
 

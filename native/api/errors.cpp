@@ -57,18 +57,30 @@ PBF_API const char* PBF_CALL pbf_last_error_message(void) { return t_last_error.
 
 PBF_API const char* PBF_CALL pbf_result_string(pbf_result r) {
     switch (raw(r)) {  // any int a C caller passes, without an out-of-range enum load
-        case PBF_OK: return "PBF_OK";
-        case PBF_ERROR_INVALID_ARGUMENT: return "PBF_ERROR_INVALID_ARGUMENT";
-        case PBF_ERROR_INVALID_HANDLE: return "PBF_ERROR_INVALID_HANDLE";
-        case PBF_ERROR_STRUCT_SIZE: return "PBF_ERROR_STRUCT_SIZE";
-        case PBF_ERROR_VERSION_MISMATCH: return "PBF_ERROR_VERSION_MISMATCH";
-        case PBF_ERROR_CAPACITY: return "PBF_ERROR_CAPACITY";
-        case PBF_ERROR_OUT_OF_MEMORY: return "PBF_ERROR_OUT_OF_MEMORY";
-        case PBF_ERROR_BACKEND_UNAVAILABLE: return "PBF_ERROR_BACKEND_UNAVAILABLE";
-        case PBF_ERROR_BACKEND: return "PBF_ERROR_BACKEND";
-        case PBF_ERROR_INVALID_STATE: return "PBF_ERROR_INVALID_STATE";
-        case PBF_ERROR_INTERNAL: return "PBF_ERROR_INTERNAL";
-        default: return "PBF_ERROR_UNKNOWN";
+        case PBF_OK:
+            return "PBF_OK";
+        case PBF_ERROR_INVALID_ARGUMENT:
+            return "PBF_ERROR_INVALID_ARGUMENT";
+        case PBF_ERROR_INVALID_HANDLE:
+            return "PBF_ERROR_INVALID_HANDLE";
+        case PBF_ERROR_STRUCT_SIZE:
+            return "PBF_ERROR_STRUCT_SIZE";
+        case PBF_ERROR_VERSION_MISMATCH:
+            return "PBF_ERROR_VERSION_MISMATCH";
+        case PBF_ERROR_CAPACITY:
+            return "PBF_ERROR_CAPACITY";
+        case PBF_ERROR_OUT_OF_MEMORY:
+            return "PBF_ERROR_OUT_OF_MEMORY";
+        case PBF_ERROR_BACKEND_UNAVAILABLE:
+            return "PBF_ERROR_BACKEND_UNAVAILABLE";
+        case PBF_ERROR_BACKEND:
+            return "PBF_ERROR_BACKEND";
+        case PBF_ERROR_INVALID_STATE:
+            return "PBF_ERROR_INVALID_STATE";
+        case PBF_ERROR_INTERNAL:
+            return "PBF_ERROR_INTERNAL";
+        default:
+            return "PBF_ERROR_UNKNOWN";
     }
 }
 

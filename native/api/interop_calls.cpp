@@ -30,18 +30,24 @@ pbf_result require_support(const char* fn, uint32_t flag) {
     const uint32_t have = pbf::interop_support();
     if (have & flag) return PBF_OK;
     std::string why;
-    if (!(have & PBF_INTEROP_SUPPORT_CUDA)) why = "this libpbf was built without CUDA";
-    else if (flag == PBF_INTEROP_SUPPORT_D3D11) why = "Direct3D 11 exists only in Windows builds";
-    else if (flag == PBF_INTEROP_SUPPORT_EXTERNAL_WIN32) why = "win32 handles, D3D11 and D3D12 exist only in Windows builds";
-    else if (flag == PBF_INTEROP_SUPPORT_EXTERNAL_FD) why = "opaque file descriptors exist only in Linux builds";
-    else why = "not available in this build";
+    if (!(have & PBF_INTEROP_SUPPORT_CUDA))
+        why = "this libpbf was built without CUDA";
+    else if (flag == PBF_INTEROP_SUPPORT_D3D11)
+        why = "Direct3D 11 exists only in Windows builds";
+    else if (flag == PBF_INTEROP_SUPPORT_EXTERNAL_WIN32)
+        why = "win32 handles, D3D11 and D3D12 exist only in Windows builds";
+    else if (flag == PBF_INTEROP_SUPPORT_EXTERNAL_FD)
+        why = "opaque file descriptors exist only in Linux builds";
+    else
+        why = "not available in this build";
     return fail(PBF_ERROR_BACKEND_UNAVAILABLE, std::string(fn) + ": " + why);
 }
 
 // The world must run on CUDA (PBF_ERROR_INVALID_STATE otherwise).
 pbf_result require_cuda_world(const char* fn, World& w) {
     if (w.backend_kind() == PBF_BACKEND_CUDA) return PBF_OK;
-    return fail(PBF_ERROR_INVALID_STATE, std::string(fn) + ": the world runs on the CPU backend; this call needs a CUDA world");
+    return fail(PBF_ERROR_INVALID_STATE,
+                std::string(fn) + ": the world runs on the CPU backend; this call needs a CUDA world");
 }
 
 // The world's interop state, created on first use.
@@ -74,12 +80,12 @@ pbf_result on_handle(const char* fn, pbf_world_id id, uint32_t support, bool (In
     });
 }
 
-#define PBF_INTEROP_OF(io, w)                                                  \
-    Interop* io = nullptr;                                                     \
+#define PBF_INTEROP_OF(io, w) \
+    Interop* io = nullptr;    \
     if (pbf_result r_ = interop_of(fn, *w, &io); r_ != PBF_OK) return r_
 
-#define PBF_REQUIRE_HANDLE(io, has, id, what)                                                     \
-    PBF_REQUIRE((io) && (io)->has(id), PBF_ERROR_INVALID_HANDLE,                                  \
+#define PBF_REQUIRE_HANDLE(io, has, id, what)                                                      \
+    PBF_REQUIRE((io) && (io)->has(id), PBF_ERROR_INVALID_HANDLE,                                   \
                 std::string(fn) + ": " + (what) + " " + handle_text((id).index, (id).generation) + \
                     " is not live in this world (released, or never created here)")
 
@@ -96,11 +102,10 @@ void add_render_world(pbf_world_id id) {
 
 void remove_render_world(pbf_world_id id) {
     std::lock_guard<std::mutex> lock(g_render_mutex);
-    g_render_worlds.erase(std::remove_if(g_render_worlds.begin(), g_render_worlds.end(),
-                                         [&](const pbf_world_id& w) {
-                                             return w.index == id.index && w.generation == id.generation;
-                                         }),
-                          g_render_worlds.end());
+    g_render_worlds.erase(
+        std::remove_if(g_render_worlds.begin(), g_render_worlds.end(),
+                       [&](const pbf_world_id& w) { return w.index == id.index && w.generation == id.generation; }),
+        g_render_worlds.end());
 }
 
 void PBF_CALL render_event(int event_id) {
@@ -124,7 +129,8 @@ void PBF_CALL render_event(int event_id) {
             }
             const Status st = io->render_event();
             if (!st.ok())
-                pbf::api::log_message(PBF_LOG_ERROR, std::string(pbf_result_string(st.code)) + ": pbf render event, world " +
+                pbf::api::log_message(PBF_LOG_ERROR, std::string(pbf_result_string(st.code)) +
+                                                         ": pbf render event, world " +
                                                          handle_text(id.index, id.generation) + ": " + st.message);
         }
     } catch (const std::exception& e) {
@@ -161,7 +167,8 @@ pbf_result register_graphics(const char* fn, const char* desc_type, pbf_world_id
 pbf_result check_sync(const char* fn, Interop* io, const pbf_external_sync* sync) {
     PBF_CHECK_STRUCT(pbf_external_sync, sync);
     PBF_VALIDATE(pbf::api::validate_external_sync(*sync));
-    if (!is_zero(sync->wait_semaphore)) PBF_REQUIRE_HANDLE(io, has_semaphore, sync->wait_semaphore, "sync.wait_semaphore");
+    if (!is_zero(sync->wait_semaphore))
+        PBF_REQUIRE_HANDLE(io, has_semaphore, sync->wait_semaphore, "sync.wait_semaphore");
     if (!is_zero(sync->signal_semaphore))
         PBF_REQUIRE_HANDLE(io, has_semaphore, sync->signal_semaphore, "sync.signal_semaphore");
     return PBF_OK;
@@ -283,20 +290,22 @@ PBF_API pbf_result PBF_CALL pbf_world_unregister_gl_buffer(pbf_world_id id, pbf_
     const char* fn = "pbf_world_unregister_gl_buffer";
     return on_handle(fn, id, PBF_INTEROP_SUPPORT_OPENGL, &Interop::has_gl_buffer, buffer, "GL buffer",
                      [&](Interop* io) -> pbf_result {
-        const Status st = io->unregister_gl_buffer(buffer);
-        return fail(fn, st);
-    });
+                         const Status st = io->unregister_gl_buffer(buffer);
+                         return fail(fn, st);
+                     });
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_copy_to_gl_buffer(pbf_world_id id, pbf_gl_buffer_id buffer) {
     const char* fn = "pbf_world_copy_to_gl_buffer";
     return on_handle(fn, id, PBF_INTEROP_SUPPORT_OPENGL, &Interop::has_gl_buffer, buffer, "GL buffer",
                      [&](Interop* io) -> pbf_result {
-        PBF_REQUIRE(io->gl_buffer_mode(buffer) != PBF_COPY_ON_RENDER_EVENT, PBF_ERROR_INVALID_STATE,
-                    std::string(fn) + ": the buffer was registered with PBF_COPY_ON_RENDER_EVENT: the render thread copies");
-        const Status st = io->copy_to_gl_buffer(buffer);
-        return fail(fn, st);
-    });
+                         PBF_REQUIRE(
+                             io->gl_buffer_mode(buffer) != PBF_COPY_ON_RENDER_EVENT, PBF_ERROR_INVALID_STATE,
+                             std::string(fn) +
+                                 ": the buffer was registered with PBF_COPY_ON_RENDER_EVENT: the render thread copies");
+                         const Status st = io->copy_to_gl_buffer(buffer);
+                         return fail(fn, st);
+                     });
 }
 
 // ---- Direct3D 11 -----------------------------------------------------------------------------
@@ -311,9 +320,9 @@ PBF_API pbf_result PBF_CALL pbf_world_unregister_d3d11_buffer(pbf_world_id id, p
     const char* fn = "pbf_world_unregister_d3d11_buffer";
     return on_handle(fn, id, PBF_INTEROP_SUPPORT_D3D11, &Interop::has_d3d11_buffer, buffer, "D3D11 buffer",
                      [&](Interop* io) -> pbf_result {
-        const Status st = io->unregister_d3d11_buffer(buffer);
-        return fail(fn, st);
-    });
+                         const Status st = io->unregister_d3d11_buffer(buffer);
+                         return fail(fn, st);
+                     });
 }
 
 // ---- external memory and semaphores ----------------------------------------------------------
@@ -326,7 +335,8 @@ PBF_API pbf_result PBF_CALL pbf_world_import_external_buffer(pbf_world_id id, co
         PBF_CHECK_STRUCT(pbf_external_buffer_desc, d);
         PBF_VALIDATE(pbf::api::validate_external_buffer_desc(*d));
         const bool fd_type = raw(d->type) == PBF_EXTERNAL_MEMORY_OPAQUE_FD;
-        if (pbf_result r = require_support(fn, fd_type ? PBF_INTEROP_SUPPORT_EXTERNAL_FD : PBF_INTEROP_SUPPORT_EXTERNAL_WIN32);
+        if (pbf_result r =
+                require_support(fn, fd_type ? PBF_INTEROP_SUPPORT_EXTERNAL_FD : PBF_INTEROP_SUPPORT_EXTERNAL_WIN32);
             r != PBF_OK)
             return r;
         PBF_LOCK_WORLD(w, id);
@@ -343,9 +353,9 @@ PBF_API pbf_result PBF_CALL pbf_world_release_external_buffer(pbf_world_id id, p
     const char* fn = "pbf_world_release_external_buffer";
     return on_handle(fn, id, PBF_INTEROP_SUPPORT_CUDA, &Interop::has_external_buffer, buffer, "external buffer",
                      [&](Interop* io) -> pbf_result {
-        const Status st = io->release_external_buffer(buffer);
-        return fail(fn, st);
-    });
+                         const Status st = io->release_external_buffer(buffer);
+                         return fail(fn, st);
+                     });
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_import_semaphore(pbf_world_id id, const pbf_semaphore_desc* d,
@@ -358,7 +368,8 @@ PBF_API pbf_result PBF_CALL pbf_world_import_semaphore(pbf_world_id id, const pb
         PBF_VALIDATE(pbf::api::validate_semaphore_desc(*d));
         const bool fd_type =
             raw(d->type) == PBF_SEMAPHORE_VULKAN_BINARY_FD || raw(d->type) == PBF_SEMAPHORE_VULKAN_TIMELINE_FD;
-        if (pbf_result r = require_support(fn, fd_type ? PBF_INTEROP_SUPPORT_EXTERNAL_FD : PBF_INTEROP_SUPPORT_EXTERNAL_WIN32);
+        if (pbf_result r =
+                require_support(fn, fd_type ? PBF_INTEROP_SUPPORT_EXTERNAL_FD : PBF_INTEROP_SUPPORT_EXTERNAL_WIN32);
             r != PBF_OK)
             return r;
         PBF_LOCK_WORLD(w, id);
@@ -372,23 +383,25 @@ PBF_API pbf_result PBF_CALL pbf_world_release_semaphore(pbf_world_id id, pbf_sem
     const char* fn = "pbf_world_release_semaphore";
     return on_handle(fn, id, PBF_INTEROP_SUPPORT_CUDA, &Interop::has_semaphore, semaphore, "semaphore",
                      [&](Interop* io) -> pbf_result {
-        const Status st = io->release_semaphore(semaphore);
-        return fail(fn, st);
-    });
+                         const Status st = io->release_semaphore(semaphore);
+                         return fail(fn, st);
+                     });
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_copy_to_external_buffer(pbf_world_id id, pbf_external_buffer_id buffer,
                                                               const pbf_external_sync* sync) {
     const char* fn = "pbf_world_copy_to_external_buffer";
-    return on_handle(fn, id, PBF_INTEROP_SUPPORT_CUDA, &Interop::has_external_buffer, buffer, "external buffer",
-                     [&](Interop* io) -> pbf_result {
-        if (sync)
-            if (pbf_result r = check_sync(fn, io, sync); r != PBF_OK) return r;
-        PBF_REQUIRE(io->external_buffer_mode(buffer) != PBF_COPY_ON_RENDER_EVENT, PBF_ERROR_INVALID_STATE,
-                    std::string(fn) + ": the buffer was imported with PBF_COPY_ON_RENDER_EVENT: the render thread copies");
-        const Status st = io->copy_to_external_buffer(buffer, sync);
-        return fail(fn, st);
-    });
+    return on_handle(
+        fn, id, PBF_INTEROP_SUPPORT_CUDA, &Interop::has_external_buffer, buffer, "external buffer",
+        [&](Interop* io) -> pbf_result {
+            if (sync)
+                if (pbf_result r = check_sync(fn, io, sync); r != PBF_OK) return r;
+            PBF_REQUIRE(
+                io->external_buffer_mode(buffer) != PBF_COPY_ON_RENDER_EVENT, PBF_ERROR_INVALID_STATE,
+                std::string(fn) + ": the buffer was imported with PBF_COPY_ON_RENDER_EVENT: the render thread copies");
+            const Status st = io->copy_to_external_buffer(buffer, sync);
+            return fail(fn, st);
+        });
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_set_external_sync(pbf_world_id id, pbf_external_buffer_id buffer,
@@ -396,14 +409,15 @@ PBF_API pbf_result PBF_CALL pbf_world_set_external_sync(pbf_world_id id, pbf_ext
     const char* fn = "pbf_world_set_external_sync";
     return on_handle(fn, id, PBF_INTEROP_SUPPORT_CUDA, &Interop::has_external_buffer, buffer, "external buffer",
                      [&](Interop* io) -> pbf_result {
-        if (sync)
-            if (pbf_result r = check_sync(fn, io, sync); r != PBF_OK) return r;
-        PBF_REQUIRE(io->external_buffer_mode(buffer) != PBF_COPY_MANUAL, PBF_ERROR_INVALID_STATE,
-                    std::string(fn) + ": the buffer was imported with PBF_COPY_MANUAL: pass the sync to "
-                                      "pbf_world_copy_to_external_buffer");
-        io->set_external_sync(buffer, sync);
-        return PBF_OK;
-    });
+                         if (sync)
+                             if (pbf_result r = check_sync(fn, io, sync); r != PBF_OK) return r;
+                         PBF_REQUIRE(io->external_buffer_mode(buffer) != PBF_COPY_MANUAL, PBF_ERROR_INVALID_STATE,
+                                     std::string(fn) +
+                                         ": the buffer was imported with PBF_COPY_MANUAL: pass the sync to "
+                                         "pbf_world_copy_to_external_buffer");
+                         io->set_external_sync(buffer, sync);
+                         return PBF_OK;
+                     });
 }
 
 // ---- render thread -----------------------------------------------------------------------------
@@ -415,7 +429,8 @@ PBF_API pbf_result PBF_CALL pbf_world_get_render_event_id(pbf_world_id id, int32
         PBF_REQUIRE_ARG(out_event_id != nullptr, "out_event_id is NULL");
         *out_event_id = 0;
         PBF_LOCK_WORLD(w, id);
-        PBF_REQUIRE(id.index < 0x7FFFFFFEu, PBF_ERROR_CAPACITY, std::string(fn) + ": world index too large for an event id");
+        PBF_REQUIRE(id.index < 0x7FFFFFFEu, PBF_ERROR_CAPACITY,
+                    std::string(fn) + ": world index too large for an event id");
         *out_event_id = int32_t(id.index + 1);
         return PBF_OK;
     });

@@ -15,10 +15,9 @@ struct CheckInfo {
     const char* message;
 };
 
-const CheckInfo kChecks[] = {
-    {"OK", PBF_OK, ""},
+const CheckInfo kChecks[] = {{"OK", PBF_OK, ""},
 #define PBF_CHECK_INFO(id, code, message) {#id, code, message},
-    PBF_VALIDATE_CHECKS(PBF_CHECK_INFO)
+                             PBF_VALIDATE_CHECKS(PBF_CHECK_INFO)
 #undef PBF_CHECK_INFO
 };
 static_assert(sizeof kChecks / sizeof kChecks[0] == size_t(Check::count), "one entry per check");
@@ -39,8 +38,8 @@ bool valid_mode(pbf_copy_mode mode) {
 }
 
 // Returns the verdict of the first failed check: V(cond, CHECK) inside a validator.
-#define V(cond, id) \
-    do {            \
+#define V(cond, id)                             \
+    do {                                        \
         if (!(cond)) return Verdict{Check::id}; \
     } while (0)
 
@@ -96,8 +95,7 @@ Verdict validate_world_desc(const pbf_world_desc& d) {
     V(d.hashed_grid == 0 || d.hashed_grid == 1, WORLD_HASHED_GRID);
     if (d.walls) {  // an open level has no box: its domain fields are ignored
         V(finite3(d.domain_min) && finite3(d.domain_max), WORLD_DOMAIN_FINITE);
-        for (int a = 0; a < 3; ++a)
-            V(d.domain_max[a] - d.domain_min[a] >= 4.0f * d.particle_radius, WORLD_DOMAIN_SIZE);
+        for (int a = 0; a < 3; ++a) V(d.domain_max[a] - d.domain_min[a] >= 4.0f * d.particle_radius, WORLD_DOMAIN_SIZE);
         // The box's grid may be hashed (any extent costs the same memory), but float must still
         // resolve h within it: the open limit box (solver/step_plan.cpp) bounds the walls too.
         const double limit = std::ldexp(double(d.particle_radius), 19);
@@ -123,9 +121,8 @@ Verdict validate_render_params(const pbf_render_params& p) {
 
 Verdict validate_diffuse_params(const pbf_diffuse_params& p) {
     V(p.max_diffuse <= (1u << 26), DIFFUSE_CAPACITY);
-    const float pairs[3][2] = {{p.trapped_air_min, p.trapped_air_max},
-                               {p.wave_crest_min, p.wave_crest_max},
-                               {p.energy_min, p.energy_max}};
+    const float pairs[3][2] = {
+        {p.trapped_air_min, p.trapped_air_max}, {p.wave_crest_min, p.wave_crest_max}, {p.energy_min, p.energy_max}};
     for (const auto& t : pairs) V(in(t[0], 0.0f, 1e6f) && in(t[1], 0.0f, 1e6f) && t[0] < t[1], DIFFUSE_THRESHOLDS);
     V(in(p.trapped_air_rate, 0.0f, 1e4f) && in(p.wave_crest_rate, 0.0f, 1e4f), DIFFUSE_RATES);
     V(in(p.lifetime, 0.0f, 1e4f) && p.lifetime > 0.0f, DIFFUSE_LIFETIME);
@@ -168,7 +165,8 @@ Verdict validate_emitter_desc(const pbf_emitter_desc& d) {
     V(d.enabled <= 1, EMITTER_ENABLED);
     if (raw(d.type) == PBF_EMITTER_NOZZLE) {
         V(finite3(d.position) && finite3(d.direction), NOZZLE_FINITE);
-        const float len2 = d.direction[0] * d.direction[0] + d.direction[1] * d.direction[1] + d.direction[2] * d.direction[2];
+        const float len2 =
+            d.direction[0] * d.direction[0] + d.direction[1] * d.direction[1] + d.direction[2] * d.direction[2];
         V(len2 > 1e-12f, NOZZLE_DIRECTION);
         V(std::isfinite(d.speed) && d.speed > 0.0f, NOZZLE_SPEED);
         V(std::isfinite(d.radius) && d.radius > 0.0f, NOZZLE_RADIUS);
@@ -235,7 +233,9 @@ Verdict validate_mesh_desc(const pbf_mesh_desc& d) {
     const uint64_t indices = uint64_t(d.triangle_count) * 3;
     for (uint64_t k = 0; k < indices; ++k)
         if (d.indices[k] >= d.vertex_count) return Verdict{Check::MESH_INDEX_RANGE, k, d.indices[k]};
-    auto vertex = [&](uint32_t i) { return pbf::Vec3{d.vertices[3 * i], d.vertices[3 * i + 1], d.vertices[3 * i + 2]}; };
+    auto vertex = [&](uint32_t i) {
+        return pbf::Vec3{d.vertices[3 * i], d.vertices[3 * i + 1], d.vertices[3 * i + 2]};
+    };
     bool surface = false;
     for (uint64_t t = 0; t < indices && !surface; t += 3)
         surface = !pbf::triangle_degenerate(vertex(d.indices[t]), vertex(d.indices[t + 1]), vertex(d.indices[t + 2]));
@@ -279,9 +279,12 @@ Verdict validate_d3d11_buffer_desc(const pbf_d3d11_buffer_desc& d) {
 }
 
 Verdict validate_external_buffer_desc(const pbf_external_buffer_desc& d) {
-    V(raw(d.type) >= PBF_EXTERNAL_MEMORY_OPAQUE_FD && raw(d.type) <= PBF_EXTERNAL_MEMORY_D3D11_RESOURCE_KMT, EXTERNAL_TYPE);
-    if (raw(d.type) == PBF_EXTERNAL_MEMORY_OPAQUE_FD) V(d.fd >= 0, HANDLE_FD);
-    else V(d.win32_handle != nullptr, HANDLE_WIN32);
+    V(raw(d.type) >= PBF_EXTERNAL_MEMORY_OPAQUE_FD && raw(d.type) <= PBF_EXTERNAL_MEMORY_D3D11_RESOURCE_KMT,
+      EXTERNAL_TYPE);
+    if (raw(d.type) == PBF_EXTERNAL_MEMORY_OPAQUE_FD)
+        V(d.fd >= 0, HANDLE_FD);
+    else
+        V(d.win32_handle != nullptr, HANDLE_WIN32);
     V(d.dedicated <= 1, EXTERNAL_DEDICATED);
     V(valid_source(d.source), COPY_SOURCE);
     V(raw(d.source) != PBF_BUFFER_MATERIALS, COPY_SOURCE_GRAPHICS);
@@ -307,9 +310,12 @@ Verdict validate_external_buffer_desc(const pbf_external_buffer_desc& d) {
 
 Verdict validate_semaphore_desc(const pbf_semaphore_desc& d) {
     V(raw(d.type) >= PBF_SEMAPHORE_VULKAN_BINARY_FD && raw(d.type) <= PBF_SEMAPHORE_D3D12_FENCE, SEMAPHORE_TYPE);
-    const bool fd_type = raw(d.type) == PBF_SEMAPHORE_VULKAN_BINARY_FD || raw(d.type) == PBF_SEMAPHORE_VULKAN_TIMELINE_FD;
-    if (fd_type) V(d.fd >= 0, HANDLE_FD);
-    else V(d.win32_handle != nullptr, HANDLE_WIN32);
+    const bool fd_type =
+        raw(d.type) == PBF_SEMAPHORE_VULKAN_BINARY_FD || raw(d.type) == PBF_SEMAPHORE_VULKAN_TIMELINE_FD;
+    if (fd_type)
+        V(d.fd >= 0, HANDLE_FD);
+    else
+        V(d.win32_handle != nullptr, HANDLE_WIN32);
     V(d.reserved0 == 0, RESERVED0);
     return {};
 }
@@ -327,7 +333,8 @@ Verdict validate_material_desc(const pbf_material_desc& d, float world_rest_dens
     V(in(d.surface_tension, 0.0f, 10000.0f), MATERIAL_SURFACE_TENSION);
     V(in(d.cohesion, 0.0f, 10000.0f), MATERIAL_COHESION);
     V(in(d.adhesion, 0.0f, 10000.0f), MATERIAL_ADHESION);
-    V(in(d.color[0], 0.0f, 1.0f) && in(d.color[1], 0.0f, 1.0f) && in(d.color[2], 0.0f, 1.0f) && in(d.color[3], 0.0f, 1.0f),
+    V(in(d.color[0], 0.0f, 1.0f) && in(d.color[1], 0.0f, 1.0f) && in(d.color[2], 0.0f, 1.0f) &&
+          in(d.color[3], 0.0f, 1.0f),
       MATERIAL_COLOR);
     V(d.reserved0 == 0, MATERIAL_RESERVED0);
     return {};

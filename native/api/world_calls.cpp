@@ -10,8 +10,8 @@ using pbf::Status;
 using pbf::World;
 using pbf::api::fail;
 using pbf::api::guarded;
-using pbf::api::raw;
 using pbf::api::log_message;
+using pbf::api::raw;
 
 namespace {
 
@@ -81,8 +81,8 @@ PBF_API pbf_result PBF_CALL pbf_world_destroy(pbf_world_id id) {
 PBF_API pbf_result PBF_CALL pbf_world_step(pbf_world_id id, float dt) {
     const char* fn = "pbf_world_step";
     return guarded(fn, [&]() -> pbf_result {
-        PBF_REQUIRE_ARG(std::isfinite(dt) && dt > 0.0f && dt <= 1.0f, "dt must be finite and in (0, 1] seconds, got " +
-                                                                          std::to_string(dt));
+        PBF_REQUIRE_ARG(std::isfinite(dt) && dt > 0.0f && dt <= 1.0f,
+                        "dt must be finite and in (0, 1] seconds, got " + std::to_string(dt));
         PBF_LOCK_WORLD(w, id);
         return fail(w->step(dt));
     });
@@ -136,9 +136,10 @@ PBF_API pbf_result PBF_CALL pbf_world_set_render_params(pbf_world_id id, const p
         PBF_VALIDATE(pbf::api::validate_render_params(*p));
         PBF_LOCK_WORLD(w, id);
         PBF_REQUIRE(p->flags == w->render_flags(), PBF_ERROR_INVALID_STATE,
-                    std::string(fn) + ": render.flags are fixed at world creation (its buffers are allocated then): "
-                                      "this world has " + std::to_string(w->render_flags()) + ", got " +
-                        std::to_string(p->flags));
+                    std::string(fn) +
+                        ": render.flags are fixed at world creation (its buffers are allocated then): "
+                        "this world has " +
+                        std::to_string(w->render_flags()) + ", got " + std::to_string(p->flags));
         w->set_render_params(*p);
         return PBF_OK;
     });
@@ -196,9 +197,7 @@ PBF_API pbf_result PBF_CALL pbf_world_get_profile(pbf_world_id id, pbf_step_prof
     });
 }
 
-PBF_API const char* PBF_CALL pbf_profile_stage_name(uint32_t stage) {
-    return pbf::World::stage_name(stage);
-}
+PBF_API const char* PBF_CALL pbf_profile_stage_name(uint32_t stage) { return pbf::World::stage_name(stage); }
 
 // ---- particles -------------------------------------------------------------------------------
 PBF_API pbf_result PBF_CALL pbf_world_get_particle_count(pbf_world_id id, uint32_t* out) {
@@ -210,11 +209,13 @@ PBF_API pbf_result PBF_CALL pbf_world_get_particle_count(pbf_world_id id, uint32
     });
 }
 
-PBF_API pbf_result PBF_CALL pbf_world_copy_positions(pbf_world_id id, float* out, uint32_t max_count, uint32_t* written) {
+PBF_API pbf_result PBF_CALL pbf_world_copy_positions(pbf_world_id id, float* out, uint32_t max_count,
+                                                     uint32_t* written) {
     return copy_out("pbf_world_copy_positions", id, out, max_count, written,
                     [](World& w, float* o, uint32_t m, uint32_t* n) { return w.copy_positions(o, m, n); });
 }
-PBF_API pbf_result PBF_CALL pbf_world_copy_velocities(pbf_world_id id, float* out, uint32_t max_count, uint32_t* written) {
+PBF_API pbf_result PBF_CALL pbf_world_copy_velocities(pbf_world_id id, float* out, uint32_t max_count,
+                                                      uint32_t* written) {
     return copy_out("pbf_world_copy_velocities", id, out, max_count, written,
                     [](World& w, float* o, uint32_t m, uint32_t* n) { return w.copy_velocities(o, m, n); });
 }

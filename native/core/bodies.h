@@ -64,10 +64,14 @@ constexpr float kUnbounded = 1e30f;
 PBF_HD float collider_reach(const Collider& c) {
     switch (c.shape) {
         case kShapeSphere:
-        case kShapeMesh: return c.radius;
-        case kShapeCapsule: return c.radius + c.half_height;
-        case kShapeBox: return length(c.half_extents);
-        default: return 0.0f;
+        case kShapeMesh:
+            return c.radius;
+        case kShapeCapsule:
+            return c.radius + c.half_height;
+        case kShapeBox:
+            return length(c.half_extents);
+        default:
+            return 0.0f;
     }
 }
 
@@ -76,7 +80,8 @@ PBF_HD Vec3 oriented_half_size(const Collider& c, const Mat3& r) {
     const float* m = r.m;
     switch (c.shape) {
         case kShapeSphere:
-        case kShapeMesh: return Vec3{c.radius, c.radius, c.radius};  // a mesh: the ball of its reach
+        case kShapeMesh:
+            return Vec3{c.radius, c.radius, c.radius};  // a mesh: the ball of its reach
         case kShapeCapsule: {  // the segment along the body's y axis (column 1), then the radius
             const Vec3 axis{fabsf(m[1]), fabsf(m[4]), fabsf(m[7])};
             return axis * c.half_height + Vec3{c.radius, c.radius, c.radius};

@@ -43,9 +43,16 @@ PBF_HD float collider_distance(const Collider& c, const ColliderPose& pose, Vec3
                 n_local = Vec3{copysignf(outside.x, q.x), copysignf(outside.y, q.y), copysignf(outside.z, q.z)} *
                           (1.0f / out_len);
             } else {  // inside: leave through the nearest face
-                if (a.x >= a.y && a.x >= a.z) { dist = a.x; n_local = Vec3{copysignf(1.0f, q.x), 0.0f, 0.0f}; }
-                else if (a.y >= a.z) { dist = a.y; n_local = Vec3{0.0f, copysignf(1.0f, q.y), 0.0f}; }
-                else { dist = a.z; n_local = Vec3{0.0f, 0.0f, copysignf(1.0f, q.z)}; }
+                if (a.x >= a.y && a.x >= a.z) {
+                    dist = a.x;
+                    n_local = Vec3{copysignf(1.0f, q.x), 0.0f, 0.0f};
+                } else if (a.y >= a.z) {
+                    dist = a.y;
+                    n_local = Vec3{0.0f, copysignf(1.0f, q.y), 0.0f};
+                } else {
+                    dist = a.z;
+                    n_local = Vec3{0.0f, 0.0f, copysignf(1.0f, q.z)};
+                }
             }
             break;
         }
@@ -137,7 +144,8 @@ PBF_HD Vec3 collide(const WorldConstants& s, const ColliderView& cv, Vec3 p, Vec
         if (!overlaps(c.bounds, min3(x_old, p) - r, max3(x_old, p) + r)) return;
         const Vec3 moved = contact(s, c, cv.prev[k], cv.cur[k], p, x_old, cv.meshes);
         const Vec3 push = moved - p;
-        if (cv.impulses && (c.flags & kColliderDynamic) && length_sq(push) > 0.0f) record_push(cv, c, cv.cur[k], moved, push);
+        if (cv.impulses && (c.flags & kColliderDynamic) && length_sq(push) > 0.0f)
+            record_push(cv, c, cv.cur[k], moved, push);
         p = moved;
     });
     return min3(max3(p, s.wall_min), s.wall_max);
@@ -347,8 +355,10 @@ PBF_HD BoundarySample boundary_at(const WorldConstants& s, const ColliderView& c
 PBF_HD void record_shares_push(const WorldConstants& s, const ColliderView& cv, Vec3 p, const ColliderShares& c,
                                float lambda) {
     if (c.reacting >= kStaticNear || lambda == 0.0f) return;
-    if (c.reacting == kSeveralNear) record_boundary_push(s, cv, p, lambda);
-    else record_push(cv, cv.shapes[c.reacting], cv.cur[c.reacting], p, c.gradient * lambda);
+    if (c.reacting == kSeveralNear)
+        record_boundary_push(s, cv, p, lambda);
+    else
+        record_push(cv, cv.shapes[c.reacting], cv.cur[c.reacting], p, c.gradient * lambda);
 }
 
 }  // namespace pbf

@@ -70,9 +70,10 @@ PBF_HD void for_each_collider_on_path(const ColliderView& cv, Vec3 a, Vec3 b, fl
     const float slack = g.query_reach - reach;
     const Vec3 lo = min3(a, b), hi = max3(a, b), mid = (lo + hi) * 0.5f, in{slack, slack, slack};
     const Vec3 c0 = min3(lo + in, mid), c1 = max3(hi - in, mid);
-    const int32_t x = coarse_cell(c0.x, g.inv_cell), y = coarse_cell(c0.y, g.inv_cell), z = coarse_cell(c0.z, g.inv_cell);
-    const bool one_cell = x == coarse_cell(c1.x, g.inv_cell) && y == coarse_cell(c1.y, g.inv_cell) &&
-                          z == coarse_cell(c1.z, g.inv_cell);
+    const int32_t x = coarse_cell(c0.x, g.inv_cell), y = coarse_cell(c0.y, g.inv_cell),
+                  z = coarse_cell(c0.z, g.inv_cell);
+    const bool one_cell =
+        x == coarse_cell(c1.x, g.inv_cell) && y == coarse_cell(c1.y, g.inv_cell) && z == coarse_cell(c1.z, g.inv_cell);
     for_each_candidate(cv, g.bucket_begin != nullptr && one_cell, x, y, z, f);
 }
 

@@ -21,16 +21,16 @@ constexpr uint32_t kMaxDiffusePerParticle = 3;
 // (solver/step_plan.cpp, diffuse_constants). capacity 0: no buffers and no pass.
 struct DiffuseConstants {
     uint32_t capacity = 0;
-    float trapped_air_min = 0.0f, trapped_air_max = 1.0f;  // τ_ta (m/s, weighted sum)
-    float wave_crest_min = 0.0f, wave_crest_max = 1.0f;    // τ_wc (weighted sum)
-    float energy_min = 0.0f, energy_max = 1.0f;            // τ_k (J/kg: ½|v|²)
-    float trapped_air_rate = 0.0f, wave_crest_rate = 0.0f; // k_ta, k_wc (particles per second)
-    float lifetime = 1.0f;                                 // s
-    uint32_t spray_max_neighbors = 0;  // fewer fluid neighbours: spray
-    uint32_t bubble_min_neighbors = 0; // more: bubble; between: foam
-    float buoyancy = 0.0f;      // k_b: a bubble accelerates by -k_b g
-    float bubble_drag = 0.0f;   // k_d (1/s): a bubble's velocity relaxes toward the fluid's
-    float spray_drag = 0.0f;    // 1/s: air drag on spray
+    float trapped_air_min = 0.0f, trapped_air_max = 1.0f;   // τ_ta (m/s, weighted sum)
+    float wave_crest_min = 0.0f, wave_crest_max = 1.0f;     // τ_wc (weighted sum)
+    float energy_min = 0.0f, energy_max = 1.0f;             // τ_k (J/kg: ½|v|²)
+    float trapped_air_rate = 0.0f, wave_crest_rate = 0.0f;  // k_ta, k_wc (particles per second)
+    float lifetime = 1.0f;                                  // s
+    uint32_t spray_max_neighbors = 0;                       // fewer fluid neighbours: spray
+    uint32_t bubble_min_neighbors = 0;                      // more: bubble; between: foam
+    float buoyancy = 0.0f;                                  // k_b: a bubble accelerates by -k_b g
+    float bubble_drag = 0.0f;                               // k_d (1/s): a bubble's velocity relaxes toward the fluid's
+    float spray_drag = 0.0f;                                // 1/s: air drag on spray
 };
 
 // Ihmsen's clamping Φ(I, τmin, τmax) = (min(I, τmax) - min(I, τmin)) / (τmax - τmin): 0..1.
@@ -39,9 +39,7 @@ PBF_HD float diffuse_clamp(float value, float lo, float hi) {
 }
 
 // Ihmsen's radially symmetric weight W(r) = 1 - r/h within h.
-PBF_HD float diffuse_weight(float r2, float h2, float inv_h) {
-    return r2 < h2 ? 1.0f - sqrtf(r2) * inv_h : 0.0f;
-}
+PBF_HD float diffuse_weight(float r2, float h2, float inv_h) { return r2 < h2 ? 1.0f - sqrtf(r2) * inv_h : 0.0f; }
 
 // A well-mixed 32-bit hash (Wellons' lowbias32) and a uniform number in [0, 1) from three keys:
 // the same keys give the same number on both backends, so generation is deterministic.
@@ -143,17 +141,19 @@ struct DiffuseSourceOp {
             if (w <= 0.0f) return;
             const Vec3 vij = vi - xyz(velocities[j]);
             const float v2 = length_sq(vij);
-            if (v2 > 0.0f && r2 > 0.0f)
-                trapped += sqrtf(v2) * (1.0f - dot(vij, xij) * inv_sqrt(v2 * r2)) * w;
+            if (v2 > 0.0f && r2 > 0.0f) trapped += sqrtf(v2) * (1.0f - dot(vij, xij) * inv_sqrt(v2 * r2)) * w;
             // x_ji · n_i < 0 is x_ij · n_i > 0: j lies behind i's surface.
-            if (crest && dot(xij, ni) > 0.0f && normals[j].w > kSurface) curvature += (1.0f - dot(ni, xyz(normals[j]))) * w;
+            if (crest && dot(xij, ni) > 0.0f && normals[j].w > kSurface)
+                curvature += (1.0f - dot(ni, xyz(normals[j]))) * w;
         });
-        const float rate = d.trapped_air_rate * diffuse_clamp(trapped, d.trapped_air_min, d.trapped_air_max) +
-                           (crest ? d.wave_crest_rate * diffuse_clamp(curvature, d.wave_crest_min, d.wave_crest_max) : 0.0f);
+        const float rate =
+            d.trapped_air_rate * diffuse_clamp(trapped, d.trapped_air_min, d.trapped_air_max) +
+            (crest ? d.wave_crest_rate * diffuse_clamp(curvature, d.wave_crest_min, d.wave_crest_max) : 0.0f);
         const float expected = fminf(energy * rate * dt, float(kMaxDiffusePerParticle));
         const float whole = floorf(expected);
         const uint32_t extra = diffuse_random(ids[i], step, 0xD1FFu) < expected - whole ? 1u : 0u;
-        generated[i] = uint32_t(whole) + extra <= kMaxDiffusePerParticle ? uint32_t(whole) + extra : kMaxDiffusePerParticle;
+        generated[i] =
+            uint32_t(whole) + extra <= kMaxDiffusePerParticle ? uint32_t(whole) + extra : kMaxDiffusePerParticle;
     }
 };
 
@@ -274,7 +274,8 @@ struct DiffuseScatterOp {
             const float r = s.radius * sqrtf(diffuse_random(key, step, 1u));
             const float angle = 6.2831853f * diffuse_random(key, step, 2u);
             const float along = speed * dt * diffuse_random(key, step, 3u);
-            const Vec3 x = collide(s, colliders, xj + e1 * (r * cosf(angle)) + e2 * (r * sinf(angle)) + axis * along, xj);
+            const Vec3 x =
+                collide(s, colliders, xj + e1 * (r * cosf(angle)) + e2 * (r * sinf(angle)) + axis * along, xj);
             const FluidSample f = fluid.at(x);
             const float life = d.lifetime * (0.5f + 0.5f * diffuse_random(key, step, 4u));
             dst_positions[base + k] = make_vec4(x, diffuse_kind(f.neighbors, d));
@@ -285,8 +286,8 @@ struct DiffuseScatterOp {
 
 // Counters of the diffuse particles, in backend memory.
 struct DiffuseCounters {
-    uint32_t count;                  // live diffuse particles in slots [0, count)
-    uint32_t dropped_step;           // generated in the last step but over capacity
+    uint32_t count;         // live diffuse particles in slots [0, count)
+    uint32_t dropped_step;  // generated in the last step but over capacity
     unsigned long long generated_total;
     unsigned long long dropped_total;
 };
@@ -296,7 +297,7 @@ struct DiffuseCommitOp {
     DiffuseCounters* c;
     const uint32_t* flags;
     const uint32_t* offset;
-    uint32_t n;         // scanned slots: capacity + fluid launch size
+    uint32_t n;  // scanned slots: capacity + fluid launch size
     uint32_t capacity;
     PBF_HD void operator()(uint32_t) const {
         const uint32_t total = offset[n - 1] + flags[n - 1];

@@ -51,7 +51,8 @@ PBF_HD void cell_coords(const GridDims& g, Vec3 p, int32_t& cx, int32_t& cy, int
 // Unsigned arithmetic: exact modulo 2^32, hence modulo num_cells (a power of two) when hashed.
 PBF_HD uint32_t key_of_cell(const GridDims& g, int32_t cx, int32_t cy, int32_t cz) {
     return (static_cast<uint32_t>(cx) + g.stride_y * static_cast<uint32_t>(cy) +
-            g.stride_z * static_cast<uint32_t>(cz)) & g.key_mask;
+            g.stride_z * static_cast<uint32_t>(cz)) &
+           g.key_mask;
 }
 
 PBF_HD uint32_t cell_key(const GridDims& g, Vec3 p) {
@@ -134,12 +135,24 @@ struct HashStrides {
     uint32_t stride_y, stride_z, shortest;
 };
 constexpr HashStrides kHashStrides[kMaxHashBits - kMinHashBits + 1] = {
-    {3757u, 3771u, 14u},           {7173u, 3119u, 18u},           {12321u, 13925u, 24u},
-    {29857u, 13881u, 29u},         {50753u, 65157u, 39u},         {75091u, 96967u, 45u},
-    {104671u, 145331u, 58u},       {466195u, 260861u, 73u},       {292519u, 874927u, 94u},
-    {1917459u, 737077u, 111u},     {3354285u, 2891931u, 150u},    {4015013u, 6714323u, 173u},
-    {10595411u, 9113583u, 215u},   {26381581u, 28592505u, 285u},  {56440183u, 29345705u, 351u},
-    {61239953u, 102398999u, 484u}, {89459147u, 171532297u, 564u}, {355679585u, 432332709u, 728u},
+    {3757u, 3771u, 14u},
+    {7173u, 3119u, 18u},
+    {12321u, 13925u, 24u},
+    {29857u, 13881u, 29u},
+    {50753u, 65157u, 39u},
+    {75091u, 96967u, 45u},
+    {104671u, 145331u, 58u},
+    {466195u, 260861u, 73u},
+    {292519u, 874927u, 94u},
+    {1917459u, 737077u, 111u},
+    {3354285u, 2891931u, 150u},
+    {4015013u, 6714323u, 173u},
+    {10595411u, 9113583u, 215u},
+    {26381581u, 28592505u, 285u},
+    {56440183u, 29345705u, 351u},
+    {61239953u, 102398999u, 484u},
+    {89459147u, 171532297u, 564u},
+    {355679585u, 432332709u, 728u},
     {380173525u, 451261529u, 926u},
 };
 
@@ -249,8 +262,10 @@ PBF_HD void for_each_neighbor_recording(const GridDims& g, const uint32_t* cell_
     // The binned cell: decoded from a dense key; a hashed key cannot be decoded, but p is the
     // position it was binned at (the same float expression gives the same cell).
     int32_t cx, cy, cz;
-    if (g.hashed) cell_coords(g, p, cx, cy, cz);
-    else key_cell(g, key, cx, cy, cz);
+    if (g.hashed)
+        cell_coords(g, p, cx, cy, cz);
+    else
+        key_cell(g, key, cx, cy, cz);
     uint32_t base, cells;
     mask_window(g, key, base, cells);
     const int32_t xlo = first_row(g, cx, g.lo_x), xhi = xlo + static_cast<int32_t>(cells) - 1;
@@ -338,10 +353,12 @@ PBF_HD void for_each_listed_neighbor(const GridDims& g, const uint32_t* cell_beg
 
 // Replays the masks when there are any (row pointers non-null), else walks the grid around xi.
 template <class Visit>
-PBF_HD void for_each_neighbor_of(const GridDims& g, const uint32_t* cell_begin, const NeighborMasks& masks,
-                                 uint32_t i, Vec3 xi, Visit&& visit) {
-    if (masks.row[0]) for_each_listed_neighbor(g, cell_begin, masks, i, visit);
-    else for_each_neighbor(g, cell_begin, xi, visit);
+PBF_HD void for_each_neighbor_of(const GridDims& g, const uint32_t* cell_begin, const NeighborMasks& masks, uint32_t i,
+                                 Vec3 xi, Visit&& visit) {
+    if (masks.row[0])
+        for_each_listed_neighbor(g, cell_begin, masks, i, visit);
+    else
+        for_each_neighbor(g, cell_begin, xi, visit);
 }
 
 }  // namespace pbf

@@ -52,7 +52,9 @@ PBF_HD ColliderView colliders_for_mass(const ColliderView& cv, float inverse_mas
 }
 
 // Slot m's XSPH factor and LDC K this substep (slot 0's are the context's own).
-PBF_HD float material_xsph_c(const StepContext& ctx, uint32_t m) { return m == 0 ? ctx.xsph_c : ctx.material_xsph_c[m]; }
+PBF_HD float material_xsph_c(const StepContext& ctx, uint32_t m) {
+    return m == 0 ? ctx.xsph_c : ctx.material_xsph_c[m];
+}
 PBF_HD float material_ldc_k(const StepContext& ctx, uint32_t m) { return m == 0 ? ctx.ldc_k : ctx.material_ldc_k[m]; }
 
 // Whether any material smooths velocities this substep (the XSPH pass runs).

@@ -22,8 +22,8 @@ PBF_HD uint32_t particle_id(uint32_t next_id, uint64_t k) {
 // (stride_y = nx, stride_z = nx·ny, key_mask all ones). Hashed (open levels, huge boxes): the
 // same linear form modulo num_cells, a power of two sized from the capacity (grid.h says why).
 struct GridDims {
-    Vec3 origin;      // lower corner of cell (0,0,0)
-    float inv_cell;   // 1 / cell size (cell size = h)
+    Vec3 origin;               // lower corner of cell (0,0,0)
+    float inv_cell;            // 1 / cell size (cell size = h)
     int32_t lo_x, lo_y, lo_z;  // binning clamps cell coordinates to [lo, hi]
     int32_t hi_x, hi_y, hi_z;
     uint32_t stride_y, stride_z;
@@ -57,15 +57,15 @@ struct Bounds {
 // A collider's shape and what a step knows about it; its poses live beside it (ColliderView).
 struct Collider {
     uint32_t shape;
-    float radius;         // sphere, capsule; mesh: the reach of its solid from its origin
+    float radius;  // sphere, capsule; mesh: the reach of its solid from its origin
     float half_height;
     float friction;  // Coulomb coefficient μ
     Vec3 half_extents;
-    uint32_t flags;       // kCollider*
-    uint32_t row;         // its row of the force tables (the collider handle's index)
-    Vec3 center_local;    // the point torques are taken about, in the body frame
-    Bounds bounds;        // contains the collider at every pose of the step (the broad phase)
-    uint32_t mesh;        // kShapeMesh: its row of the mesh table (ColliderView::meshes)
+    uint32_t flags;     // kCollider*
+    uint32_t row;       // its row of the force tables (the collider handle's index)
+    Vec3 center_local;  // the point torques are taken about, in the body frame
+    Bounds bounds;      // contains the collider at every pose of the step (the broad phase)
+    uint32_t mesh;      // kShapeMesh: its row of the mesh table (ColliderView::meshes)
 };
 
 // Where a collider starts and ends a step (or, between steps, stands: from = to).
@@ -89,8 +89,8 @@ struct ColliderGrid {
     const uint32_t* entries = nullptr;       // collider indices
     uint32_t bucket_mask = 0;                // buckets - 1 (a power of two)
     uint32_t unbinned = 0;
-    float inv_cell = 0.0f;                   // 1 / the coarse cell's side
-    float query_reach = 0.0f;                // the widest query margin (h); the lists' pad exceeds it
+    float inv_cell = 0.0f;     // 1 / the coarse cell's side
+    float query_reach = 0.0f;  // the widest query margin (h); the lists' pad exceeds it
 };
 
 // The colliders of one substep, in backend memory: shapes[k] moves from prev[k] (the substep's
@@ -116,17 +116,17 @@ struct ColliderView {
 constexpr uint32_t kMaterialMultiphase = 1u;  // some material's rest density differs from slot 0's
 constexpr uint32_t kMaterialSurface = 2u;     // some material has surface tension, cohesion or adhesion
 struct MaterialConstants {
-    uint32_t flags;                       // kMaterial*; 0: the single-fluid passes, unchanged
-    float inv_mass[kMaxMaterials];        // w_k = ρ0_slot0 / ρ0_k: the inverse mass relative to slot 0
-    float surface_tension[kMaxMaterials]; // 1/s² (material_ops.h)
-    float cohesion[kMaxMaterials];        // 1/s²
-    float adhesion[kMaxMaterials];        // 1/s²
+    uint32_t flags;                        // kMaterial*; 0: the single-fluid passes, unchanged
+    float inv_mass[kMaxMaterials];         // w_k = ρ0_slot0 / ρ0_k: the inverse mass relative to slot 0
+    float surface_tension[kMaxMaterials];  // 1/s² (material_ops.h)
+    float cohesion[kMaxMaterials];         // 1/s²
+    float adhesion[kMaxMaterials];         // 1/s²
 };
 
 struct WorldConstants {
     // geometry and mass
-    float radius;        // particle radius (collision distance to walls and colliders)
-    float h, h2;         // kernel radius
+    float radius;  // particle radius (collision distance to walls and colliders)
+    float h, h2;   // kernel radius
     float mass;
     float rest_density, inv_rest_density;
     float poly6_coef, spiky_coef;
@@ -156,15 +156,15 @@ struct WorldConstants {
 
 // One substep: Δt and what depends on it. Built by the step plan for each substep of a frame step.
 struct StepContext {
-    float dt, inv_dt;        // the substep's Δt (sub_dt), not the frame step's (StepInput::frame_dt)
-    float lambda_epsilon;    // ε of λ (relaxation × the rest gradient norm)
-    float error_damping;     // γ = τ / Δt: an error present at the substep's start relaxes by 1/(1 + γ)
-    float ldc_k;             // LDC's K (1/s²)
-    float scorr_k;           // s_corr's k of this substep: WorldConstants::scorr_k · min(1/(1 + γ), 1/(2γ²))
-    float xsph_c;            // XSPH factor of this substep (the user's c is per 1/60 s)
-    float speed_limit;       // min(max_speed, the travel cap · h / Δt)
+    float dt, inv_dt;      // the substep's Δt (sub_dt), not the frame step's (StepInput::frame_dt)
+    float lambda_epsilon;  // ε of λ (relaxation × the rest gradient norm)
+    float error_damping;   // γ = τ / Δt: an error present at the substep's start relaxes by 1/(1 + γ)
+    float ldc_k;           // LDC's K (1/s²)
+    float scorr_k;         // s_corr's k of this substep: WorldConstants::scorr_k · min(1/(1 + γ), 1/(2γ²))
+    float xsph_c;          // XSPH factor of this substep (the user's c is per 1/60 s)
+    float speed_limit;     // min(max_speed, the travel cap · h / Δt)
     ColliderView colliders;
-    uint32_t* clamped;       // counts the particles whose speed a limit cut (backend memory)
+    uint32_t* clamped;  // counts the particles whose speed a limit cut (backend memory)
     // Materials: each particle's slot (backend memory, set by the solver), and the per-slot
     // XSPH factor and LDC K of this substep (slot 0 uses xsph_c and ldc_k above).
     const uint8_t* materials;

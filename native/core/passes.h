@@ -93,8 +93,10 @@ struct ConvergenceOp {
     PBF_HD void operator()(uint32_t) const {
         if (control->converged) return;
         const float mean = *count ? control->error_sum / static_cast<float>(*count) : 0.0f;
-        if (mean < target && !first) control->converged = 1;
-        else ++control->iterations_used;
+        if (mean < target && !first)
+            control->converged = 1;
+        else
+            ++control->iterations_used;
         control->error_sum = 0.0f;
     }
 };
@@ -300,8 +302,8 @@ struct LambdaOp {
     const Vec4* positions;  // x; w = ρ/ρ0 when the last substep ended (the error it left)
     Vec4* predicted;
     float* density;
-    const IterationControl* control;  // null: fixed iteration count
-    float* denominator = nullptr;     // null: every pass computes its own
+    const IterationControl* control;     // null: fixed iteration count
+    float* denominator = nullptr;        // null: every pass computes its own
     PackedVectors colliders_gradient{};  // written when the world has colliders
     PBF_HD void operator()(uint32_t i) const {
         if (control && control->converged) return;
@@ -323,8 +325,10 @@ struct LambdaOp {
                 grad_i += g;
                 sum_grad2 += multiphase ? length_sq(g) * inverse_mass(s, ctx, j) : length_sq(g);
             };
-            if (record) for_each_neighbor_recording(s.grid, cell_begin, predicted, s.h2, masks, i, xi, visit);
-            else for_each_listed_neighbor(s.grid, cell_begin, masks, i, visit);
+            if (record)
+                for_each_neighbor_recording(s.grid, cell_begin, predicted, s.h2, masks, i, xi, visit);
+            else
+                for_each_listed_neighbor(s.grid, cell_begin, masks, i, visit);
         } else {
             for_each_listed_neighbor(s.grid, cell_begin, masks, i, [&](uint32_t j) {
                 const float r2 = length_sq(xi - xyz(predicted[j]));
@@ -396,10 +400,10 @@ struct DeltaOp {
     const Vec4* positions;  // x at the start of the substep (for friction)
     const Vec4* predicted;
     Vec4* corrected;
-    const IterationControl* control;  // null: fixed iteration count
-    Vec4* finish_positions = nullptr;   // = positions, on the last iteration
+    const IterationControl* control;   // null: fixed iteration count
+    Vec4* finish_positions = nullptr;  // = positions, on the last iteration
     Vec4* finish_velocities = nullptr;
-    const float* density = nullptr;     // ρ of the last λ pass, for x's w (ρ/ρ0)
+    const float* density = nullptr;      // ρ of the last λ pass, for x's w (ρ/ρ0)
     PackedVectors colliders_gradient{};  // the λ pass's, when the world has colliders
     PBF_HD void operator()(uint32_t i) const {
         const Vec4 pi = predicted[i];
@@ -541,9 +545,9 @@ struct EmitBlockOp {
     const uint32_t* count;
     const uint32_t* next_id;
     uint32_t capacity;
-    Vec3 origin;       // centre of the first particle
+    Vec3 origin;  // centre of the first particle
     float spacing;
-    uint32_t nx, ny;   // lattice extent in x and y (z follows)
+    uint32_t nx, ny;  // lattice extent in x and y (z follows)
     Vec3 velocity;
     Vec4 *positions, *velocities;
     uint32_t* ids;
@@ -567,9 +571,9 @@ struct EmitNozzleOp {
     const uint32_t* count;
     const uint32_t* next_id;
     uint32_t capacity;
-    uint32_t n;              // particles this substep
-    uint32_t sequence;       // running index for the spiral, so successive substeps interleave
-    uint32_t disc_points;    // spiral points that fill the disc at rest spacing
+    uint32_t n;            // particles this substep
+    uint32_t sequence;     // running index for the spiral, so successive substeps interleave
+    uint32_t disc_points;  // spiral points that fill the disc at rest spacing
     Vec3 center, direction, tangent, bitangent;
     float radius, speed, dt;
     Vec4 *positions, *velocities;
@@ -682,8 +686,7 @@ struct ParticleStats {
     float kinetic_energy;     // ½ m v²
 };
 PBF_HD ParticleStats particle_stats(const WorldConstants& s, float density, Vec4 velocity) {
-    return ParticleStats{fmaxf(density * s.inv_rest_density - 1.0f, 0.0f),
-                         0.5f * s.mass * length_sq(xyz(velocity))};
+    return ParticleStats{fmaxf(density * s.inv_rest_density - 1.0f, 0.0f), 0.5f * s.mass * length_sq(xyz(velocity))};
 }
 
 }  // namespace pbf

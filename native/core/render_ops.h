@@ -12,10 +12,10 @@ namespace pbf {
 constexpr uint32_t kRenderSmoothed = 0x1u;
 constexpr uint32_t kRenderAnisotropy = 0x2u;
 struct RenderConstants {
-    uint32_t flags = 0;           // kRender*; 0: no buffers, no pass
-    uint32_t min_neighbors = 0;   // N_ε: fewer neighbours (itself included) keep a particle round
-    float smoothing = 0.0f;       // λ: x̄ = (1 - λ) x + λ x_w (the weighted mean)
-    float max_stretch = 1.0f;     // k_r: no radius below the longest / k_r
+    uint32_t flags = 0;                // kRender*; 0: no buffers, no pass
+    uint32_t min_neighbors = 0;        // N_ε: fewer neighbours (itself included) keep a particle round
+    float smoothing = 0.0f;            // λ: x̄ = (1 - λ) x + λ x_w (the weighted mean)
+    float max_stretch = 1.0f;          // k_r: no radius below the longest / k_r
     float radius_per_variance = 0.0f;  // radius (m) per eigenvalue of the covariance (m²): k_s r / σ_rest
     float isolated_radius = 0.0f;      // k_n r (m): the radius of a particle with few neighbours
 };

@@ -14,11 +14,11 @@ namespace pbf {
 
 // A mesh's field in backend memory: one row of the world's mesh table.
 struct MeshView {
-    Vec3 origin;       // grid point (0, 0, 0), in the mesh's own frame
+    Vec3 origin;  // grid point (0, 0, 0), in the mesh's own frame
     float cell, inv_cell;
-    int32_t nx, ny, nz;  // grid points per axis (each >= 2)
-    float band;          // |values| <= band
-    const float* values;  // nx·ny·nz, x fastest
+    int32_t nx, ny, nz;     // grid points per axis (each >= 2)
+    float band;             // |values| <= band
+    const float* values;    // nx·ny·nz, x fastest
     const float* boundary;  // nx·ny·nz: the solid's share of a particle's kernel there (SdfBoundaryOp)
 };
 

@@ -39,7 +39,8 @@ PBF_HD Vec3 grid_point(const MeshView& m, int32_t x, int32_t y, int32_t z) {
 
 PBF_HD Vec3 brick_centre(const MeshView& m, int32_t x, int32_t y, int32_t z) {
     const float half = 0.5f * float(kSdfBrick - 1);
-    return m.origin + Vec3{float(x * kSdfBrick) + half, float(y * kSdfBrick) + half, float(z * kSdfBrick) + half} * m.cell;
+    return m.origin +
+           Vec3{float(x * kSdfBrick) + half, float(y * kSdfBrick) + half, float(z * kSdfBrick) + half} * m.cell;
 }
 
 // The bricks with a grid point inside the triangle's bounds grown by the margin, per axis
@@ -150,8 +151,10 @@ struct SdfBrickBeginOp {
         uint32_t lo = 0, hi = listed;
         while (lo < hi) {
             const uint32_t mid = lo + (hi - lo) / 2;
-            if (sorted_keys[mid] < b) lo = mid + 1;
-            else hi = mid;
+            if (sorted_keys[mid] < b)
+                lo = mid + 1;
+            else
+                hi = mid;
         }
         begin[b] = lo;
     }
@@ -238,21 +241,24 @@ struct SdfVoxelOp {
         const Vec3 p = grid_point(grid, x, y, z);
         const uint32_t first = src.brick_begin[b], end = src.brick_begin[b + 1];
         float d2 = 1e30f;
-        for (uint32_t k = first; k < end; ++k) d2 = fminf(d2, triangle_distance_sq(src.corners, src.brick_triangles[k], p));
+        for (uint32_t k = first; k < end; ++k)
+            d2 = fminf(d2, triangle_distance_sq(src.corners, src.brick_triangles[k], p));
         const float u = sqrtf(d2);
         float d;
         if (closed) {
             float w = winding[2 * b + 1];
             if (u * u <= length_sq(p - brick_centre(grid, bx, by, bz))) {
                 float angle = 0.0f;
-                for (uint32_t k = first; k < end; ++k) angle += triangle_solid_angle(src.corners, src.brick_triangles[k], p);
+                for (uint32_t k = first; k < end; ++k)
+                    angle += triangle_solid_angle(src.corners, src.brick_triangles[k], p);
                 w = winding[2 * b] + angle / kFourPi;
             }
             d = w > 0.5f ? -u : u;
         } else {
             d = u - half_thickness;
         }
-        values[size_t(x) + size_t(grid.nx) * (size_t(y) + size_t(grid.ny) * size_t(z))] = clampf(d, -grid.band, grid.band);
+        values[size_t(x) + size_t(grid.nx) * (size_t(y) + size_t(grid.ny) * size_t(z))] =
+            clampf(d, -grid.band, grid.band);
     }
 };
 

@@ -16,9 +16,9 @@ struct StepFeedback {
 
 // Counters that live in backend memory so the step never reads them back.
 struct DeviceCounters {
-    uint32_t count;         // live particles in slots [0, count)
+    uint32_t count;  // live particles in slots [0, count)
     uint32_t next_id;
-    uint32_t drained;       // drained this step, folded into drained_total
+    uint32_t drained;  // drained this step, folded into drained_total
     uint32_t pad;
     unsigned long long emitted_total;
     unsigned long long drained_total;

@@ -44,8 +44,8 @@ public:
     void feedback_published() {}
     bool feedback_ready() const { return true; }
     // *out = the max over live particles (i < *count) of each field of feedback_sample.
-    void reduce_feedback(const HeightFrame& frame, const Vec4* positions, const Vec4* velocities,
-                         const uint32_t* count, uint32_t n, FeedbackBits* out);
+    void reduce_feedback(const HeightFrame& frame, const Vec4* positions, const Vec4* velocities, const uint32_t* count,
+                         uint32_t n, FeedbackBits* out);
     void* native_stream() const { return nullptr; }
     Status use_stream(void*) {
         return Status::error(PBF_ERROR_INVALID_STATE, "the world runs on the CPU backend: it has no CUDA stream");
@@ -66,8 +66,8 @@ public:
     // temporary storage the caller allocates (alloc) of the size these return.
     size_t sort_temp_bytes(uint32_t, uint32_t max_key) const { return (size_t(max_key) + 2) * sizeof(uint32_t); }
     size_t scan_temp_bytes(uint32_t) const { return 16; }
-    void sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
-                    int* value_sel, void* temp, size_t temp_bytes);
+    void sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel, int* value_sel,
+                    void* temp, size_t temp_bytes);
     void exclusive_scan(const uint32_t* in, uint32_t* out, uint32_t n, void*, size_t) { exclusive_scan(in, out, n); }
     // out[i] = Σ_{k<i} in[k] (sequential: the same result every run). reserve_scan sizes the
     // temporary storage of the longest scan up front (none needed here).
@@ -80,7 +80,9 @@ public:
                                float* out);
 
     void timer_begin() { t0_ = std::chrono::steady_clock::now(); }
-    void timer_end() { last_ms_ = std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0_).count(); }
+    void timer_end() {
+        last_ms_ = std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0_).count();
+    }
     float timer_ms() const { return last_ms_; }
     Status check(const char*) const { return Status{}; }
 
@@ -96,7 +98,8 @@ public:
         for (int k = 0; k < stages; ++k) ms[k] = 0.0f;
         for (int k = 0; k + 1 < marks_; ++k)
             if (mark_stage_[k] < stages)
-                ms[mark_stage_[k]] += std::chrono::duration<float, std::milli>(mark_time_[k + 1] - mark_time_[k]).count();
+                ms[mark_stage_[k]] +=
+                    std::chrono::duration<float, std::milli>(mark_time_[k + 1] - mark_time_[k]).count();
     }
 
 private:

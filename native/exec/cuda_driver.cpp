@@ -60,15 +60,18 @@ Loaded load() {
     std::string error;
     // Never closed: the driver's entry points stay valid for the life of the process.
     void* library = open_library(path.c_str(), system, &error);
-    if (!library) return refuse(PBF_BACKEND_STATUS_NO_DRIVER, "no NVIDIA driver: " + path + " could not be opened (" + error + ")");
+    if (!library)
+        return refuse(PBF_BACKEND_STATUS_NO_DRIVER,
+                      "no NVIDIA driver: " + path + " could not be opened (" + error + ")");
 
     // cuGetProcAddress (CUDA 11.3) hands out each entry point at the ABI version asked for;
     // CUDA 12 added a fifth argument and named that version _v2.
     auto get_v2 = reinterpret_cast<PFN_cuGetProcAddress_v12000>(find_symbol(library, "cuGetProcAddress_v2"));
     auto get_v1 = reinterpret_cast<PFN_cuGetProcAddress_v11030>(find_symbol(library, "cuGetProcAddress"));
     if (!get_v2 && !get_v1)
-        return refuse(PBF_BACKEND_STATUS_DRIVER_TOO_OLD,
-                      "the NVIDIA driver " + path + " is too old: it has no cuGetProcAddress (CUDA 11.3 and later have)");
+        return refuse(
+            PBF_BACKEND_STATUS_DRIVER_TOO_OLD,
+            "the NVIDIA driver " + path + " is too old: it has no cuGetProcAddress (CUDA 11.3 and later have)");
     auto get = [&](const char* name, int version, void** out) {
         *out = nullptr;
         CUresult e;
@@ -94,8 +97,9 @@ Loaded load() {
     if (get_version(&a.driver_version) != CUDA_SUCCESS) a.driver_version = 0;
     if (a.driver_version < kRequiredDriverVersion)
         return refuse(PBF_BACKEND_STATUS_DRIVER_TOO_OLD,
-                      "the NVIDIA driver supports CUDA " + version_text(a.driver_version) + "; libpbf's kernels need CUDA " +
-                          version_text(kRequiredDriverVersion) + " or newer: update the graphics driver");
+                      "the NVIDIA driver supports CUDA " + version_text(a.driver_version) +
+                          "; libpbf's kernels need CUDA " + version_text(kRequiredDriverVersion) +
+                          " or newer: update the graphics driver");
     const CUresult started = init(0);
     if (started == CUDA_ERROR_NO_DEVICE)
         return refuse(PBF_BACKEND_STATUS_NO_DEVICE,
@@ -103,13 +107,14 @@ Loaded load() {
     if (started != CUDA_SUCCESS) {
         const char* name = nullptr;
         d.cuGetErrorName(started, &name);
-        return refuse(PBF_BACKEND_STATUS_DRIVER_ERROR, std::string("the NVIDIA driver failed to start: cuInit returned ") +
-                                                           (name ? name : std::to_string(int(started)).c_str()));
+        return refuse(PBF_BACKEND_STATUS_DRIVER_ERROR,
+                      std::string("the NVIDIA driver failed to start: cuInit returned ") +
+                          (name ? name : std::to_string(int(started)).c_str()));
     }
-#define PBF_CUDA_REQUIRE(name, version)                                                                   \
-    if (!get(#name, version, reinterpret_cast<void**>(&d.name)))                                           \
-        return refuse(PBF_BACKEND_STATUS_DRIVER_TOO_OLD, "the NVIDIA driver (CUDA " +                      \
-                                                             version_text(a.driver_version) + ") lacks " #name);
+#define PBF_CUDA_REQUIRE(name, version)                          \
+    if (!get(#name, version, reinterpret_cast<void**>(&d.name))) \
+        return refuse(PBF_BACKEND_STATUS_DRIVER_TOO_OLD,         \
+                      "the NVIDIA driver (CUDA " + version_text(a.driver_version) + ") lacks " #name);
     PBF_CUDA_REQUIRED_ENTRY_POINTS(PBF_CUDA_REQUIRE)
 #undef PBF_CUDA_REQUIRE
 #define PBF_CUDA_OPTIONAL(name, version) get(#name, version, reinterpret_cast<void**>(&d.name));

@@ -18,71 +18,71 @@ namespace pbf::cuda {
 // (cudaGL.h needs GL's, cudaD3D11.h is not shipped outside Windows): the driver's documented
 // C signatures, with the graphics objects as opaque pointers / names.
 typedef CUresult(CUDAAPI* PFN_cuGraphicsGLRegisterBuffer_v3000)(CUgraphicsResource* resource, unsigned int buffer,
-                                                                 unsigned int flags);
-typedef CUresult(CUDAAPI* PFN_cuGraphicsD3D11RegisterResource_v3000)(CUgraphicsResource* resource,
-                                                                      void* d3d11_resource, unsigned int flags);
+                                                                unsigned int flags);
+typedef CUresult(CUDAAPI* PFN_cuGraphicsD3D11RegisterResource_v3000)(CUgraphicsResource* resource, void* d3d11_resource,
+                                                                     unsigned int flags);
 
 // Entry points every CUDA world needs: a driver lacking one is too old.
-#define PBF_CUDA_REQUIRED_ENTRY_POINTS(X)   \
-    X(cuGetErrorName, 6000)                 \
-    X(cuGetErrorString, 6000)               \
-    X(cuDeviceGet, 2000)                    \
-    X(cuDeviceGetCount, 2000)               \
-    X(cuDeviceGetName, 2000)                \
-    X(cuDeviceGetAttribute, 2000)           \
-    X(cuDeviceGetUuid, 11040)               \
-    X(cuDeviceTotalMem, 3020)               \
-    X(cuDevicePrimaryCtxRetain, 7000)       \
-    X(cuDevicePrimaryCtxRelease, 11000)     \
-    X(cuCtxSetCurrent, 4000)                \
-    X(cuCtxGetCurrent, 4000)                \
-    X(cuModuleLoadData, 2000)               \
-    X(cuModuleUnload, 2000)                 \
-    X(cuModuleGetFunction, 2000)            \
-    X(cuModuleGetGlobal, 3020)              \
-    X(cuMemAlloc, 3020)                     \
-    X(cuMemFree, 3020)                      \
-    X(cuMemHostAlloc, 2020)                 \
-    X(cuMemFreeHost, 2000)                  \
-    X(cuMemGetInfo, 3020)                   \
-    X(cuMemcpyDtoH, 3020)                   \
-    X(cuMemcpyHtoDAsync, 3020)              \
-    X(cuMemcpyDtoHAsync, 3020)              \
-    X(cuMemsetD8Async, 3020)                \
-    X(cuStreamCreate, 2000)                 \
-    X(cuStreamDestroy, 4000)                \
-    X(cuStreamSynchronize, 2000)            \
-    X(cuStreamWaitEvent, 3020)              \
-    X(cuEventCreate, 2000)                  \
-    X(cuEventDestroy, 4000)                 \
-    X(cuEventRecord, 2000)                  \
-    X(cuEventQuery, 2000)                   \
-    X(cuEventSynchronize, 2000)             \
-    X(cuEventElapsedTime, 2000)             \
+#define PBF_CUDA_REQUIRED_ENTRY_POINTS(X) \
+    X(cuGetErrorName, 6000)               \
+    X(cuGetErrorString, 6000)             \
+    X(cuDeviceGet, 2000)                  \
+    X(cuDeviceGetCount, 2000)             \
+    X(cuDeviceGetName, 2000)              \
+    X(cuDeviceGetAttribute, 2000)         \
+    X(cuDeviceGetUuid, 11040)             \
+    X(cuDeviceTotalMem, 3020)             \
+    X(cuDevicePrimaryCtxRetain, 7000)     \
+    X(cuDevicePrimaryCtxRelease, 11000)   \
+    X(cuCtxSetCurrent, 4000)              \
+    X(cuCtxGetCurrent, 4000)              \
+    X(cuModuleLoadData, 2000)             \
+    X(cuModuleUnload, 2000)               \
+    X(cuModuleGetFunction, 2000)          \
+    X(cuModuleGetGlobal, 3020)            \
+    X(cuMemAlloc, 3020)                   \
+    X(cuMemFree, 3020)                    \
+    X(cuMemHostAlloc, 2020)               \
+    X(cuMemFreeHost, 2000)                \
+    X(cuMemGetInfo, 3020)                 \
+    X(cuMemcpyDtoH, 3020)                 \
+    X(cuMemcpyHtoDAsync, 3020)            \
+    X(cuMemcpyDtoHAsync, 3020)            \
+    X(cuMemsetD8Async, 3020)              \
+    X(cuStreamCreate, 2000)               \
+    X(cuStreamDestroy, 4000)              \
+    X(cuStreamSynchronize, 2000)          \
+    X(cuStreamWaitEvent, 3020)            \
+    X(cuEventCreate, 2000)                \
+    X(cuEventDestroy, 4000)               \
+    X(cuEventRecord, 2000)                \
+    X(cuEventQuery, 2000)                 \
+    X(cuEventSynchronize, 2000)           \
+    X(cuEventElapsedTime, 2000)           \
     X(cuLaunchKernel, 4000)
 
 // Entry points of optional features (graphics interop, graphs): where the driver lacks one, only
 // the calls that need it are refused.
-#define PBF_CUDA_OPTIONAL_ENTRY_POINTS(X)   \
-    X(cuStreamBeginCapture, 10010)          \
-    X(cuStreamEndCapture, 10000)            \
-    X(cuGraphInstantiateWithFlags, 11040)   \
-    X(cuGraphLaunch, 10000)                 \
-    X(cuGraphExecDestroy, 10000)            \
-    X(cuGraphDestroy, 10000)                \
-    X(cuGraphicsUnregisterResource, 3000)   \
-    X(cuGraphicsMapResources, 3000)         \
-    X(cuGraphicsUnmapResources, 3000)       \
+#define PBF_CUDA_OPTIONAL_ENTRY_POINTS(X)       \
+    X(cuStreamBeginCapture, 10010)              \
+    X(cuStreamEndCapture, 10000)                \
+    X(cuGraphInstantiateWithFlags, 11040)       \
+    X(cuGraphLaunch, 10000)                     \
+    X(cuGraphExecDestroy, 10000)                \
+    X(cuGraphDestroy, 10000)                    \
+    X(cuGraphicsUnregisterResource, 3000)       \
+    X(cuGraphicsMapResources, 3000)             \
+    X(cuGraphicsUnmapResources, 3000)           \
     X(cuGraphicsResourceGetMappedPointer, 3020) \
-    X(cuGraphicsGLRegisterBuffer, 3000)     \
-    X(cuGraphicsD3D11RegisterResource, 3000) \
-    X(cuImportExternalMemory, 10000)        \
-    X(cuExternalMemoryGetMappedBuffer, 10000) \
-    X(cuDestroyExternalMemory, 10000)       \
-    X(cuImportExternalSemaphore, 10000)     \
-    X(cuSignalExternalSemaphoresAsync, 10000) \
-    X(cuWaitExternalSemaphoresAsync, 10000) \
-    X(cuDestroyExternalSemaphore, 10000)    \
+    X(cuGraphicsGLRegisterBuffer, 3000)         \
+    X(cuGraphicsD3D11RegisterResource, 3000)    \
+    X(cuImportExternalMemory, 10000)            \
+    X(cuExternalMemoryGetMappedBuffer, 10000)   \
+    X(cuDestroyExternalMemory, 10000)           \
+    X(cuImportExternalSemaphore, 10000)         \
+    X(cuSignalExternalSemaphoresAsync, 10000)   \
+    X(cuWaitExternalSemaphoresAsync, 10000)     \
+    X(cuDestroyExternalSemaphore, 10000)        \
     X(cuDeviceGetLuid, 10000)
 
 // The driver's entry points; optional ones are null where the driver lacks them.

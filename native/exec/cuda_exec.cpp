@@ -131,7 +131,8 @@ void* CudaExec::try_alloc_bytes(size_t bytes) {
 
 void* CudaExec::alloc_host_bytes(size_t bytes) {
     void* p = nullptr;
-    const CUresult e = cu_->cuMemHostAlloc(&p, bytes == 0 ? 16 : bytes, CU_MEMHOSTALLOC_DEVICEMAP | CU_MEMHOSTALLOC_PORTABLE);
+    const CUresult e =
+        cu_->cuMemHostAlloc(&p, bytes == 0 ? 16 : bytes, CU_MEMHOSTALLOC_DEVICEMAP | CU_MEMHOSTALLOC_PORTABLE);
     if (e != CUDA_SUCCESS) {
         record(e);
         return nullptr;

@@ -60,8 +60,8 @@ public:
     void feedback_published() { record(cu_->cuEventRecord(feedback_event_, stream_)); }
     bool feedback_ready();
     // *out (device memory) = the max over live particles (i < *count) of each field of feedback_sample.
-    void reduce_feedback(const HeightFrame& frame, const Vec4* positions, const Vec4* velocities,
-                         const uint32_t* count, uint32_t n, FeedbackBits* out);
+    void reduce_feedback(const HeightFrame& frame, const Vec4* positions, const Vec4* velocities, const uint32_t* count,
+                         uint32_t n, FeedbackBits* out);
     void* native_stream() const { return stream_; }
     // Runs on stream from now on (null: the world's own); work queued before is ordered first.
     Status use_stream(void* stream);
@@ -83,8 +83,8 @@ public:
     // temporary storage the caller allocates (alloc) of the size these return.
     size_t sort_temp_bytes(uint32_t n, uint32_t max_key) const;
     size_t scan_temp_bytes(uint32_t n) const;
-    void sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
-                    int* value_sel, void* temp, size_t temp_bytes);
+    void sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel, int* value_sel,
+                    void* temp, size_t temp_bytes);
     void exclusive_scan(const uint32_t* in, uint32_t* out, uint32_t n, void* temp, size_t temp_bytes);
     // out[i] = Σ_{k<i} in[k] on the stream; reserve_scan allocates the temporary storage of the
     // longest scan once, at world creation.
@@ -134,8 +134,8 @@ private:
     bool context_retained_ = false;
     CUresult first_error_ = CUDA_SUCCESS;
     CUresult refused_alloc_ = CUDA_SUCCESS;  // the last try_alloc failure
-    CUstream stream_ = nullptr;      // where work is queued: own_stream_ or the caller's
-    CUstream own_stream_ = nullptr;  // created and destroyed by the world
+    CUstream stream_ = nullptr;              // where work is queued: own_stream_ or the caller's
+    CUstream own_stream_ = nullptr;          // created and destroyed by the world
     CUevent switch_event_ = nullptr;
     CUevent start_ = nullptr, stop_ = nullptr;
     bool timed_ = false;

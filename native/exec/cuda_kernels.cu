@@ -15,7 +15,8 @@ namespace pbf {
 // with a warning).
 #if defined(__CUDA_ARCH__) && __CUDA_ARCH__ == 750
 #define PBF_THREADS_PER_SM 1024
-#elif defined(__CUDA_ARCH__) && (__CUDA_ARCH__ == 860 || __CUDA_ARCH__ == 870 || __CUDA_ARCH__ == 890 || __CUDA_ARCH__ >= 1200)
+#elif defined(__CUDA_ARCH__) && \
+    (__CUDA_ARCH__ == 860 || __CUDA_ARCH__ == 870 || __CUDA_ARCH__ == 890 || __CUDA_ARCH__ >= 1200)
 #define PBF_THREADS_PER_SM 1536
 #else
 #define PBF_THREADS_PER_SM 2048
@@ -55,11 +56,11 @@ struct MinBlocksPerSm<VorticityXsphOp> {
 using namespace pbf;
 
 // ---- the ops: one thread per index ----------------------------------------------------------
-#define PBF_OP_KERNEL(name, ...)                                                                         \
-    extern "C" __global__ void __launch_bounds__(PBF_CUDA_BLOCK, MinBlocksPerSm<__VA_ARGS__>::value)     \
-        pbf_op_##name(uint32_t n, __VA_ARGS__ op) {                                                      \
-        const uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;                                        \
-        if (i < n) op(i);                                                                                \
+#define PBF_OP_KERNEL(name, ...)                                                                     \
+    extern "C" __global__ void __launch_bounds__(PBF_CUDA_BLOCK, MinBlocksPerSm<__VA_ARGS__>::value) \
+        pbf_op_##name(uint32_t n, __VA_ARGS__ op) {                                                  \
+        const uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;                                    \
+        if (i < n) op(i);                                                                            \
     }
 PBF_CUDA_OPS(PBF_OP_KERNEL)
 #undef PBF_OP_KERNEL
@@ -68,8 +69,7 @@ PBF_CUDA_OPS(PBF_OP_KERNEL)
 // check at load (cuda_ops.h).
 #define PBF_OP_LAYOUT(name, ...) {uint32_t(sizeof(__VA_ARGS__)), uint32_t(alignof(__VA_ARGS__))},
 extern "C" __constant__ CudaOpLayout pbf_op_layout[kCudaOpCount + 3] = {
-    PBF_CUDA_OPS(PBF_OP_LAYOUT)
-    {uint32_t(sizeof(WorldConstants)), uint32_t(alignof(WorldConstants))},
+    PBF_CUDA_OPS(PBF_OP_LAYOUT){uint32_t(sizeof(WorldConstants)), uint32_t(alignof(WorldConstants))},
     {uint32_t(sizeof(HeightFrame)), uint32_t(alignof(HeightFrame))},
     {uint32_t(kCudaOpCount), uint32_t(PBF_CUDA_BLOCK)},
 };
@@ -84,8 +84,8 @@ using SumBlock = cub::BlockReduce<uint32_t, kCudaScanBlock>;
 }  // namespace
 
 // partials[b] = the sum of tile b of in[0, n).
-extern "C" __global__ void __launch_bounds__(kCudaScanBlock) pbf_scan_reduce(const uint32_t* in, uint32_t n,
-                                                                             uint32_t* partials) {
+extern "C" __global__ void __launch_bounds__(kCudaScanBlock)
+    pbf_scan_reduce(const uint32_t* in, uint32_t n, uint32_t* partials) {
     const uint64_t base = uint64_t(blockIdx.x) * kCudaScanTile;
     uint32_t sum = 0;
 #pragma unroll
@@ -132,8 +132,8 @@ extern "C" __global__ void __launch_bounds__(kCudaScanBlock) pbf_scan_spine(uint
 }
 
 // out = the exclusive scan of in[0, n), each tile offset by its scanned partial. out may be in.
-extern "C" __global__ void __launch_bounds__(kCudaScanBlock) pbf_scan_downsweep(const uint32_t* in, uint32_t* out,
-                                                                                uint32_t n, const uint32_t* partials) {
+extern "C" __global__ void __launch_bounds__(kCudaScanBlock)
+    pbf_scan_downsweep(const uint32_t* in, uint32_t* out, uint32_t n, const uint32_t* partials) {
     __shared__ union {
         typename ScanLoad::TempStorage load;
         typename ScanStore::TempStorage store;
@@ -171,8 +171,8 @@ __device__ __forceinline__ uint32_t digit_of(uint32_t key, uint32_t shift) {
 
 }  // namespace
 
-extern "C" __global__ void __launch_bounds__(kCudaScanBlock) pbf_radix_upsweep(const uint32_t* keys, uint32_t n,
-                                                                               uint32_t shift, uint32_t* counts) {
+extern "C" __global__ void __launch_bounds__(kCudaScanBlock)
+    pbf_radix_upsweep(const uint32_t* keys, uint32_t n, uint32_t shift, uint32_t* counts) {
     __shared__ uint32_t histogram[kCudaRadixDigits];
     histogram[threadIdx.x] = 0;
     __syncthreads();
@@ -187,15 +187,15 @@ extern "C" __global__ void __launch_bounds__(kCudaScanBlock) pbf_radix_upsweep(c
 }
 
 // Block d: counts[d · tiles .. (d + 1) · tiles) := their exclusive scan; totals[d] := their sum.
-extern "C" __global__ void __launch_bounds__(kCudaScanBlock) pbf_radix_scan_rows(uint32_t* counts, uint32_t tiles,
-                                                                                 uint32_t* totals) {
+extern "C" __global__ void __launch_bounds__(kCudaScanBlock)
+    pbf_radix_scan_rows(uint32_t* counts, uint32_t tiles, uint32_t* totals) {
     const uint32_t total = scan_in_place(counts + uint64_t(blockIdx.x) * tiles, tiles);
     if (threadIdx.x == 0) totals[blockIdx.x] = total;
 }
 
-extern "C" __global__ void __launch_bounds__(kCudaScanBlock) pbf_radix_downsweep(
-    const uint32_t* keys_in, const uint32_t* values_in, uint32_t* keys_out, uint32_t* values_out, uint32_t n,
-    uint32_t shift, const uint32_t* offsets, const uint32_t* totals) {
+extern "C" __global__ void __launch_bounds__(kCudaScanBlock)
+    pbf_radix_downsweep(const uint32_t* keys_in, const uint32_t* values_in, uint32_t* keys_out, uint32_t* values_out,
+                        uint32_t n, uint32_t shift, const uint32_t* offsets, const uint32_t* totals) {
     __shared__ union {
         typename RadixLoad::TempStorage load;
         typename RadixSort::TempStorage sort;
@@ -280,9 +280,8 @@ __device__ float fmax_op(float a, float b) { return fmaxf(a, b); }
 }  // namespace
 
 // out[0] += Σ compressive error, out[1] += Σ kinetic energy, out[2] (float bits) max error.
-extern "C" __global__ void __launch_bounds__(kCudaReduceBlock) pbf_reduce_stats(WorldConstants s, const float* density,
-                                                                                const Vec4* velocities, uint32_t n,
-                                                                                double* out) {
+extern "C" __global__ void __launch_bounds__(kCudaReduceBlock)
+    pbf_reduce_stats(WorldConstants s, const float* density, const Vec4* velocities, uint32_t n, double* out) {
     double err = 0.0, ke = 0.0;
     float max_err = 0.0f;
     for (uint32_t i = blockIdx.x * blockDim.x + threadIdx.x; i < n; i += gridDim.x * blockDim.x) {
@@ -306,9 +305,8 @@ extern "C" __global__ void __launch_bounds__(kCudaReduceBlock) pbf_reduce_stats(
 }
 
 // *out += Σ over live particles (i < *count) of max(ρ/ρ0 - 1, 0).
-extern "C" __global__ void __launch_bounds__(kCudaReduceBlock) pbf_sum_error(WorldConstants s, const float* density,
-                                                                             const uint32_t* count, uint32_t n,
-                                                                             float* out) {
+extern "C" __global__ void __launch_bounds__(kCudaReduceBlock)
+    pbf_sum_error(WorldConstants s, const float* density, const uint32_t* count, uint32_t n, float* out) {
     const uint32_t live = min(n, *count);
     float sum = 0.0f;
     for (uint32_t i = blockIdx.x * blockDim.x + threadIdx.x; i < live; i += gridDim.x * blockDim.x)
@@ -319,10 +317,9 @@ extern "C" __global__ void __launch_bounds__(kCudaReduceBlock) pbf_sum_error(Wor
 }
 
 // *out = max (as float bits) over live particles of each field of feedback_sample.
-extern "C" __global__ void __launch_bounds__(kCudaReduceBlock) pbf_feedback(HeightFrame frame, const Vec4* positions,
-                                                                            const Vec4* velocities,
-                                                                            const uint32_t* count, uint32_t n,
-                                                                            FeedbackBits* out) {
+extern "C" __global__ void __launch_bounds__(kCudaReduceBlock)
+    pbf_feedback(HeightFrame frame, const Vec4* positions, const Vec4* velocities, const uint32_t* count, uint32_t n,
+                 FeedbackBits* out) {
     const uint32_t live = min(n, *count);
     FeedbackSample m{0.0f, 0.0f, 0.0f};
     for (uint32_t i = blockIdx.x * blockDim.x + threadIdx.x; i < live; i += gridDim.x * blockDim.x) {

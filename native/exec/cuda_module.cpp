@@ -25,8 +25,7 @@ constexpr int kMinMajor = 7, kMinMinor = 5;  // the oldest GPU the fatbin carrie
 CudaOpLayout host_layout(uint32_t row) {
 #define PBF_HOST_LAYOUT(name, ...) {uint32_t(sizeof(__VA_ARGS__)), uint32_t(alignof(__VA_ARGS__))},
     static const CudaOpLayout rows[kCudaOpCount + 3] = {
-        PBF_CUDA_OPS(PBF_HOST_LAYOUT)
-        {uint32_t(sizeof(WorldConstants)), uint32_t(alignof(WorldConstants))},
+        PBF_CUDA_OPS(PBF_HOST_LAYOUT){uint32_t(sizeof(WorldConstants)), uint32_t(alignof(WorldConstants))},
         {uint32_t(sizeof(HeightFrame)), uint32_t(alignof(HeightFrame))},
         {uint32_t(kCudaOpCount), uint32_t(PBF_CUDA_BLOCK)},
     };
@@ -52,7 +51,8 @@ std::unique_ptr<Kernels> load(const Driver& cu, int32_t ordinal, CudaAvailabilit
     auto k = std::make_unique<Kernels>();
     const auto t0 = std::chrono::steady_clock::now();
     CUresult e = cu.cuDeviceGet(&k->device, ordinal);
-    if (e != CUDA_SUCCESS) return fail(PBF_BACKEND_STATUS_NO_DEVICE, "CUDA device " + std::to_string(ordinal) + ": " + error_text(e));
+    if (e != CUDA_SUCCESS)
+        return fail(PBF_BACKEND_STATUS_NO_DEVICE, "CUDA device " + std::to_string(ordinal) + ": " + error_text(e));
     char name[256] = {};
     cu.cuDeviceGetName(name, int(sizeof name) - 1, k->device);
     k->device_name = name;
@@ -61,13 +61,15 @@ std::unique_ptr<Kernels> load(const Driver& cu, int32_t ordinal, CudaAvailabilit
     cu.cuDeviceGetAttribute(&major, CU_DEVICE_ATTRIBUTE_COMPUTE_CAPABILITY_MAJOR, k->device);
     cu.cuDeviceGetAttribute(&minor, CU_DEVICE_ATTRIBUTE_COMPUTE_CAPABILITY_MINOR, k->device);
     if (major * 10 + minor < kMinMajor * 10 + kMinMinor)
-        return fail(PBF_BACKEND_STATUS_DEVICE_UNSUPPORTED,
-                    std::string(name) + " has compute capability " + std::to_string(major) + "." + std::to_string(minor) +
-                        "; libpbf's kernels need " + std::to_string(kMinMajor) + "." + std::to_string(kMinMinor) +
-                        " or newer");
+        return fail(PBF_BACKEND_STATUS_DEVICE_UNSUPPORTED, std::string(name) + " has compute capability " +
+                                                               std::to_string(major) + "." + std::to_string(minor) +
+                                                               "; libpbf's kernels need " + std::to_string(kMinMajor) +
+                                                               "." + std::to_string(kMinMinor) + " or newer");
     // Retained for the life of the process: the module lives in this context.
     e = cu.cuDevicePrimaryCtxRetain(&k->context, k->device);
-    if (e != CUDA_SUCCESS) return fail(PBF_BACKEND_STATUS_DRIVER_ERROR, std::string("creating a context on ") + name + ": " + error_text(e));
+    if (e != CUDA_SUCCESS)
+        return fail(PBF_BACKEND_STATUS_DRIVER_ERROR,
+                    std::string("creating a context on ") + name + ": " + error_text(e));
     auto drop = [&](pbf_backend_status status, std::string message) {
         if (k->module) cu.cuModuleUnload(k->module);
         cu.cuDevicePrimaryCtxRelease(k->device);
@@ -76,10 +78,12 @@ std::unique_ptr<Kernels> load(const Driver& cu, int32_t ordinal, CudaAvailabilit
     e = cu.cuCtxSetCurrent(k->context);
     if (e == CUDA_SUCCESS) e = cu.cuModuleLoadData(&k->module, embedded_fatbin());
     if (e == CUDA_ERROR_NO_BINARY_FOR_GPU || e == CUDA_ERROR_INVALID_PTX || e == CUDA_ERROR_UNSUPPORTED_PTX_VERSION)
-        return drop(PBF_BACKEND_STATUS_DEVICE_UNSUPPORTED, std::string("libpbf's kernels have no code that runs on ") + name +
-                                                               " (compute capability " + std::to_string(major) + "." +
-                                                               std::to_string(minor) + "): " + error_text(e));
-    if (e != CUDA_SUCCESS) return drop(PBF_BACKEND_STATUS_DRIVER_ERROR, std::string("loading libpbf's kernels on ") + name + ": " + error_text(e));
+        return drop(PBF_BACKEND_STATUS_DEVICE_UNSUPPORTED, std::string("libpbf's kernels have no code that runs on ") +
+                                                               name + " (compute capability " + std::to_string(major) +
+                                                               "." + std::to_string(minor) + "): " + error_text(e));
+    if (e != CUDA_SUCCESS)
+        return drop(PBF_BACKEND_STATUS_DRIVER_ERROR,
+                    std::string("loading libpbf's kernels on ") + name + ": " + error_text(e));
     for (uint32_t i = 0; i < kCudaOpCount; ++i) {
         static const char* const kernel_names[kCudaOpCount] = {
 #define PBF_KERNEL_NAME(name, ...) "pbf_op_" #name,
@@ -88,13 +92,14 @@ std::unique_ptr<Kernels> load(const Driver& cu, int32_t ordinal, CudaAvailabilit
         };
         e = cu.cuModuleGetFunction(&k->op[i], k->module, kernel_names[i]);
         if (e != CUDA_SUCCESS)
-            return drop(PBF_BACKEND_STATUS_DRIVER_ERROR,
-                        std::string("libpbf's kernels lack ") + kernel_names[i] + " (" + error_text(e) + "): a broken build");
+            return drop(PBF_BACKEND_STATUS_DRIVER_ERROR, std::string("libpbf's kernels lack ") + kernel_names[i] +
+                                                             " (" + error_text(e) + "): a broken build");
     }
-#define PBF_GET_KERNEL(name)                                                                         \
-    e = cu.cuModuleGetFunction(&k->name, k->module, "pbf_" #name);                                   \
-    if (e != CUDA_SUCCESS)                                                                           \
-        return drop(PBF_BACKEND_STATUS_DRIVER_ERROR, "libpbf's kernels lack pbf_" #name " (" + error_text(e) + "): a broken build");
+#define PBF_GET_KERNEL(name)                                       \
+    e = cu.cuModuleGetFunction(&k->name, k->module, "pbf_" #name); \
+    if (e != CUDA_SUCCESS)                                         \
+        return drop(PBF_BACKEND_STATUS_DRIVER_ERROR,               \
+                    "libpbf's kernels lack pbf_" #name " (" + error_text(e) + "): a broken build");
     PBF_CUDA_UTILITY_KERNELS(PBF_GET_KERNEL)
 #undef PBF_GET_KERNEL
     // The op layouts nvcc chose must be this compiler's (cuda_ops.h).
@@ -105,14 +110,15 @@ std::unique_ptr<Kernels> load(const Driver& cu, int32_t ordinal, CudaAvailabilit
     if (e == CUDA_SUCCESS && table_bytes != sizeof device_rows) e = CUDA_ERROR_INVALID_IMAGE;
     if (e == CUDA_SUCCESS) e = cu.cuMemcpyDtoH(device_rows, table, sizeof device_rows);
     if (e != CUDA_SUCCESS)
-        return drop(PBF_BACKEND_STATUS_DRIVER_ERROR, "reading the kernels' op layouts: " + error_text(e) + " (a broken build)");
+        return drop(PBF_BACKEND_STATUS_DRIVER_ERROR,
+                    "reading the kernels' op layouts: " + error_text(e) + " (a broken build)");
     for (uint32_t r = 0; r < kCudaOpCount + 3; ++r) {
         const CudaOpLayout host = host_layout(r), dev = device_rows[r];
         if (host.size != dev.size || host.align != dev.align)
             return drop(PBF_BACKEND_STATUS_DRIVER_ERROR,
-                        std::string("libpbf's kernels and its host code disagree on ") + layout_row_name(r) + " (kernels " +
-                            std::to_string(dev.size) + " B aligned " + std::to_string(dev.align) + ", host " +
-                            std::to_string(host.size) + " B aligned " + std::to_string(host.align) +
+                        std::string("libpbf's kernels and its host code disagree on ") + layout_row_name(r) +
+                            " (kernels " + std::to_string(dev.size) + " B aligned " + std::to_string(dev.align) +
+                            ", host " + std::to_string(host.size) + " B aligned " + std::to_string(host.align) +
                             "): the library was built from mismatched sources or compilers");
     }
     k->load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -27,63 +27,63 @@ namespace pbf {
 
 // Every op a solver launches through CudaExec::for_each: X(kernel name suffix, op type). A new op
 // joins this list, or CudaExec::for_each refuses to compile it.
-#define PBF_CUDA_OPS(X)                                  \
-    X(CellKey, CellKeyOp)                                \
-    X(CellBegin, CellBeginOp)                            \
-    X(Gather, GatherOp)                                  \
-    X(CopyMaterials, CopyMaterialsOp)                    \
-    X(ResetControl, ResetControlOp)                      \
-    X(Convergence, ConvergenceOp)                        \
-    X(Density, DensityOp)                                \
-    X(SettleOverlap, SettleOverlapOp)                    \
-    X(CopyPositions, CopyPositionsOp)                    \
-    X(AdoptSettled, AdoptSettledOp)                      \
-    X(Predict, PredictOp)                                \
-    X(Lambda, LambdaOp)                                  \
-    X(Delta, DeltaOp)                                    \
-    X(VorticityXsph, VorticityXsphOp)                    \
-    X(VorticityForce, VorticityForcePass<false>)         \
-    X(VorticityForceNormals, VorticityForcePass<true>)   \
-    X(EmitBlock, EmitBlockOp)                            \
-    X(EmitNozzle, EmitNozzleOp)                          \
-    X(CommitEmission, CommitEmissionOp)                  \
-    X(Drain, DrainOp)                                    \
-    X(CommitDrain, CommitDrainOp)                        \
-    X(SurfaceNormal, SurfaceNormalOp)                    \
-    X(SurfaceForce, SurfaceForceOp)                      \
-    X(ColliderPose, ColliderPoseOp)                      \
-    X(ColliderForce, ColliderForceOp)                    \
-    X(RenderData, RenderDataOp)                          \
-    X(DiffuseNormal, DiffuseNormalOp)                    \
-    X(DiffuseSource, DiffuseSourceOp)                    \
-    X(DiffuseAdvect, DiffuseAdvectOp)                    \
-    X(DiffuseScatter, DiffuseScatterOp)                  \
-    X(DiffuseCommit, DiffuseCommitOp)                    \
-    X(SdfCorners, SdfCornersOp)                          \
-    X(SdfBinCount, SdfBinCountOp)                        \
-    X(SdfBinFill, SdfBinFillOp)                          \
-    X(SdfBrickBegin, SdfBrickBeginOp)                    \
-    X(SdfWindingPart, SdfWindingPartOp)                  \
-    X(SdfBrickWinding, SdfBrickWindingOp)                \
-    X(SdfVoxel, SdfVoxelOp)                              \
-    X(SdfBoundary, SdfBoundaryOp)                        \
-    X(BeginStep, BeginStepOp)                            \
+#define PBF_CUDA_OPS(X)                                \
+    X(CellKey, CellKeyOp)                              \
+    X(CellBegin, CellBeginOp)                          \
+    X(Gather, GatherOp)                                \
+    X(CopyMaterials, CopyMaterialsOp)                  \
+    X(ResetControl, ResetControlOp)                    \
+    X(Convergence, ConvergenceOp)                      \
+    X(Density, DensityOp)                              \
+    X(SettleOverlap, SettleOverlapOp)                  \
+    X(CopyPositions, CopyPositionsOp)                  \
+    X(AdoptSettled, AdoptSettledOp)                    \
+    X(Predict, PredictOp)                              \
+    X(Lambda, LambdaOp)                                \
+    X(Delta, DeltaOp)                                  \
+    X(VorticityXsph, VorticityXsphOp)                  \
+    X(VorticityForce, VorticityForcePass<false>)       \
+    X(VorticityForceNormals, VorticityForcePass<true>) \
+    X(EmitBlock, EmitBlockOp)                          \
+    X(EmitNozzle, EmitNozzleOp)                        \
+    X(CommitEmission, CommitEmissionOp)                \
+    X(Drain, DrainOp)                                  \
+    X(CommitDrain, CommitDrainOp)                      \
+    X(SurfaceNormal, SurfaceNormalOp)                  \
+    X(SurfaceForce, SurfaceForceOp)                    \
+    X(ColliderPose, ColliderPoseOp)                    \
+    X(ColliderForce, ColliderForceOp)                  \
+    X(RenderData, RenderDataOp)                        \
+    X(DiffuseNormal, DiffuseNormalOp)                  \
+    X(DiffuseSource, DiffuseSourceOp)                  \
+    X(DiffuseAdvect, DiffuseAdvectOp)                  \
+    X(DiffuseScatter, DiffuseScatterOp)                \
+    X(DiffuseCommit, DiffuseCommitOp)                  \
+    X(SdfCorners, SdfCornersOp)                        \
+    X(SdfBinCount, SdfBinCountOp)                      \
+    X(SdfBinFill, SdfBinFillOp)                        \
+    X(SdfBrickBegin, SdfBrickBeginOp)                  \
+    X(SdfWindingPart, SdfWindingPartOp)                \
+    X(SdfBrickWinding, SdfBrickWindingOp)              \
+    X(SdfVoxel, SdfVoxelOp)                            \
+    X(SdfBoundary, SdfBoundaryOp)                      \
+    X(BeginStep, BeginStepOp)                          \
     X(PublishFeedback, PublishFeedbackOp)
 
 enum CudaOpIndex : uint32_t {
 #define PBF_CUDA_OP_INDEX(name, ...) kCudaOp##name,
     PBF_CUDA_OPS(PBF_CUDA_OP_INDEX)
 #undef PBF_CUDA_OP_INDEX
-    kCudaOpCount
+        kCudaOpCount
 };
 
 // The index of Op's kernel; undefined (a compile error) for an op missing from PBF_CUDA_OPS.
 template <class Op>
 struct CudaOp;
-#define PBF_CUDA_OP_TRAIT(name, ...)                      \
-    template <>                                           \
-    struct CudaOp<__VA_ARGS__> {                          \
-        static constexpr uint32_t index = kCudaOp##name;  \
+#define PBF_CUDA_OP_TRAIT(name, ...)                           \
+    template <>                                                \
+    struct CudaOp<__VA_ARGS__> {                               \
+        static constexpr uint32_t index = kCudaOp##name;       \
         static constexpr const char* kernel = "pbf_op_" #name; \
     };
 PBF_CUDA_OPS(PBF_CUDA_OP_TRAIT)
@@ -97,10 +97,10 @@ struct CudaOpLayout {
 };
 
 // The executor's own kernels (scan, sort, reductions, the interop copy): names and tile sizes.
-constexpr int kCudaScanBlock = 256;      // threads of a scan or sort block
-constexpr int kCudaScanItems = 8;        // keys each thread holds
+constexpr int kCudaScanBlock = 256;  // threads of a scan or sort block
+constexpr int kCudaScanItems = 8;    // keys each thread holds
 constexpr int kCudaScanTile = kCudaScanBlock * kCudaScanItems;
-constexpr int kCudaRadixBits = 8;        // bits of the key each sort pass orders by
+constexpr int kCudaRadixBits = 8;  // bits of the key each sort pass orders by
 constexpr int kCudaRadixDigits = 1 << kCudaRadixBits;
 constexpr int kCudaReduceBlock = 256;
 

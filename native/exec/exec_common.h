@@ -28,8 +28,8 @@ struct CudaAvailability {
     int driver_version = 0;           // the driver's CUDA version (0: no driver)
     int required_driver_version = 0;  // what the embedded kernels need (0: none built in)
     int device_count = 0;
-    std::string device_name;          // the device asked about, where it exists
-    double kernel_load_ms = 0.0;      // the load of the kernels into its context, when done
+    std::string device_name;      // the device asked about, where it exists
+    double kernel_load_ms = 0.0;  // the load of the kernels into its context, when done
     bool ok() const { return status == PBF_BACKEND_STATUS_AVAILABLE; }
 };
 

@@ -17,9 +17,10 @@ constexpr uint32_t kMaxCopyBlocks = 4096;  // the kernel strides over the rest
 CUresult launch_copy(const cuda::Driver& cu, const cuda::Kernels& k, const LiveBuffers& live, pbf_buffer source,
                      CUdeviceptr dst, uint32_t capacity, CUdeviceptr draw_args, uint32_t draw_vertices,
                      CUstream stream) {
-    const uint32_t blocks = std::max<uint32_t>(1, std::min<uint32_t>((capacity + kCopyBlock - 1) / kCopyBlock, kMaxCopyBlocks));
+    const uint32_t blocks =
+        std::max<uint32_t>(1, std::min<uint32_t>((capacity + kCopyBlock - 1) / kCopyBlock, kMaxCopyBlocks));
     const void* src = live_buffer(live, source);
-    if (!src) return CUDA_ERROR_INVALID_VALUE;  // refused by the API layer before it gets here
+    if (!src) return CUDA_ERROR_INVALID_VALUE;         // refused by the API layer before it gets here
     const uint32_t* count = live_count(live, source);  // the diffuse buffers have their own
     // Ids are copied as uint32_t; the Vec4 buffers as float4, one per particle or three (anisotropy).
     const bool ids = source == PBF_BUFFER_IDS;

@@ -24,11 +24,11 @@ Status cuda_status(const std::string& what, CUresult e);
 
 // PBF_ERROR_BACKEND_UNAVAILABLE naming the driver function a call needs where this driver lacks it
 // (the interop entry points are optional: cuda_driver.h).
-#define PBF_INTEROP_NEED(cu, name)                                                                              \
-    do {                                                                                                        \
-        if (!(cu)->name)                                                                                        \
-            return Status::error(PBF_ERROR_BACKEND_UNAVAILABLE,                                                 \
-                                 "the NVIDIA driver lacks " #name " (update the graphics driver)");             \
+#define PBF_INTEROP_NEED(cu, name)                                                                  \
+    do {                                                                                            \
+        if (!(cu)->name)                                                                            \
+            return Status::error(PBF_ERROR_BACKEND_UNAVAILABLE,                                     \
+                                 "the NVIDIA driver lacks " #name " (update the graphics driver)"); \
     } while (0)
 
 // One copy on stream: min(*live.count, capacity) elements of source into dst, and the draw
@@ -126,7 +126,9 @@ public:
 
 private:
     CUstream stream() const { return static_cast<CUstream>(world_.cuda_stream()); }
-    Status activate() { return cuda_status("making the world's CUDA context current", cu_->cuCtxSetCurrent(k_->context)); }
+    Status activate() {
+        return cuda_status("making the world's CUDA context current", cu_->cuCtxSetCurrent(k_->context));
+    }
     // The driver functions graphics buffers of api need (PBF_ERROR_BACKEND_UNAVAILABLE if missing).
     Status graphics_entry_points(GraphicsBuffer::Api api) const;
     // Registers b now (or later, on the render thread, for PBF_COPY_ON_RENDER_EVENT) in table.

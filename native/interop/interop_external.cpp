@@ -43,7 +43,9 @@ struct OsHandle {
     OsHandle& operator=(const OsHandle&) = delete;
     template <class HandleDesc, class Desc>
     Status set(HandleDesc& h, const Desc& d) const {
-        if (fd < 0) return Status::error(PBF_ERROR_INVALID_ARGUMENT, "fd " + std::to_string(d.fd) + " is not an open file descriptor");
+        if (fd < 0)
+            return Status::error(PBF_ERROR_INVALID_ARGUMENT,
+                                 "fd " + std::to_string(d.fd) + " is not an open file descriptor");
         h.handle.fd = fd;
         return Status{};
     }
@@ -113,7 +115,9 @@ Status CudaInterop::import_external_buffer(const pbf_external_buffer_desc& d, pb
     h.size = d.size_bytes;
     h.flags = d.dedicated ? CUDA_EXTERNAL_MEMORY_DEDICATED : 0u;
     const MemoryType* type = find_type(kMemoryTypes, d.type);
-    if (!type) return Status::error(PBF_ERROR_BACKEND_UNAVAILABLE, "this external memory type is not available on this platform");
+    if (!type)
+        return Status::error(PBF_ERROR_BACKEND_UNAVAILABLE,
+                             "this external memory type is not available on this platform");
     h.type = type->cuda;
     if (type->dedicated) h.flags = CUDA_EXTERNAL_MEMORY_DEDICATED;
     OsHandle os(d);
@@ -121,7 +125,8 @@ Status CudaInterop::import_external_buffer(const pbf_external_buffer_desc& d, pb
     if (!st.ok()) return st;
     ExternalBuffer b;
     b.desc = d;
-    st = cuda_status("importing the external memory (cuImportExternalMemory)", cu_->cuImportExternalMemory(&b.memory, &h));
+    st = cuda_status("importing the external memory (cuImportExternalMemory)",
+                     cu_->cuImportExternalMemory(&b.memory, &h));
     if (!st.ok()) return st;
     os.imported();
     CUDA_EXTERNAL_MEMORY_BUFFER_DESC bd;
@@ -171,14 +176,16 @@ Status CudaInterop::import_semaphore(const pbf_semaphore_desc& d, pbf_semaphore_
     CUDA_EXTERNAL_SEMAPHORE_HANDLE_DESC h;
     std::memset(&h, 0, sizeof h);
     const SemaphoreType* type = find_type(kSemaphoreTypes, d.type);
-    if (!type) return Status::error(PBF_ERROR_BACKEND_UNAVAILABLE, "this semaphore type is not available on this platform");
+    if (!type)
+        return Status::error(PBF_ERROR_BACKEND_UNAVAILABLE, "this semaphore type is not available on this platform");
     h.type = type->cuda;
     OsHandle os(d);
     st = os.set(h, d);
     if (!st.ok()) return st;
     Semaphore s;
     s.type = d.type;
-    st = cuda_status("importing the semaphore (cuImportExternalSemaphore)", cu_->cuImportExternalSemaphore(&s.handle, &h));
+    st = cuda_status("importing the semaphore (cuImportExternalSemaphore)",
+                     cu_->cuImportExternalSemaphore(&s.handle, &h));
     if (!st.ok()) return st;
     os.imported();
     os.take_from_caller(d);
@@ -214,7 +221,8 @@ Status CudaInterop::copy_external(ExternalBuffer& b, const pbf_external_sync* sy
         CUDA_EXTERNAL_SEMAPHORE_WAIT_PARAMS p;
         std::memset(&p, 0, sizeof p);
         p.params.fence.value = sync->wait_value;
-        st = cuda_status("waiting for the external semaphore", cu_->cuWaitExternalSemaphoresAsync(&wait->handle, &p, 1, s));
+        st = cuda_status("waiting for the external semaphore",
+                         cu_->cuWaitExternalSemaphoresAsync(&wait->handle, &p, 1, s));
         if (!st.ok()) return st;
     }
     const pbf_external_buffer_desc& d = b.desc;
@@ -242,8 +250,10 @@ Status CudaInterop::copy_to_external_buffer(pbf_external_buffer_id id, const pbf
 
 void CudaInterop::set_external_sync(pbf_external_buffer_id id, const pbf_external_sync* sync) {
     ExternalBuffer* b = external_.find(id.index, id.generation);
-    if (sync) b->next_sync = *sync;
-    else b->next_sync.reset();
+    if (sync)
+        b->next_sync = *sync;
+    else
+        b->next_sync.reset();
 }
 
 }  // namespace pbf::cuda_interop

@@ -48,8 +48,10 @@ std::string GraphicsBuffer::name(bool args) const {
 }
 
 Status CudaInterop::graphics_entry_points(GraphicsBuffer::Api api) const {
-    if (api == GraphicsBuffer::Api::GL) PBF_INTEROP_NEED(cu_, cuGraphicsGLRegisterBuffer);
-    else PBF_INTEROP_NEED(cu_, cuGraphicsD3D11RegisterResource);
+    if (api == GraphicsBuffer::Api::GL)
+        PBF_INTEROP_NEED(cu_, cuGraphicsGLRegisterBuffer);
+    else
+        PBF_INTEROP_NEED(cu_, cuGraphicsD3D11RegisterResource);
     PBF_INTEROP_NEED(cu_, cuGraphicsMapResources);
     PBF_INTEROP_NEED(cu_, cuGraphicsUnmapResources);
     PBF_INTEROP_NEED(cu_, cuGraphicsResourceGetMappedPointer);
@@ -65,7 +67,8 @@ Status CudaInterop::register_one(const GraphicsBuffer& b, bool args, CUgraphicsR
         e = cu_->cuGraphicsGLRegisterBuffer(out, args ? b.gl_args : b.gl_buffer, CU_GRAPHICS_REGISTER_FLAGS_NONE);
         hint = " (is a GL context of the world's GPU current?)";
     } else {
-        e = cu_->cuGraphicsD3D11RegisterResource(out, args ? b.d3d11_args : b.d3d11_buffer, CU_GRAPHICS_REGISTER_FLAGS_NONE);
+        e = cu_->cuGraphicsD3D11RegisterResource(out, args ? b.d3d11_args : b.d3d11_buffer,
+                                                 CU_GRAPHICS_REGISTER_FLAGS_NONE);
         hint = " (is it an ID3D11Buffer of a D3D11 device on the world's GPU?)";
     }
     if (e != CUDA_SUCCESS) *out = nullptr;
@@ -107,10 +110,9 @@ Status CudaInterop::register_now(GraphicsBuffer& b) {
                                name + " holds " + std::to_string(size) + " bytes; offset_bytes + capacity * " +
                                    std::to_string(buffer_element_bytes(b.source)) + " needs " + std::to_string(need));
         if (st.ok() && b.args_resource && b.draw_args_offset_bytes + 16 > args_size)
-            st = Status::error(PBF_ERROR_INVALID_ARGUMENT,
-                               b.name(true) + " holds " + std::to_string(args_size) +
-                                   " bytes; draw_args_offset_bytes + 16 needs " +
-                                   std::to_string(b.draw_args_offset_bytes + 16));
+            st = Status::error(PBF_ERROR_INVALID_ARGUMENT, b.name(true) + " holds " + std::to_string(args_size) +
+                                                               " bytes; draw_args_offset_bytes + 16 needs " +
+                                                               std::to_string(b.draw_args_offset_bytes + 16));
         if (st.ok() && b.args_in_same_buffer()) {
             const uint64_t a0 = b.draw_args_offset_bytes, a1 = a0 + 16;
             if (a0 < need && b.offset_bytes < a1)
@@ -149,7 +151,8 @@ Status CudaInterop::copy_graphics(const std::vector<GraphicsBuffer*>& buffers) {
     const CUstream s = stream();
     const LiveBuffers live = world_.live_buffers();
     batch_begin();
-    st = cuda_status("mapping the graphics buffers", cu_->cuGraphicsMapResources(unsigned(resources.size()), resources.data(), s));
+    st = cuda_status("mapping the graphics buffers",
+                     cu_->cuGraphicsMapResources(unsigned(resources.size()), resources.data(), s));
     if (!st.ok()) return st;
     for (GraphicsBuffer* b : buffers) {
         CUdeviceptr dst = 0, args = 0;
@@ -203,7 +206,9 @@ Status CudaInterop::register_gl_buffer(const pbf_gl_buffer_desc& desc, pbf_gl_bu
 
 Status CudaInterop::unregister_gl_buffer(pbf_gl_buffer_id id) { return remove_graphics(gl_, id); }
 
-Status CudaInterop::copy_to_gl_buffer(pbf_gl_buffer_id id) { return copy_graphics({gl_.find(id.index, id.generation)}); }
+Status CudaInterop::copy_to_gl_buffer(pbf_gl_buffer_id id) {
+    return copy_graphics({gl_.find(id.index, id.generation)});
+}
 
 Status CudaInterop::register_d3d11_buffer(const pbf_d3d11_buffer_desc& desc, pbf_d3d11_buffer_id* out) {
     return add_graphics(d3d11_, GraphicsBuffer::d3d11(desc), out);

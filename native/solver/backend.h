@@ -22,12 +22,12 @@
 namespace pbf {
 
 struct NozzleEmission {
-    uint32_t count;         // particles this substep
-    uint32_t sequence;      // running spiral index
+    uint32_t count;     // particles this substep
+    uint32_t sequence;  // running spiral index
     uint32_t disc_points;
     Vec3 center, direction, tangent, bitangent;
     float radius, speed;
-    uint8_t material = 0;   // the particles' material slot
+    uint8_t material = 0;  // the particles' material slot
 };
 
 struct DrainBox {
@@ -82,8 +82,8 @@ enum Stage : int {
     kStageVorticity,
     kStageVorticityXsph,
     kStageDensityEnd,
-    kStageRender,  // render data (only in worlds that ask for it)
-    kStageDiffuse,  // diffuse sources: normals and counts (only in worlds with a diffuse capacity)
+    kStageRender,          // render data (only in worlds that ask for it)
+    kStageDiffuse,         // diffuse sources: normals and counts (only in worlds with a diffuse capacity)
     kStageMaterialForces,  // surface tension, cohesion, adhesion (only in worlds that use them)
     kStageDiffuseAdvect,   // diffuse particles moved, generated and packed (diffuse capacity only)
     kStageCount
@@ -99,7 +99,7 @@ struct BackendConfig {
     uint32_t max_colliders;
     GridDims grid;
     int32_t cuda_device;
-    RenderConstants render;  // flags 0: no render buffers are allocated and no pass runs
+    RenderConstants render;    // flags 0: no render buffers are allocated and no pass runs
     DiffuseConstants diffuse;  // capacity 0: no diffuse buffers and no pass
     float kernel_radius;       // h: the reach of the colliders' broad-phase queries
 };

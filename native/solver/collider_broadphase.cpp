@@ -9,8 +9,8 @@ namespace pbf {
 
 namespace {
 
-constexpr uint32_t kMaxBuckets = 16384;   // 64 KB of offsets
-constexpr uint32_t kMaxEntries = 65536;   // 256 KB of collider indices
+constexpr uint32_t kMaxBuckets = 16384;  // 64 KB of offsets
+constexpr uint32_t kMaxEntries = 65536;  // 256 KB of collider indices
 
 uint32_t next_pow2(uint32_t v) {
     uint32_t p = 1;

@@ -26,8 +26,10 @@ public:
     template <class T>
     T* alloc(size_t count) {
         T* p = exec_.template try_alloc<T>(count > 0 ? count : 1);
-        if (!p) failed_ = true;
-        else held_[used_++] = p;
+        if (!p)
+            failed_ = true;
+        else
+            held_[used_++] = p;
         return p;
     }
     bool failed() const { return failed_; }
@@ -42,8 +44,8 @@ private:
 
 template <class Exec>
 Status mesh_memory_error(Exec& exec, const std::string& what) {
-    return Status::error(PBF_ERROR_OUT_OF_MEMORY, "cannot allocate " + what + " on " + exec.device_name() + ": " +
-                                                      exec.last_error_text());
+    return Status::error(PBF_ERROR_OUT_OF_MEMORY,
+                         "cannot allocate " + what + " on " + exec.device_name() + ": " + exec.last_error_text());
 }
 
 template <class Exec>

@@ -11,15 +11,15 @@
 namespace pbf {
 
 struct MeshBuild {
-    MeshView grid{};                // values null: the backend allocates them
+    MeshView grid{};  // values null: the backend allocates them
     std::vector<Vec3> vertices;
     std::vector<uint32_t> indices;  // the non-degenerate triangles, 3 each
     int32_t bricks[3] = {};
-    float margin = 0.0f;            // a brick lists the triangles within this distance of its points
-    uint64_t listing_bound = 0;     // at least the number of (brick, triangle) pairs (brick_range's)
+    float margin = 0.0f;         // a brick lists the triangles within this distance of its points
+    uint64_t listing_bound = 0;  // at least the number of (brick, triangle) pairs (brick_range's)
     uint32_t closed = 1;
-    float half_thickness = 0.0f;    // open meshes: the shell's half thickness
-    float kernel_radius = 0.0f;     // h, for the boundary shares
+    float half_thickness = 0.0f;  // open meshes: the shell's half thickness
+    float kernel_radius = 0.0f;   // h, for the boundary shares
 };
 
 }  // namespace pbf

@@ -85,9 +85,9 @@ public:
         }
         diffuse_bytes_ = exec_.allocated_bytes() - before_diffuse;
         if (!ok) {
-            return Status::error(PBF_ERROR_OUT_OF_MEMORY,
-                                 "cannot allocate " + std::to_string(config.capacity) + " particles on " +
-                                     exec_.device_name() + ": " + exec_.last_error_text());
+            return Status::error(PBF_ERROR_OUT_OF_MEMORY, "cannot allocate " + std::to_string(config.capacity) +
+                                                              " particles on " + exec_.device_name() + ": " +
+                                                              exec_.last_error_text());
         }
         // Unused slots hold finite data so passes that touch them (they never affect live
         // particles) compute nothing undefined; all counters start at zero.
@@ -159,7 +159,8 @@ public:
         const ColliderPose* reached = collider_poses_ + (substeps % 2) * count;
         rest_colliders_ = colliders_view(reached, reached, count, grid);
         if (dynamic)
-            exec_.for_each(count, ColliderForceOp{collider_shapes_, collider_impulses_, collider_forces_, 1.0f / in.frame_dt});
+            exec_.for_each(count,
+                           ColliderForceOp{collider_shapes_, collider_impulses_, collider_forces_, 1.0f / in.frame_dt});
         host_forces_valid_ = false;
         const HeightFrame frame = height_frame(s);
         exec_.reduce_feedback(frame, pos_, vel_, &counters_->count, bound_, &counters_->feedback);
@@ -185,7 +186,8 @@ public:
         ColliderGrid g = grid_lists_.grid;  // no lists: null pointers, every query walks all
         if (grid_lists_.bucket_begin.empty()) return g;
         uint32_t* entries = collider_grid_ + grid_capacity_.buckets + 1;
-        exec_.upload(collider_grid_, grid_lists_.bucket_begin.data(), grid_lists_.bucket_begin.size() * sizeof(uint32_t));
+        exec_.upload(collider_grid_, grid_lists_.bucket_begin.data(),
+                     grid_lists_.bucket_begin.size() * sizeof(uint32_t));
         exec_.upload(entries, grid_lists_.entries.data(), grid_lists_.entries.size() * sizeof(uint32_t));
         g.bucket_begin = collider_grid_;
         g.entries = entries;
@@ -270,8 +272,19 @@ public:
         const uint64_t requested = uint64_t(b.nx) * b.ny * b.nz;
         const uint32_t fit = uint32_t(std::min<uint64_t>(requested, config_.capacity - count));
         if (fit > 0) {
-            EmitBlockOp op{&counters_->count, &counters_->next_id, config_.capacity, b.origin, b.spacing, b.nx, b.ny,
-                           b.velocity, pos_, vel_, ids_, materials_, b.material};
+            EmitBlockOp op{&counters_->count,
+                           &counters_->next_id,
+                           config_.capacity,
+                           b.origin,
+                           b.spacing,
+                           b.nx,
+                           b.ny,
+                           b.velocity,
+                           pos_,
+                           vel_,
+                           ids_,
+                           materials_,
+                           b.material};
             exec_.for_each(fit, op);
             commit_emission(fit);
             materials_moved_ |= b.material != 0;
@@ -414,17 +427,31 @@ private:
         // Emission and drains first, so the grid builds below drop drained particles.
         for (const NozzleEmission& nz : in.nozzles) {
             if (nz.count == 0) continue;
-            EmitNozzleOp op{&counters_->count, &counters_->next_id, config_.capacity, nz.count, nz.sequence,
-                            nz.disc_points, nz.center, nz.direction, nz.tangent, nz.bitangent, nz.radius,
-                            nz.speed, ctx.dt, pos_, vel_, ids_, materials_, nz.material};
+            EmitNozzleOp op{&counters_->count,
+                            &counters_->next_id,
+                            config_.capacity,
+                            nz.count,
+                            nz.sequence,
+                            nz.disc_points,
+                            nz.center,
+                            nz.direction,
+                            nz.tangent,
+                            nz.bitangent,
+                            nz.radius,
+                            nz.speed,
+                            ctx.dt,
+                            pos_,
+                            vel_,
+                            ids_,
+                            materials_,
+                            nz.material};
             exec_.for_each(nz.count, op);
             commit_emission(nz.count);
             materials_moved_ |= nz.material != 0;
             bound_ = std::min<uint64_t>(config_.capacity, uint64_t(bound_) + nz.count);
         }
         for (const DrainBox& d : in.drains) {
-            exec_.for_each(bound_, DrainOp{&counters_->count, pos_, d.box_min, d.box_max, ids_,
-                                           &counters_->drained});
+            exec_.for_each(bound_, DrainOp{&counters_->count, pos_, d.box_min, d.box_max, ids_, &counters_->drained});
         }
         if (!in.drains.empty()) exec_.for_each(1, CommitDrainOp{&counters_->drained, &counters_->drained_total});
         if (!in.nozzles.empty() || !in.drains.empty()) grid_valid_ = density_valid_ = false;
@@ -490,8 +517,7 @@ private:
             // The last iteration also updates v and x (no separate velocity pass).
             const bool last = it + 1 == in.iterations;
             exec_.for_each(bound_, DeltaOp{s, ctx, cell_begin_, masks, pos_, pred_, spare_, control,
-                                           last ? pos_ : nullptr, last ? vel_ : nullptr, density_,
-                                           colliders_gradient});
+                                           last ? pos_ : nullptr, last ? vel_ : nullptr, density_, colliders_gradient});
             if (!last) std::swap(pred_, spare_);  // Jacobi: the corrected positions are the next input
         }
         masks_valid_ = true;  // recorded by the first λ pass
@@ -505,8 +531,8 @@ private:
             // The old velocities (vel_) are dead now: with surface tension the pass sums the
             // surface normals there, which the swap leaves in pred_ for the next substep.
             if (s.materials.flags & kMaterialSurface) {
-                exec_.for_each(bound_, VorticityForcePass<true>{s, ctx, cell_begin_, masks, pos_, omega, pred_,
-                                                                density_, vel_});
+                exec_.for_each(
+                    bound_, VorticityForcePass<true>{s, ctx, cell_begin_, masks, pos_, omega, pred_, density_, vel_});
                 surface_normals_valid_ = true;
             } else {
                 exec_.for_each(bound_, VorticityForceOp{s, ctx, cell_begin_, masks, pos_, omega, pred_, density_});
@@ -548,7 +574,8 @@ private:
         const NeighborMasks masks = valid_masks();
         if (n > 0) {
             Vec4* normals = spare_;
-            exec_.for_each(n, DiffuseNormalOp{s.grid, s.h2, inv_h, cell_begin_, masks, pos_, &counters_->count, normals});
+            exec_.for_each(n,
+                           DiffuseNormalOp{s.grid, s.h2, inv_h, cell_begin_, masks, pos_, &counters_->count, normals});
             exec_.for_each(n, DiffuseSourceOp{s.grid, s.h2, inv_h, dt, d, cell_begin_, masks, pos_, vel_, normals, ids_,
                                               diffuse_steps_, &counters_->count, diffuse_flags_ + d.capacity});
         }
@@ -687,42 +714,42 @@ private:
     Vec4* vel_ = nullptr;
     Vec4* pred_ = nullptr;
     Vec4* spare_ = nullptr;
-    uint32_t* ids_ = nullptr;  // rotates with the sort's value buffers
+    uint32_t* ids_ = nullptr;       // rotates with the sort's value buffers
     uint8_t* materials_ = nullptr;  // each particle's material slot (fixed: the gather copies back)
     uint32_t* keys_[2] = {};
     uint32_t* order_[2] = {};
     const uint32_t* sorted_keys_ = nullptr;  // the cell of each particle at the last grid build
-    uint32_t* masks_ = nullptr;             // kMaskRows x capacity neighbour masks
-    float* denominator_ = nullptr;          // λ's Σ|∇C|² + ε per particle (aliases a sort buffer)
+    uint32_t* masks_ = nullptr;              // kMaskRows x capacity neighbour masks
+    float* denominator_ = nullptr;           // λ's Σ|∇C|² + ε per particle (aliases a sort buffer)
     float* density_ = nullptr;
     uint32_t* cell_begin_ = nullptr;
     DeviceCounters* counters_ = nullptr;
-    Collider* collider_shapes_ = nullptr;    // max_colliders
+    Collider* collider_shapes_ = nullptr;     // max_colliders
     ColliderKey* collider_keys_ = nullptr;    // max_colliders: where each starts and ends the step
     ColliderPose* collider_poses_ = nullptr;  // 2 rows of the step's colliders: a substep's start and end
     ColliderPose* rest_poses_ = nullptr;      // max_colliders, set between steps
     ColliderGridCapacity grid_capacity_;
-    uint32_t* collider_grid_ = nullptr;       // the broad phase's bucket offsets, then its entries
-    ColliderGridLists grid_lists_;            // the host's build, kept to reuse its storage
+    uint32_t* collider_grid_ = nullptr;           // the broad phase's bucket offsets, then its entries
+    ColliderGridLists grid_lists_;                // the host's build, kept to reuse its storage
     ColliderForce* collider_impulses_ = nullptr;  // max_colliders rows: the running step's impulses
     ColliderForce* collider_forces_ = nullptr;    // max_colliders rows: the last step's mean forces
     std::vector<ColliderForce> host_forces_;      // the host's copy of collider_forces_
     MeshView* mesh_table_ = nullptr;              // kMaxMeshes rows
     float* mesh_values_[kMaxMeshes] = {};         // each live mesh's field (its row's values)
     bool host_forces_valid_ = false;
-    ColliderView rest_colliders_{};           // the colliders outside a step
-    Vec4* smoothed_ = nullptr;                // render data: null unless the world asks for it
-    Vec4* anisotropy_ = nullptr;              // 3 per particle
+    ColliderView rest_colliders_{};  // the colliders outside a step
+    Vec4* smoothed_ = nullptr;       // render data: null unless the world asks for it
+    Vec4* anisotropy_ = nullptr;     // 3 per particle
     uint64_t render_bytes_ = 0;
     uint64_t render_updates_ = 0;
-    Vec4* diffuse_[4] = {};  // diffuse particles: positions, velocities (front), then the back pair
+    Vec4* diffuse_[4] = {};                // diffuse particles: positions, velocities (front), then the back pair
     uint32_t* diffuse_flags_ = nullptr;    // capacity + max_particles: keep | generated
     uint32_t* diffuse_offsets_ = nullptr;  // their exclusive scan
     DiffuseCounters* diffuse_counters_ = nullptr;
     uint64_t diffuse_bytes_ = 0;
     uint64_t diffuse_updates_ = 0;
-    uint32_t diffuse_steps_ = 0;  // the generator's random stream: one per step
-    StepFeedback* feedback_ = nullptr;        // host-visible; written by the step's last op
+    uint32_t diffuse_steps_ = 0;        // the generator's random stream: one per step
+    StepFeedback* feedback_ = nullptr;  // host-visible; written by the step's last op
     StepFeedback last_feedback_{};
     uint32_t bound_ = 0;  // upper bound of the live count known on the host (launch size)
     bool grid_valid_ = true;
@@ -730,8 +757,8 @@ private:
     bool emitted_since_density_ = false;  // positions.w of some particles is the emission's 1, not ρ/ρ0
     bool masks_valid_ = false;
     bool surface_normals_valid_ = false;  // pred_ holds the normals at pos_ (VorticityForcePass<true>)
-                                        // until the next grid build (emission and drains force one)
-    bool materials_moved_ = false;  // a particle of another material than the default was emitted
+                                          // until the next grid build (emission and drains force one)
+    bool materials_moved_ = false;        // a particle of another material than the default was emitted
 };
 
 }  // namespace pbf

@@ -7,9 +7,9 @@ namespace pbf {
 
 const char* stage_name(int stage) {
     static const char* const names[kStageCount] = {
-        "emit+drain", "grid(x)", "density(x)", "forces+LDC+predict", "grid(x*)", "lambda",
-        "delta+collide", "omega+xsph", "vorticity force", "density(end)", "render data", "diffuse",
-        "material forces", "diffuse advect"};
+        "emit+drain",  "grid(x)",       "density(x)",      "forces+LDC+predict", "grid(x*)",
+        "lambda",      "delta+collide", "omega+xsph",      "vorticity force",    "density(end)",
+        "render data", "diffuse",       "material forces", "diffuse advect"};
     return stage >= 0 && stage < kStageCount ? names[stage] : "?";
 }
 

@@ -114,8 +114,16 @@ NozzleEmission nozzle_emission(EmitterState& e, const WorldConstants& c, float s
     const Vec3 b = cross(dir, t);
     // Clamped before the conversion: a huge (finite) radius makes this Inf.
     const float area_points = std::fmin(kPi * e.desc.radius * e.desc.radius / (spacing * spacing), 4.0e9f);
-    NozzleEmission ne{n, e.sequence, std::max(1u, static_cast<uint32_t>(area_points)),
-                      to_vec3(e.desc.position), dir, t, b, e.desc.radius, e.desc.speed, e.material};
+    NozzleEmission ne{n,
+                      e.sequence,
+                      std::max(1u, static_cast<uint32_t>(area_points)),
+                      to_vec3(e.desc.position),
+                      dir,
+                      t,
+                      b,
+                      e.desc.radius,
+                      e.desc.speed,
+                      e.material};
     e.sequence += n;
     return ne;
 }

@@ -11,7 +11,9 @@
 
 namespace pbf {
 
-MeshLayout World::mesh_layout(const pbf_mesh_desc& d) const { return pbf::mesh_layout(d, desc_.particle_radius, constants_.h); }
+MeshLayout World::mesh_layout(const pbf_mesh_desc& d) const {
+    return pbf::mesh_layout(d, desc_.particle_radius, constants_.h);
+}
 
 MeshLayout mesh_layout(const pbf_mesh_desc& d, float r, float h) {
     MeshLayout l;
@@ -77,8 +79,8 @@ MeshBuild prepare_mesh(const pbf_mesh_desc& d, const MeshLayout& l, float* reach
         b.indices.insert(b.indices.end(), i, i + 3);
         int32_t first[3], last[3];
         if (brick_range(bricks, v0, v1, v2, first, last))
-            b.listing_bound += uint64_t(last[0] - first[0] + 1) * uint64_t(last[1] - first[1] + 1) *
-                               uint64_t(last[2] - first[2] + 1);
+            b.listing_bound +=
+                uint64_t(last[0] - first[0] + 1) * uint64_t(last[1] - first[1] + 1) * uint64_t(last[2] - first[2] + 1);
     }
     return b;
 }
@@ -102,8 +104,8 @@ Status World::destroy_mesh(pbf_mesh_id id) {
     const MeshEntry* m = meshes_.find(id.index, id.generation);
     if (!m) return Status::error(PBF_ERROR_INVALID_HANDLE, "mesh is not live");
     if (m->users > 0)
-        return Status::error(PBF_ERROR_INVALID_STATE, std::to_string(m->users) +
-                                                          " collider(s) use the mesh: destroy them first");
+        return Status::error(PBF_ERROR_INVALID_STATE,
+                             std::to_string(m->users) + " collider(s) use the mesh: destroy them first");
     backend_->destroy_mesh(id.index);
     meshes_.erase(id.index, id.generation);
     return Status{};

@@ -28,8 +28,12 @@ std::unique_ptr<World> World::create(const pbf_world_desc& desc, Status* status)
     w->init_materials();
     w->update_constants();
     const WorldConstants& c = w->constants_;
-    BackendConfig config{desc.max_particles, desc.max_colliders, c.grid, desc.cuda_device,
-                         render_constants(desc.render, desc.particle_radius, c.h), diffuse_constants(desc.diffuse),
+    BackendConfig config{desc.max_particles,
+                         desc.max_colliders,
+                         c.grid,
+                         desc.cuda_device,
+                         render_constants(desc.render, desc.particle_radius, c.h),
+                         diffuse_constants(desc.diffuse),
                          c.h};
     pbf_backend kind = desc.backend;
     if (kind == PBF_BACKEND_AUTO) kind = cuda_availability(desc.cuda_device).ok() ? PBF_BACKEND_CUDA : PBF_BACKEND_CPU;
@@ -240,9 +244,9 @@ Status World::create_emitter(const pbf_emitter_desc& desc, pbf_emitter_id* out) 
 
 Status World::create_collider(const pbf_collider_desc& d, pbf_collider_id* out) {
     if (colliders_.size() >= desc_.max_colliders)
-        return Status::error(PBF_ERROR_CAPACITY, "the world holds max_colliders = " +
-                                                     std::to_string(desc_.max_colliders) +
-                                                     " colliders already (pbf_world_desc.max_colliders)");
+        return Status::error(PBF_ERROR_CAPACITY,
+                             "the world holds max_colliders = " + std::to_string(desc_.max_colliders) +
+                                 " colliders already (pbf_world_desc.max_colliders)");
     ColliderEntry e{};
     MeshEntry* mesh = nullptr;
     if (d.shape == PBF_SHAPE_MESH) {

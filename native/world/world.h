@@ -21,11 +21,11 @@ struct MaterialTable;
 struct MeshBuild;
 
 struct ColliderEntry {
-    Collider collider;   // shape data; its poses are computed per substep
-    uint32_t motion;     // pbf_collider_motion
+    Collider collider;  // shape data; its poses are computed per substep
+    uint32_t motion;    // pbf_collider_motion
     Vec3 position, target_position;
     float rotation[4], target_rotation[4];  // unit quaternions (x, y, z, w)
-    pbf_mesh_id mesh{};  // PBF_SHAPE_MESH: the mesh it uses
+    pbf_mesh_id mesh{};                     // PBF_SHAPE_MESH: the mesh it uses
 };
 
 struct MeshEntry {
@@ -38,7 +38,7 @@ struct MeshLayout {
     MeshView grid{};
     int32_t bricks[3] = {};
     float half_thickness = 0.0f;
-    float margin = 0.0f;   // triangles are binned to the bricks within this distance
+    float margin = 0.0f;  // triangles are binned to the bricks within this distance
     float kernel_radius = 0.0f;
     uint64_t voxels = 0;
 };
@@ -49,7 +49,7 @@ MeshLayout mesh_layout(const pbf_mesh_desc& desc, float r, float h);
 MeshBuild prepare_mesh(const pbf_mesh_desc& desc, const MeshLayout& layout, float* reach);
 
 struct EmitterEntry {
-    pbf_emitter_desc desc;  // normalised direction
+    pbf_emitter_desc desc;     // normalised direction
     float accumulator = 0.0f;  // fractional particles carried between substeps
     uint32_t sequence = 0;
 };
@@ -170,7 +170,7 @@ public:
         LiveBuffers live;
         uint32_t count = 0;
         uint32_t diffuse_count = 0;  // as count, for the diffuse particles (0 without them)
-        bool device = false;        // CUDA device memory (else host memory)
+        bool device = false;         // CUDA device memory (else host memory)
         void* cuda_stream = nullptr;
     };
     Status map_particles(bool wait_for_count, Mapping* out);

@@ -23,9 +23,9 @@ Status World::add_diffuse(const float* positions, const float* velocities, uint3
     Status st = backend_->add_diffuse(rows.data(), count, added);
     if (*added > 0) mapped_ = false;
     if (st.ok() && *added == 0 && count > 0)
-        return Status::error(PBF_ERROR_CAPACITY, "the world holds max_diffuse = " +
-                                                     std::to_string(desc_.diffuse.max_diffuse) +
-                                                     " diffuse particles already; nothing was added");
+        return Status::error(PBF_ERROR_CAPACITY,
+                             "the world holds max_diffuse = " + std::to_string(desc_.diffuse.max_diffuse) +
+                                 " diffuse particles already; nothing was added");
     return st;
 }
 

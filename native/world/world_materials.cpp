@@ -61,8 +61,8 @@ Status World::create_material(const pbf_material_desc& desc, pbf_material_id* ou
         update_constants();
         return Status{};
     }
-    return Status::error(PBF_ERROR_CAPACITY, "the world holds PBF_MAX_MATERIALS = " + std::to_string(kMaxMaterials) +
-                                                 " materials already");
+    return Status::error(PBF_ERROR_CAPACITY,
+                         "the world holds PBF_MAX_MATERIALS = " + std::to_string(kMaxMaterials) + " materials already");
 }
 
 Status World::destroy_material(pbf_material_id id, uint32_t* emitters, uint32_t* particles) {

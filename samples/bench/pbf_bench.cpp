@@ -54,21 +54,22 @@ struct Config {
     std::string scene;
     uint32_t particles, iterations, ldc;
     pbf_backend backend;
-    uint32_t render;  // 1: smoothed positions and anisotropy each step (pbf_render_params)
-    uint32_t diffuse;  // diffuse capacity (pbf_diffuse_params.max_diffuse); 0: off
+    uint32_t render;         // 1: smoothed positions and anisotropy each step (pbf_render_params)
+    uint32_t diffuse;        // diffuse capacity (pbf_diffuse_params.max_diffuse); 0: off
     uint32_t materials = 1;  // 2: two fluids (the default and one of half its density), both with
                              // surface tension and cohesion
     float surface_tension = 0, cohesion = 0;
     std::string collider = "none";  // none, box or mesh
     uint32_t mesh_triangles = 0;
-    float level_size = 0;  // > 0: an open level (no walls) of this extent
-    uint32_t hashed_grid = 0;  // 1: pbf_world_desc.hashed_grid
+    float level_size = 0;            // > 0: an open level (no walls) of this extent
+    uint32_t hashed_grid = 0;        // 1: pbf_world_desc.hashed_grid
     uint32_t mesh_builds = 3;        // timed builds of the mesh (after one untimed)
     uint32_t dynamic_colliders = 0;  // small dynamic kinematic boxes in the fluid, forces read each frame
 };
 
 struct Result {
-    double create_ms = 0.0;  // pbf_world_create (the first of a process includes opening the driver and loading the kernels)
+    double create_ms =
+        0.0;  // pbf_world_create (the first of a process includes opening the driver and loading the kernels)
     bool ok = false;
     std::string device, error;
     double ms_median = 0, ms_min = 0, ms_max = 0, bytes_per_particle = 0, error_mean = 0, error_max = 0;
@@ -76,7 +77,7 @@ struct Result {
     uint32_t diffuse_count = 0;  // live diffuse particles after the last step
     float dt = 0;
     double stage_ms[PBF_PROFILE_MAX_STAGES] = {};  // per step, averaged
-    double build_ms = 0, first_build_ms = 0;  // the mesh's creation (its field's build): median, first
+    double build_ms = 0, first_build_ms = 0;       // the mesh's creation (its field's build): median, first
     uint32_t triangles = 0;
     uint32_t grid_hashed = 0;
     uint64_t grid_bytes = 0;
@@ -117,8 +118,10 @@ void subdivided_box(float e, int n, std::vector<float>* v, std::vector<uint32_t>
         for (int j = 0; j < n; ++j)
             for (int i = 0; i < n; ++i) {
                 const uint32_t q = base + uint32_t(j * (n + 1) + i), r = q + 1, t = q + uint32_t(n + 1), x = t + 1;
-                if (side > 0) tri->insert(tri->end(), {q, r, x, q, x, t});
-                else tri->insert(tri->end(), {q, x, r, q, t, x});
+                if (side > 0)
+                    tri->insert(tri->end(), {q, r, x, q, x, t});
+                else
+                    tri->insert(tri->end(), {q, x, r, q, t, x});
             }
     }
 }
@@ -168,8 +171,10 @@ bool add_collider(pbf_world_id w, const Config& c, float a, const float o[3], Re
             const auto t0 = std::chrono::steady_clock::now();
             if (pbf_world_create_mesh(w, &m, &d.mesh) != PBF_OK) return false;
             const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-            if (k == 0) r->first_build_ms = ms;
-            else builds.push_back(ms);
+            if (k == 0)
+                r->first_build_ms = ms;
+            else
+                builds.push_back(ms);
         }
         std::sort(builds.begin(), builds.end());
         r->build_ms = builds.empty() ? r->first_build_ms : builds[builds.size() / 2];
@@ -266,7 +271,8 @@ Result run(const Config& c, int warmup, int steps, bool stages) {
     d.solver.ldc_enabled = c.ldc;
     d.render.flags = c.render ? PBF_RENDER_SMOOTHED_POSITIONS | PBF_RENDER_ANISOTROPY : 0u;
     d.diffuse.max_diffuse = c.diffuse;
-    d.max_colliders = std::max(d.max_colliders, c.dynamic_colliders + 6);  // + the --collider one and an open level's 5 planes
+    d.max_colliders =
+        std::max(d.max_colliders, c.dynamic_colliders + 6);  // + the --collider one and an open level's 5 planes
     pbf_world_id w;
     const auto created = std::chrono::steady_clock::now();
     if (pbf_world_create(&d, &w) != PBF_OK) {
@@ -373,10 +379,11 @@ int main(int argc, char** argv) {
     bool stages = false;
     std::string materials = "1";
     float surface_tension = 100.0f, cohesion = 100.0f;
-    CLI::App app{"pbf_bench: time full solver steps (pbf_world_step, one substep) on either backend, for "
-                 "docs/perf.md. Every combination of the comma-separated lists below is run; a Markdown table goes "
-                 "to stdout.",
-                 "pbf_bench"};
+    CLI::App app{
+        "pbf_bench: time full solver steps (pbf_world_step, one substep) on either backend, for "
+        "docs/perf.md. Every combination of the comma-separated lists below is run; a Markdown table goes "
+        "to stdout.",
+        "pbf_bench"};
     app.option_defaults()->always_capture_default()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     app.add_option("--backend", backends, "backends: cpu, cuda or both (comma-separated)");
     app.add_option("--scene", scenes,
@@ -400,8 +407,9 @@ int main(int argc, char** argv) {
                    "tension and cohesion (comma-separated)");
     app.add_option("--surface-tension", surface_tension, "with --materials 2: surface tension, 1/s^2 (default 100)");
     app.add_option("--cohesion", cohesion, "with --materials 2: cohesion, 1/s^2 (default 100)");
-    app.add_option("--collider", colliders, "one static collider in the fluid: none, box (analytic) or mesh (the same "
-                                            "box as a subdivided triangle mesh) (comma-separated)");
+    app.add_option("--collider", colliders,
+                   "one static collider in the fluid: none, box (analytic) or mesh (the same "
+                   "box as a subdivided triangle mesh) (comma-separated)");
     app.add_option("--mesh-triangles", mesh_triangles, "about how many triangles the mesh box has")
         ->check(CLI::Range(12, 1 << 22));
     app.add_option("--mesh-builds", mesh_builds, "timed builds of the mesh after one untimed (median reported)")
@@ -425,15 +433,19 @@ int main(int argc, char** argv) {
 
     FILE* csv = csv_path.empty() ? nullptr : std::fopen(csv_path.c_str(), "w");
     if (csv) {
-        std::fprintf(csv, "scene,particles,iterations,ldc,render,backend,device,ms_median,ms_min,ms_max,particle_steps_per_s,"
-                          "bytes_per_particle,density_error_mean,density_error_max,dt,diffuse,diffuse_count,collider,triangles,"
-                          "build_ms,level_size,grid_hashed,grid_bytes,first_build_ms,dynamic_colliders,frame_ms");
+        std::fprintf(
+            csv,
+            "scene,particles,iterations,ldc,render,backend,device,ms_median,ms_min,ms_max,particle_steps_per_s,"
+            "bytes_per_particle,density_error_mean,density_error_max,dt,diffuse,diffuse_count,collider,triangles,"
+            "build_ms,level_size,grid_hashed,grid_bytes,first_build_ms,dynamic_colliders,frame_ms");
         for (uint32_t k = 0; k < stage_count(); ++k) std::fprintf(csv, ",stage_%s_ms", pbf_profile_stage_name(k));
         std::fprintf(csv, "\n");
     }
-    std::printf("| scene | particles | iter | LDC | render | diffuse cap/live | backend | device | ms median | min | max | "
-                "particle-steps/s | B/particle | density err mean | max | collider | triangles | build ms | level | grid | dynamic | frame ms |\n"
-                "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    std::printf(
+        "| scene | particles | iter | LDC | render | diffuse cap/live | backend | device | ms median | min | max | "
+        "particle-steps/s | B/particle | density err mean | max | collider | triangles | build ms | level | grid | "
+        "dynamic | frame ms |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     int failures = 0;
     std::vector<double> create_ms;
     std::vector<std::pair<Config, Result>> staged;
@@ -443,52 +455,78 @@ int main(int argc, char** argv) {
                 for (const std::string& it : split_list(iterations))
                     for (const std::string& l : split_list(ldcs))
                         for (const std::string& rd : split_list(renders))
-                        for (const std::string& df : split_list(diffuses))
-                            for (const std::string& mt : split_list(materials))
-                            for (const std::string& col : split_list(colliders))
-                            for (const std::string& lv : split_list(levels))
-                            for (const std::string& gr : split_list(grids))
-                            for (const std::string& dyn : split_list(dynamics)) {
-                        const Config c{scene, uint32_t(std::strtoul(n.c_str(), nullptr, 10)),
-                                       uint32_t(std::atoi(it.c_str())), uint32_t(std::atoi(l.c_str())), backend,
-                                       uint32_t(std::atoi(rd.c_str())), uint32_t(std::strtoul(df.c_str(), nullptr, 10)),
-                                       uint32_t(std::atoi(mt.c_str())), surface_tension, cohesion, col, mesh_triangles,
-                                       std::strtof(lv.c_str(), nullptr), gr == "hashed" ? 1u : 0u, mesh_builds,
-                                       uint32_t(std::strtoul(dyn.c_str(), nullptr, 10))};
-                        const Result r = run(c, warmup, steps, stages);
-                        const char* bname = c.materials == 2 ? (backend == PBF_BACKEND_CUDA ? "cuda 2-mat" : "cpu 2-mat")
-                                                             : (backend == PBF_BACKEND_CUDA ? "cuda" : "cpu");
-                        if (!r.ok) {
-                            std::printf("| %s | %u | %u | %u | %u | %u | %s | - | failed: %s |\n", scene.c_str(),
-                                        c.particles, c.iterations, c.ldc, c.render, c.diffuse, bname, r.error.c_str());
-                            ++failures;
-                            continue;
-                        }
-                        const double rate = r.count / (r.ms_median / 1000.0);
-                        std::printf("| %s | %u | %u | %u | %u | %u/%u | %s | %s | %.3f | %.3f | %.3f | %.3g | %.1f | %.5f | %.4f "
-                                    "| %s | %u | %.1f | %s | %s %.1f KB | %u | %.3f |\n",
-                                    scene.c_str(), r.count, c.iterations, c.ldc, c.render, c.diffuse, r.diffuse_count, bname,
-                                    r.device.c_str(), r.ms_median, r.ms_min, r.ms_max, rate, r.bytes_per_particle,
-                                    r.error_mean, r.error_max, c.collider.c_str(), r.triangles, r.build_ms,
-                                    c.level_size > 0 ? lv.c_str() : "box", r.grid_hashed ? "hashed" : "dense",
-                                    r.grid_bytes / 1024.0, c.dynamic_colliders, r.frame_ms);
-                        std::fflush(stdout);
-                        if (csv) {
-                            std::fprintf(csv, "%s,%u,%u,%u,%u,%s,%s,%.4f,%.4f,%.4f,%.6g,%.2f,%.6f,%.6f,%.6f",
-                                         scene.c_str(), r.count, c.iterations, c.ldc, c.render, bname, r.device.c_str(), r.ms_median, r.ms_min,
-                                         r.ms_max, rate, r.bytes_per_particle, r.error_mean, r.error_max, r.dt);
-                            std::fprintf(csv, ",%u,%u,%s,%u,%.3f,%g,%u,%llu,%.3f,%u,%.4f", c.diffuse, r.diffuse_count,
-                                         c.collider.c_str(), r.triangles, r.build_ms, c.level_size, r.grid_hashed,
-                                         (unsigned long long)r.grid_bytes, r.first_build_ms, c.dynamic_colliders, r.frame_ms);
-                            for (uint32_t k = 0; k < stage_count(); ++k) std::fprintf(csv, ",%.4f", r.stage_ms[k]);
-                            std::fprintf(csv, "\n");
-                        }
-                        if (stages) staged.push_back({c, r});
-                        create_ms.push_back(r.create_ms);
-                    }
+                            for (const std::string& df : split_list(diffuses))
+                                for (const std::string& mt : split_list(materials))
+                                    for (const std::string& col : split_list(colliders))
+                                        for (const std::string& lv : split_list(levels))
+                                            for (const std::string& gr : split_list(grids))
+                                                for (const std::string& dyn : split_list(dynamics)) {
+                                                    const Config c{scene,
+                                                                   uint32_t(std::strtoul(n.c_str(), nullptr, 10)),
+                                                                   uint32_t(std::atoi(it.c_str())),
+                                                                   uint32_t(std::atoi(l.c_str())),
+                                                                   backend,
+                                                                   uint32_t(std::atoi(rd.c_str())),
+                                                                   uint32_t(std::strtoul(df.c_str(), nullptr, 10)),
+                                                                   uint32_t(std::atoi(mt.c_str())),
+                                                                   surface_tension,
+                                                                   cohesion,
+                                                                   col,
+                                                                   mesh_triangles,
+                                                                   std::strtof(lv.c_str(), nullptr),
+                                                                   gr == "hashed" ? 1u : 0u,
+                                                                   mesh_builds,
+                                                                   uint32_t(std::strtoul(dyn.c_str(), nullptr, 10))};
+                                                    const Result r = run(c, warmup, steps, stages);
+                                                    const char* bname =
+                                                        c.materials == 2
+                                                            ? (backend == PBF_BACKEND_CUDA ? "cuda 2-mat" : "cpu 2-mat")
+                                                            : (backend == PBF_BACKEND_CUDA ? "cuda" : "cpu");
+                                                    if (!r.ok) {
+                                                        std::printf(
+                                                            "| %s | %u | %u | %u | %u | %u | %s | - | failed: %s |\n",
+                                                            scene.c_str(), c.particles, c.iterations, c.ldc, c.render,
+                                                            c.diffuse, bname, r.error.c_str());
+                                                        ++failures;
+                                                        continue;
+                                                    }
+                                                    const double rate = r.count / (r.ms_median / 1000.0);
+                                                    std::printf(
+                                                        "| %s | %u | %u | %u | %u | %u/%u | %s | %s | %.3f | %.3f | "
+                                                        "%.3f | %.3g | %.1f | %.5f | %.4f "
+                                                        "| %s | %u | %.1f | %s | %s %.1f KB | %u | %.3f |\n",
+                                                        scene.c_str(), r.count, c.iterations, c.ldc, c.render,
+                                                        c.diffuse, r.diffuse_count, bname, r.device.c_str(),
+                                                        r.ms_median, r.ms_min, r.ms_max, rate, r.bytes_per_particle,
+                                                        r.error_mean, r.error_max, c.collider.c_str(), r.triangles,
+                                                        r.build_ms, c.level_size > 0 ? lv.c_str() : "box",
+                                                        r.grid_hashed ? "hashed" : "dense", r.grid_bytes / 1024.0,
+                                                        c.dynamic_colliders, r.frame_ms);
+                                                    std::fflush(stdout);
+                                                    if (csv) {
+                                                        std::fprintf(csv,
+                                                                     "%s,%u,%u,%u,%u,%s,%s,%.4f,%.4f,%.4f,%.6g,%.2f,%."
+                                                                     "6f,%.6f,%.6f",
+                                                                     scene.c_str(), r.count, c.iterations, c.ldc,
+                                                                     c.render, bname, r.device.c_str(), r.ms_median,
+                                                                     r.ms_min, r.ms_max, rate, r.bytes_per_particle,
+                                                                     r.error_mean, r.error_max, r.dt);
+                                                        std::fprintf(csv, ",%u,%u,%s,%u,%.3f,%g,%u,%llu,%.3f,%u,%.4f",
+                                                                     c.diffuse, r.diffuse_count, c.collider.c_str(),
+                                                                     r.triangles, r.build_ms, c.level_size,
+                                                                     r.grid_hashed, (unsigned long long)r.grid_bytes,
+                                                                     r.first_build_ms, c.dynamic_colliders, r.frame_ms);
+                                                        for (uint32_t k = 0; k < stage_count(); ++k)
+                                                            std::fprintf(csv, ",%.4f", r.stage_ms[k]);
+                                                        std::fprintf(csv, "\n");
+                                                    }
+                                                    if (stages) staged.push_back({c, r});
+                                                    create_ms.push_back(r.create_ms);
+                                                }
     if (!create_ms.empty()) {
-        std::printf("\nWorld creation: the first %.1f ms (for CUDA: opening the driver and loading the kernels included)",
-                    create_ms[0]);
+        std::printf(
+            "\nWorld creation: the first %.1f ms (for CUDA: opening the driver and loading the kernels included)",
+            create_ms[0]);
         if (create_ms.size() > 1) {
             std::vector<double> rest(create_ms.begin() + 1, create_ms.end());
             std::sort(rest.begin(), rest.end());

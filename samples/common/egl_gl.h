@@ -26,81 +26,81 @@
 #endif
 
 /* X(type, name): the GL functions used, loaded as pbf_gl_functions.name (glName). */
-#define PBF_GL_FUNCTIONS(X)                                                  \
-    X(PFNGLGETSTRINGPROC, GetString)                                         \
-    X(PFNGLGETERRORPROC, GetError)                                           \
-    X(PFNGLGENBUFFERSPROC, GenBuffers)                                       \
-    X(PFNGLDELETEBUFFERSPROC, DeleteBuffers)                                 \
-    X(PFNGLBINDBUFFERPROC, BindBuffer)                                       \
-    X(PFNGLBUFFERDATAPROC, BufferData)                                       \
-    X(PFNGLBUFFERSUBDATAPROC, BufferSubData)                                 \
-    X(PFNGLGETBUFFERSUBDATAPROC, GetBufferSubData)                           \
-    X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays)                             \
-    X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)                       \
-    X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray)                             \
-    X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray)             \
-    X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer)                     \
-    X(PFNGLCREATESHADERPROC, CreateShader)                                   \
-    X(PFNGLSHADERSOURCEPROC, ShaderSource)                                   \
-    X(PFNGLCOMPILESHADERPROC, CompileShader)                                 \
-    X(PFNGLGETSHADERIVPROC, GetShaderiv)                                     \
-    X(PFNGLGETSHADERINFOLOGPROC, GetShaderInfoLog)                           \
-    X(PFNGLDELETESHADERPROC, DeleteShader)                                   \
-    X(PFNGLCREATEPROGRAMPROC, CreateProgram)                                 \
-    X(PFNGLATTACHSHADERPROC, AttachShader)                                   \
-    X(PFNGLLINKPROGRAMPROC, LinkProgram)                                     \
-    X(PFNGLGETPROGRAMIVPROC, GetProgramiv)                                   \
-    X(PFNGLGETPROGRAMINFOLOGPROC, GetProgramInfoLog)                         \
-    X(PFNGLUSEPROGRAMPROC, UseProgram)                                       \
-    X(PFNGLDELETEPROGRAMPROC, DeleteProgram)                                 \
-    X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)                       \
-    X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)                           \
-    X(PFNGLUNIFORM1FPROC, Uniform1f)                                         \
-    X(PFNGLUNIFORM1IPROC, Uniform1i)                                         \
-    X(PFNGLUNIFORM3FPROC, Uniform3f)                                         \
-    X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                             \
-    X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                       \
-    X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                             \
-    X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer)             \
-    X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)               \
-    X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers)                           \
-    X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)                     \
-    X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer)                           \
-    X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)                     \
-    X(PFNGLVIEWPORTPROC, Viewport)                                           \
-    X(PFNGLCLEARCOLORPROC, ClearColor)                                       \
-    X(PFNGLCLEARPROC, Clear)                                                 \
-    X(PFNGLENABLEPROC, Enable)                                               \
-    X(PFNGLDISABLEPROC, Disable)                                             \
-    X(PFNGLDEPTHFUNCPROC, DepthFunc)                                         \
-    X(PFNGLDRAWARRAYSPROC, DrawArrays)                                       \
-    X(PFNGLDRAWARRAYSINDIRECTPROC, DrawArraysIndirect)                       \
-    X(PFNGLREADPIXELSPROC, ReadPixels)                                       \
-    X(PFNGLPIXELSTOREIPROC, PixelStorei)                                     \
-    X(PFNGLFINISHPROC, Finish)                                               \
-    X(PFNGLGENQUERIESPROC, GenQueries)                                       \
-    X(PFNGLDELETEQUERIESPROC, DeleteQueries)                                 \
-    X(PFNGLQUERYCOUNTERPROC, QueryCounter)                                   \
-    X(PFNGLGETQUERYOBJECTUI64VPROC, GetQueryObjectui64v)                     \
-    X(PFNGLUNIFORM2FPROC, Uniform2f)                                         \
-    X(PFNGLUNIFORM2IPROC, Uniform2i)                                         \
-    X(PFNGLGENTEXTURESPROC, GenTextures)                                     \
-    X(PFNGLDELETETEXTURESPROC, DeleteTextures)                               \
-    X(PFNGLBINDTEXTUREPROC, BindTexture)                                     \
-    X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                                 \
-    X(PFNGLTEXIMAGE2DPROC, TexImage2D)                                       \
-    X(PFNGLTEXPARAMETERIPROC, TexParameteri)                                 \
-    X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D)                   \
-    X(PFNGLCLEARBUFFERFVPROC, ClearBufferfv)                                 \
-    X(PFNGLBLENDFUNCPROC, BlendFunc)                                         \
-    X(PFNGLDEPTHMASKPROC, DepthMask)                                         \
-    X(PFNGLVERTEXATTRIBIPOINTERPROC, VertexAttribIPointer)                   \
-    X(PFNGLTEXBUFFERPROC, TexBuffer)                                         \
-    X(PFNGLDRAWELEMENTSPROC, DrawElements)                                   \
-    X(PFNGLDRAWBUFFERSPROC, DrawBuffers)                                     \
-    X(PFNGLCOLORMASKPROC, ColorMask)                                         \
-    X(PFNGLCULLFACEPROC, CullFace)                                           \
-    X(PFNGLUNIFORM3FVPROC, Uniform3fv)                                       \
+#define PBF_GL_FUNCTIONS(X)                                      \
+    X(PFNGLGETSTRINGPROC, GetString)                             \
+    X(PFNGLGETERRORPROC, GetError)                               \
+    X(PFNGLGENBUFFERSPROC, GenBuffers)                           \
+    X(PFNGLDELETEBUFFERSPROC, DeleteBuffers)                     \
+    X(PFNGLBINDBUFFERPROC, BindBuffer)                           \
+    X(PFNGLBUFFERDATAPROC, BufferData)                           \
+    X(PFNGLBUFFERSUBDATAPROC, BufferSubData)                     \
+    X(PFNGLGETBUFFERSUBDATAPROC, GetBufferSubData)               \
+    X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays)                 \
+    X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)           \
+    X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray)                 \
+    X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray) \
+    X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer)         \
+    X(PFNGLCREATESHADERPROC, CreateShader)                       \
+    X(PFNGLSHADERSOURCEPROC, ShaderSource)                       \
+    X(PFNGLCOMPILESHADERPROC, CompileShader)                     \
+    X(PFNGLGETSHADERIVPROC, GetShaderiv)                         \
+    X(PFNGLGETSHADERINFOLOGPROC, GetShaderInfoLog)               \
+    X(PFNGLDELETESHADERPROC, DeleteShader)                       \
+    X(PFNGLCREATEPROGRAMPROC, CreateProgram)                     \
+    X(PFNGLATTACHSHADERPROC, AttachShader)                       \
+    X(PFNGLLINKPROGRAMPROC, LinkProgram)                         \
+    X(PFNGLGETPROGRAMIVPROC, GetProgramiv)                       \
+    X(PFNGLGETPROGRAMINFOLOGPROC, GetProgramInfoLog)             \
+    X(PFNGLUSEPROGRAMPROC, UseProgram)                           \
+    X(PFNGLDELETEPROGRAMPROC, DeleteProgram)                     \
+    X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)           \
+    X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)               \
+    X(PFNGLUNIFORM1FPROC, Uniform1f)                             \
+    X(PFNGLUNIFORM1IPROC, Uniform1i)                             \
+    X(PFNGLUNIFORM3FPROC, Uniform3f)                             \
+    X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                 \
+    X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)           \
+    X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                 \
+    X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer) \
+    X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)   \
+    X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers)               \
+    X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)         \
+    X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer)               \
+    X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)         \
+    X(PFNGLVIEWPORTPROC, Viewport)                               \
+    X(PFNGLCLEARCOLORPROC, ClearColor)                           \
+    X(PFNGLCLEARPROC, Clear)                                     \
+    X(PFNGLENABLEPROC, Enable)                                   \
+    X(PFNGLDISABLEPROC, Disable)                                 \
+    X(PFNGLDEPTHFUNCPROC, DepthFunc)                             \
+    X(PFNGLDRAWARRAYSPROC, DrawArrays)                           \
+    X(PFNGLDRAWARRAYSINDIRECTPROC, DrawArraysIndirect)           \
+    X(PFNGLREADPIXELSPROC, ReadPixels)                           \
+    X(PFNGLPIXELSTOREIPROC, PixelStorei)                         \
+    X(PFNGLFINISHPROC, Finish)                                   \
+    X(PFNGLGENQUERIESPROC, GenQueries)                           \
+    X(PFNGLDELETEQUERIESPROC, DeleteQueries)                     \
+    X(PFNGLQUERYCOUNTERPROC, QueryCounter)                       \
+    X(PFNGLGETQUERYOBJECTUI64VPROC, GetQueryObjectui64v)         \
+    X(PFNGLUNIFORM2FPROC, Uniform2f)                             \
+    X(PFNGLUNIFORM2IPROC, Uniform2i)                             \
+    X(PFNGLGENTEXTURESPROC, GenTextures)                         \
+    X(PFNGLDELETETEXTURESPROC, DeleteTextures)                   \
+    X(PFNGLBINDTEXTUREPROC, BindTexture)                         \
+    X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                     \
+    X(PFNGLTEXIMAGE2DPROC, TexImage2D)                           \
+    X(PFNGLTEXPARAMETERIPROC, TexParameteri)                     \
+    X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D)       \
+    X(PFNGLCLEARBUFFERFVPROC, ClearBufferfv)                     \
+    X(PFNGLBLENDFUNCPROC, BlendFunc)                             \
+    X(PFNGLDEPTHMASKPROC, DepthMask)                             \
+    X(PFNGLVERTEXATTRIBIPOINTERPROC, VertexAttribIPointer)       \
+    X(PFNGLTEXBUFFERPROC, TexBuffer)                             \
+    X(PFNGLDRAWELEMENTSPROC, DrawElements)                       \
+    X(PFNGLDRAWBUFFERSPROC, DrawBuffers)                         \
+    X(PFNGLCOLORMASKPROC, ColorMask)                             \
+    X(PFNGLCULLFACEPROC, CullFace)                               \
+    X(PFNGLUNIFORM3FVPROC, Uniform3fv)                           \
     X(PFNGLUNIFORM4FPROC, Uniform4f)
 
 typedef struct pbf_gl_functions {
@@ -144,12 +144,22 @@ static inline int pbf_egl_init(pbf_egl* e, int cuda_device, char* err, size_t er
     EGLConfig config;
     int chosen = -1;
     const char* display_extensions;
-    static const EGLint config_attribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT,
-                                            EGL_RED_SIZE, 8, EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8,
-                                            EGL_DEPTH_SIZE, 24, EGL_NONE};
-    static const EGLint context_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 3,
-                                             EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                                             EGL_NONE};
+    static const EGLint config_attribs[] = {EGL_SURFACE_TYPE,
+                                            EGL_PBUFFER_BIT,
+                                            EGL_RENDERABLE_TYPE,
+                                            EGL_OPENGL_BIT,
+                                            EGL_RED_SIZE,
+                                            8,
+                                            EGL_GREEN_SIZE,
+                                            8,
+                                            EGL_BLUE_SIZE,
+                                            8,
+                                            EGL_DEPTH_SIZE,
+                                            24,
+                                            EGL_NONE};
+    static const EGLint context_attribs[] = {
+        EGL_CONTEXT_MAJOR_VERSION,           4,       EGL_CONTEXT_MINOR_VERSION, 3, EGL_CONTEXT_OPENGL_PROFILE_MASK,
+        EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
     static const EGLint pbuffer_attribs[] = {EGL_WIDTH, 16, EGL_HEIGHT, 16, EGL_NONE};
 
     memset(e, 0, sizeof *e);
@@ -196,11 +206,11 @@ static inline int pbf_egl_init(pbf_egl* e, int cuda_device, char* err, size_t er
     }
     if (!eglMakeCurrent(e->display, e->surface, e->surface, e->context))
         return pbf_egl_fail(err, err_len, "eglMakeCurrent failed");
-#define PBF_GL_LOAD(type, name)                                                         \
-    e->gl.name = (type)eglGetProcAddress("gl" #name);                                  \
-    if (!e->gl.name) {                                                                  \
+#define PBF_GL_LOAD(type, name)                                                               \
+    e->gl.name = (type)eglGetProcAddress("gl" #name);                                         \
+    if (!e->gl.name) {                                                                        \
         if (err && err_len) snprintf(err, err_len, "OpenGL function gl%s is missing", #name); \
-        return 0;                                                                       \
+        return 0;                                                                             \
     }
     PBF_GL_FUNCTIONS(PBF_GL_LOAD)
 #undef PBF_GL_LOAD

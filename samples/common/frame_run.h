@@ -22,11 +22,11 @@ struct FrameCase {
     uint32_t max_substeps = 16;
     uint32_t iterations = 2;
     bool ldc = true;
-    int frames = 120;            // 2 s at 60 Hz
+    int frames = 120;  // 2 s at 60 Hz
     float frame_dt = 1.0f / 60.0f;
-    double wall_budget_s = 1e9;  // a run past it stops (as unstable: it is crawling)
-    float scorr_k = -1.0f;       // < 0: the library's default
-    float relaxation = -1.0f;    // < 0: the library's default
+    double wall_budget_s = 1e9;    // a run past it stops (as unstable: it is crawling)
+    float scorr_k = -1.0f;         // < 0: the library's default
+    float relaxation = -1.0f;      // < 0: the library's default
     float substep_travel = -1.0f;  // < 0: the library's default (automatic substeps)
     float sound_speed = -1.0f;     // < 0: the library's default
 };
@@ -46,7 +46,7 @@ struct FrameResult {
     double err_max = 0.0;          // max over frames of the max
     double ke_end = 0.0;           // KE / (M g a) at the end
     double vmax_end = 0.0;
-    double clamp_fraction = 0.0;   // speed-limited particle-substeps over all particle-substeps
+    double clamp_fraction = 0.0;  // speed-limited particle-substeps over all particle-substeps
     double wall_s = 0.0;
     std::string device;
 };
@@ -107,8 +107,8 @@ inline FrameResult run_frames(const FrameCase& fc) {
         bool finite = std::isfinite(st.kinetic_energy) && std::isfinite(st.density_error_max);
         for (uint32_t i = 0; i < count; ++i) {
             pe += double(info.particle_mass) * paper::kGravity * x[4 * i + 1];
-            const double s2 = double(v[4 * i]) * v[4 * i] + double(v[4 * i + 1]) * v[4 * i + 1] +
-                              double(v[4 * i + 2]) * v[4 * i + 2];
+            const double s2 =
+                double(v[4 * i]) * v[4 * i] + double(v[4 * i + 1]) * v[4 * i + 1] + double(v[4 * i + 2]) * v[4 * i + 2];
             vmax = std::max(vmax, std::sqrt(s2));
             finite = finite && std::isfinite(x[4 * i]) && std::isfinite(x[4 * i + 1]) && std::isfinite(x[4 * i + 2]);
         }
@@ -129,10 +129,14 @@ inline FrameResult run_frames(const FrameCase& fc) {
         r.ke_end = st.kinetic_energy / mga;
         r.vmax_end = vmax;
         const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-        if (!finite) failure = "non-finite @frame " + std::to_string(f);
-        else if (st.density_error_max > 3.0f) failure = "errmax>3 @frame " + std::to_string(f);
-        else if ((st.kinetic_energy + pe - pe0) / mga > 0.05) failure = "energy gain @frame " + std::to_string(f);
-        else if (wall > fc.wall_budget_s) failure = "wall time @frame " + std::to_string(f);
+        if (!finite)
+            failure = "non-finite @frame " + std::to_string(f);
+        else if (st.density_error_max > 3.0f)
+            failure = "errmax>3 @frame " + std::to_string(f);
+        else if ((st.kinetic_energy + pe - pe0) / mga > 0.05)
+            failure = "energy gain @frame " + std::to_string(f);
+        else if (wall > fc.wall_budget_s)
+            failure = "wall time @frame " + std::to_string(f);
     }
     pbf_world_destroy(w);
     const int frames = std::max(1, r.frames_run);
@@ -142,10 +146,14 @@ inline FrameResult run_frames(const FrameCase& fc) {
     r.vmax_ratio = r.vmax / v_ref;
     r.clamp_fraction = particle_substeps > 0.0 ? clamps / particle_substeps : 0.0;
     r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-    if (!failure.empty()) r.verdict = "unstable (" + failure + ")";
-    else if (r.clamp_fraction > 1e-3) r.verdict = "clamped";
-    else if (!fc.scene.dam && !(r.ke_end < 1e-3 && r.vmax_end < 0.5)) r.verdict = "not at rest";
-    else r.verdict = "ok";
+    if (!failure.empty())
+        r.verdict = "unstable (" + failure + ")";
+    else if (r.clamp_fraction > 1e-3)
+        r.verdict = "clamped";
+    else if (!fc.scene.dam && !(r.ke_end < 1e-3 && r.vmax_end < 0.5))
+        r.verdict = "not at rest";
+    else
+        r.verdict = "ok";
     r.ok = r.verdict == "ok";
     return r;
 }

@@ -106,9 +106,8 @@ struct MMPoint {
 };
 inline const std::vector<MMPoint>& martin_moyce() {
     static const std::vector<MMPoint> table = {
-        {0.00, 1.00}, {0.41, 1.11}, {0.84, 1.22}, {1.19, 1.44}, {1.43, 1.67}, {1.63, 1.89},
-        {1.83, 2.11}, {1.98, 2.33}, {2.20, 2.56}, {2.32, 2.78}, {2.51, 3.00}, {2.65, 3.22},
-        {2.83, 3.44}, {2.98, 3.67}, {3.11, 3.89}, {3.33, 4.11}};
+        {0.00, 1.00}, {0.41, 1.11}, {0.84, 1.22}, {1.19, 1.44}, {1.43, 1.67}, {1.63, 1.89}, {1.83, 2.11}, {1.98, 2.33},
+        {2.20, 2.56}, {2.32, 2.78}, {2.51, 3.00}, {2.65, 3.22}, {2.83, 3.44}, {2.98, 3.67}, {3.11, 3.89}, {3.33, 4.11}};
     return table;
 }
 
@@ -126,11 +125,11 @@ inline double interpolate(const std::vector<double>& T, const std::vector<double
 // simulation, shifted later by one offset δ in [0, max_shift] (the experiment's gate-release
 // lag: Z_exp(T) is compared with Z_sim(T − δ)), chosen to minimise the worst relative error.
 struct MMComparison {
-    double shift = 0.0;           // the fitted δ
-    double worst_rel_error = 1e9; // max |Z_sim(T − δ)/Z_exp(T) − 1| over the points
-    double worst_T = 0.0;         // where it is
+    double shift = 0.0;            // the fitted δ
+    double worst_rel_error = 1e9;  // max |Z_sim(T − δ)/Z_exp(T) − 1| over the points
+    double worst_T = 0.0;          // where it is
     double worst_rel_error_unshifted = 1e9;
-    double bound_margin = 1e9;    // min over samples with T > 0 of (1 + 2T) − Z_sim(T)
+    double bound_margin = 1e9;  // min over samples with T > 0 of (1 + 2T) − Z_sim(T)
     int points = 0;
 };
 

@@ -48,7 +48,9 @@ struct Context {
     uint32_t api_version = 0;
 };
 
-inline std::string vk_text(const char* what, VkResult r) { return std::string(what) + " failed (VkResult " + std::to_string(int(r)) + ")"; }
+inline std::string vk_text(const char* what, VkResult r) {
+    return std::string(what) + " failed (VkResult " + std::to_string(int(r)) + ")";
+}
 
 inline bool has_extension(const std::vector<VkExtensionProperties>& list, const char* name) {
     for (const auto& e : list)
@@ -64,14 +66,17 @@ inline bool init(Context& c, const uint8_t uuid[16], std::string* err) {
     VkInstanceCreateInfo ici = make<VkInstanceCreateInfo>(VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO);
     ici.pApplicationInfo = &app;
     VkResult r = vkCreateInstance(&ici, nullptr, &c.instance);
-    if (r != VK_SUCCESS) return *err = vk_text("vkCreateInstance (is the NVIDIA Vulkan ICD visible? VK_DRIVER_FILES)", r), false;
+    if (r != VK_SUCCESS)
+        return *err = vk_text("vkCreateInstance (is the NVIDIA Vulkan ICD visible? VK_DRIVER_FILES)", r), false;
     uint32_t n = 0;
     vkEnumeratePhysicalDevices(c.instance, &n, nullptr);
     std::vector<VkPhysicalDevice> devices(n);
     vkEnumeratePhysicalDevices(c.instance, &n, devices.data());
     for (VkPhysicalDevice d : devices) {
-        VkPhysicalDeviceIDProperties id = make<VkPhysicalDeviceIDProperties>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ID_PROPERTIES);
-        VkPhysicalDeviceProperties2 p2 = make<VkPhysicalDeviceProperties2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2);
+        VkPhysicalDeviceIDProperties id =
+            make<VkPhysicalDeviceIDProperties>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ID_PROPERTIES);
+        VkPhysicalDeviceProperties2 p2 =
+            make<VkPhysicalDeviceProperties2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2);
         p2.pNext = &id;
         vkGetPhysicalDeviceProperties2(d, &p2);
         if (std::memcmp(id.deviceUUID, uuid, VK_UUID_SIZE) == 0) {
@@ -106,7 +111,8 @@ inline bool init(Context& c, const uint8_t uuid[16], std::string* err) {
     qci.queueFamilyIndex = c.queue_family;
     qci.queueCount = 1;
     qci.pQueuePriorities = &priority;
-    VkPhysicalDeviceVulkan12Features f12 = make<VkPhysicalDeviceVulkan12Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES);
+    VkPhysicalDeviceVulkan12Features f12 =
+        make<VkPhysicalDeviceVulkan12Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES);
     f12.timelineSemaphore = VK_TRUE;
     VkDeviceCreateInfo dci = make<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO);
     dci.pNext = &f12;
@@ -115,7 +121,8 @@ inline bool init(Context& c, const uint8_t uuid[16], std::string* err) {
     dci.enabledExtensionCount = 2;
     dci.ppEnabledExtensionNames = needed;
     r = vkCreateDevice(c.physical, &dci, nullptr, &c.device);
-    if (r != VK_SUCCESS) return *err = vk_text("vkCreateDevice (timeline semaphores, external fd extensions)", r), false;
+    if (r != VK_SUCCESS)
+        return *err = vk_text("vkCreateDevice (timeline semaphores, external fd extensions)", r), false;
     vkGetDeviceQueue(c.device, c.queue_family, 0, &c.queue);
     VkCommandPoolCreateInfo pci = make<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
     pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
@@ -124,7 +131,8 @@ inline bool init(Context& c, const uint8_t uuid[16], std::string* err) {
     if (r != VK_SUCCESS) return *err = vk_text("vkCreateCommandPool", r), false;
     vkGetPhysicalDeviceMemoryProperties(c.physical, &c.memory);
     c.get_memory_fd = reinterpret_cast<PFN_vkGetMemoryFdKHR>(vkGetDeviceProcAddr(c.device, "vkGetMemoryFdKHR"));
-    c.get_semaphore_fd = reinterpret_cast<PFN_vkGetSemaphoreFdKHR>(vkGetDeviceProcAddr(c.device, "vkGetSemaphoreFdKHR"));
+    c.get_semaphore_fd =
+        reinterpret_cast<PFN_vkGetSemaphoreFdKHR>(vkGetDeviceProcAddr(c.device, "vkGetSemaphoreFdKHR"));
     if (!c.get_memory_fd || !c.get_semaphore_fd) return *err = "vkGetMemoryFdKHR / vkGetSemaphoreFdKHR missing", false;
     return true;
 }
@@ -148,8 +156,8 @@ inline uint32_t memory_type(const Context& c, uint32_t bits, VkMemoryPropertyFla
 struct Buffer {
     VkBuffer buffer = VK_NULL_HANDLE;
     VkDeviceMemory memory = VK_NULL_HANDLE;
-    VkDeviceSize size = 0;             // the allocation's size (what CUDA imports)
-    void* mapped = nullptr;            // host-visible buffers
+    VkDeviceSize size = 0;   // the allocation's size (what CUDA imports)
+    void* mapped = nullptr;  // host-visible buffers
 };
 
 inline void destroy(const Context& c, Buffer& b) {
@@ -162,7 +170,8 @@ inline void destroy(const Context& c, Buffer& b) {
 // exported: device-local, a dedicated allocation exportable as an opaque fd (*fd set);
 // otherwise host-visible and mapped.
 inline bool create_buffer(const Context& c, VkDeviceSize bytes, bool exported, Buffer* b, int* fd, std::string* err) {
-    VkExternalMemoryBufferCreateInfo ext = make<VkExternalMemoryBufferCreateInfo>(VK_STRUCTURE_TYPE_EXTERNAL_MEMORY_BUFFER_CREATE_INFO);
+    VkExternalMemoryBufferCreateInfo ext =
+        make<VkExternalMemoryBufferCreateInfo>(VK_STRUCTURE_TYPE_EXTERNAL_MEMORY_BUFFER_CREATE_INFO);
     ext.handleTypes = VK_EXTERNAL_MEMORY_HANDLE_TYPE_OPAQUE_FD_BIT;
     VkBufferCreateInfo bci = make<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
     bci.pNext = exported ? &ext : nullptr;
@@ -176,11 +185,14 @@ inline bool create_buffer(const Context& c, VkDeviceSize bytes, bool exported, B
     if (r != VK_SUCCESS) return *err = vk_text("vkCreateBuffer", r), false;
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(c.device, b->buffer, &req);
-    const VkMemoryPropertyFlags want = exported ? VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT
-                                                : VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-    VkMemoryDedicatedAllocateInfo dedicated = make<VkMemoryDedicatedAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_DEDICATED_ALLOCATE_INFO);
+    const VkMemoryPropertyFlags want = exported
+                                           ? VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT
+                                           : VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    VkMemoryDedicatedAllocateInfo dedicated =
+        make<VkMemoryDedicatedAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_DEDICATED_ALLOCATE_INFO);
     dedicated.buffer = b->buffer;
-    VkExportMemoryAllocateInfo export_info = make<VkExportMemoryAllocateInfo>(VK_STRUCTURE_TYPE_EXPORT_MEMORY_ALLOCATE_INFO);
+    VkExportMemoryAllocateInfo export_info =
+        make<VkExportMemoryAllocateInfo>(VK_STRUCTURE_TYPE_EXPORT_MEMORY_ALLOCATE_INFO);
     export_info.pNext = &dedicated;
     export_info.handleTypes = VK_EXTERNAL_MEMORY_HANDLE_TYPE_OPAQUE_FD_BIT;
     VkMemoryAllocateInfo mai = make<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
@@ -211,13 +223,15 @@ inline bool create_semaphore(const Context& c, bool timeline, VkSemaphore* s, in
     VkSemaphoreTypeCreateInfo type = make<VkSemaphoreTypeCreateInfo>(VK_STRUCTURE_TYPE_SEMAPHORE_TYPE_CREATE_INFO);
     type.semaphoreType = timeline ? VK_SEMAPHORE_TYPE_TIMELINE : VK_SEMAPHORE_TYPE_BINARY;
     type.initialValue = 0;
-    VkExportSemaphoreCreateInfo export_info = make<VkExportSemaphoreCreateInfo>(VK_STRUCTURE_TYPE_EXPORT_SEMAPHORE_CREATE_INFO);
+    VkExportSemaphoreCreateInfo export_info =
+        make<VkExportSemaphoreCreateInfo>(VK_STRUCTURE_TYPE_EXPORT_SEMAPHORE_CREATE_INFO);
     export_info.pNext = &type;
     export_info.handleTypes = VK_EXTERNAL_SEMAPHORE_HANDLE_TYPE_OPAQUE_FD_BIT;
     VkSemaphoreCreateInfo sci = make<VkSemaphoreCreateInfo>(VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO);
     sci.pNext = &export_info;
     VkResult r = vkCreateSemaphore(c.device, &sci, nullptr, s);
-    if (r != VK_SUCCESS) return *err = vk_text(timeline ? "vkCreateSemaphore (timeline)" : "vkCreateSemaphore", r), false;
+    if (r != VK_SUCCESS)
+        return *err = vk_text(timeline ? "vkCreateSemaphore (timeline)" : "vkCreateSemaphore", r), false;
     VkSemaphoreGetFdInfoKHR gi = make<VkSemaphoreGetFdInfoKHR>(VK_STRUCTURE_TYPE_SEMAPHORE_GET_FD_INFO_KHR);
     gi.semaphore = *s;
     gi.handleType = VK_EXTERNAL_SEMAPHORE_HANDLE_TYPE_OPAQUE_FD_BIT;
@@ -266,7 +280,8 @@ inline bool copy_and_wait(const Context& c, VkBuffer src, VkBuffer dst, VkDevice
         ss.push_back(s.semaphore);
         sv.push_back(s.value);
     }
-    VkTimelineSemaphoreSubmitInfo ti = make<VkTimelineSemaphoreSubmitInfo>(VK_STRUCTURE_TYPE_TIMELINE_SEMAPHORE_SUBMIT_INFO);
+    VkTimelineSemaphoreSubmitInfo ti =
+        make<VkTimelineSemaphoreSubmitInfo>(VK_STRUCTURE_TYPE_TIMELINE_SEMAPHORE_SUBMIT_INFO);
     ti.waitSemaphoreValueCount = uint32_t(wv.size());
     ti.pWaitSemaphoreValues = wv.data();
     ti.signalSemaphoreValueCount = uint32_t(sv.size());
@@ -287,7 +302,12 @@ inline bool copy_and_wait(const Context& c, VkBuffer src, VkBuffer dst, VkDevice
     if (r == VK_SUCCESS) r = vkWaitForFences(c.device, 1, &fence, VK_TRUE, 10ull * 1000 * 1000 * 1000);
     vkDestroyFence(c.device, fence, nullptr);
     vkFreeCommandBuffers(c.device, c.pool, 1, &cb);
-    if (r != VK_SUCCESS) return *err = vk_text(r == VK_TIMEOUT ? "waiting for the Vulkan copy (10 s timeout: a semaphore never signalled?)" : "vkQueueSubmit / vkWaitForFences", r), false;
+    if (r != VK_SUCCESS)
+        return *err =
+                   vk_text(r == VK_TIMEOUT ? "waiting for the Vulkan copy (10 s timeout: a semaphore never signalled?)"
+                                           : "vkQueueSubmit / vkWaitForFences",
+                           r),
+               false;
     return true;
 }
 
@@ -297,7 +317,7 @@ struct RoundTrip {
     std::string error;
     std::string device_name;
     uint32_t frames = 0;
-    uint32_t particles = 0;        // count at the last frame
+    uint32_t particles = 0;  // count at the last frame
     uint64_t mismatching_floats = 0;
     uint32_t draw_args_mismatches = 0;
     uint64_t transfers_in_copies = 0;  // library host<->device transfers made by step + copy + signal
@@ -321,7 +341,8 @@ inline RoundTrip round_trip(pbf_world_id world, uint32_t frames, bool auto_copy,
     }
     Context c;
     Buffer shared, host;
-    VkSemaphore ready_bin = VK_NULL_HANDLE, ready_tl = VK_NULL_HANDLE, done_bin = VK_NULL_HANDLE, done_tl = VK_NULL_HANDLE;
+    VkSemaphore ready_bin = VK_NULL_HANDLE, ready_tl = VK_NULL_HANDLE, done_bin = VK_NULL_HANDLE,
+                done_tl = VK_NULL_HANDLE;
     pbf_external_buffer_id buffer{0, 0};
     pbf_semaphore_id p_ready_bin{0, 0}, p_ready_tl{0, 0}, p_done_bin{0, 0}, p_done_tl{0, 0};
     const uint32_t capacity = winfo.max_particles;
@@ -348,7 +369,9 @@ inline RoundTrip round_trip(pbf_world_id world, uint32_t frames, bool auto_copy,
             VkSemaphore* vk;
             pbf_semaphore_id* id;
             bool timeline;
-        } sems[] = {{&ready_bin, &p_ready_bin, false}, {&ready_tl, &p_ready_tl, true}, {&done_bin, &p_done_bin, false},
+        } sems[] = {{&ready_bin, &p_ready_bin, false},
+                    {&ready_tl, &p_ready_tl, true},
+                    {&done_bin, &p_done_bin, false},
                     {&done_tl, &p_done_tl, true}};
         for (auto& s : sems) {
             int sfd = -1;

@@ -70,7 +70,8 @@ static void parse_save(options* o, const char* list) {
 }
 
 static void parse(options* o, int argc, char** argv) {
-    static const char* const modes[] = {"spheres", "surface"}, *const backends[] = {"auto", "cpu", "cuda"}, *const colors[] = {"speed", "density"};
+    static const char *const modes[] = {"spheres", "surface"}, *const backends[] = {"auto", "cpu", "cuda"},
+                             *const colors[] = {"speed", "density"};
     static const pbf_backend backend_ids[] = {PBF_BACKEND_AUTO, PBF_BACKEND_CPU, PBF_BACKEND_CUDA};
     int i;
     memset(o, 0, sizeof *o);
@@ -97,22 +98,36 @@ static void parse(options* o, int argc, char** argv) {
         }
         if (i + 1 >= argc) usage();
         ++i;
-        if (strcmp(a, "--mode") == 0) o->scene.surface = choose(v, modes, 2);
-        else if (strcmp(a, "--scene") == 0) o->scene.kind = (scene_kind)choose(v, kSceneNames, SCENE_KIND_COUNT);
-        else if (strcmp(a, "--backend") == 0) o->scene.backend = backend_ids[choose(v, backends, 3)];
-        else if (strcmp(a, "--color") == 0) o->color_by_density = choose(v, colors, 2);
-        else if (strcmp(a, "--particles") == 0) o->scene.particles = atol(v);
-        else if (strcmp(a, "--frames") == 0) o->scene.frames = atol(v);
-        else if (strcmp(a, "--every") == 0) o->every = atol(v);
-        else if (strcmp(a, "--save") == 0) parse_save(o, v);
-        else if (strcmp(a, "--bench") == 0) o->bench = atol(v);
-        else if (strcmp(a, "--bench-frames") == 0) o->bench_frames = atol(v);
-        else if (strcmp(a, "--splat-scale") == 0) o->style.splat_scale = (float)atof(v);
-        else if (strcmp(a, "--smooth-iterations") == 0) o->style.smooth_iterations = atoi(v);
-        else if (strcmp(a, "--smooth-sigma") == 0) o->style.smooth_sigma = (float)atof(v);
+        if (strcmp(a, "--mode") == 0)
+            o->scene.surface = choose(v, modes, 2);
+        else if (strcmp(a, "--scene") == 0)
+            o->scene.kind = (scene_kind)choose(v, kSceneNames, SCENE_KIND_COUNT);
+        else if (strcmp(a, "--backend") == 0)
+            o->scene.backend = backend_ids[choose(v, backends, 3)];
+        else if (strcmp(a, "--color") == 0)
+            o->color_by_density = choose(v, colors, 2);
+        else if (strcmp(a, "--particles") == 0)
+            o->scene.particles = atol(v);
+        else if (strcmp(a, "--frames") == 0)
+            o->scene.frames = atol(v);
+        else if (strcmp(a, "--every") == 0)
+            o->every = atol(v);
+        else if (strcmp(a, "--save") == 0)
+            parse_save(o, v);
+        else if (strcmp(a, "--bench") == 0)
+            o->bench = atol(v);
+        else if (strcmp(a, "--bench-frames") == 0)
+            o->bench_frames = atol(v);
+        else if (strcmp(a, "--splat-scale") == 0)
+            o->style.splat_scale = (float)atof(v);
+        else if (strcmp(a, "--smooth-iterations") == 0)
+            o->style.smooth_iterations = atoi(v);
+        else if (strcmp(a, "--smooth-sigma") == 0)
+            o->style.smooth_sigma = (float)atof(v);
         else if (strcmp(a, "--size") == 0) {
             if (sscanf(v, "%dx%d", &o->width, &o->height) != 2) usage();
-        } else usage();
+        } else
+            usage();
     }
     if (o->scene.particles < 64 || o->scene.frames < 1 || o->every < 1 || o->width < 16 || o->height < 16 ||
         o->bench < 0 || o->bench_frames < 1 || o->style.splat_scale <= 0.0f || o->style.smooth_iterations < 0 ||
@@ -144,8 +159,10 @@ static void make_directories(const char* path) {
 }
 
 static void draw(pbf_egl* e, const target* t, const camera* c, const scene* s, const options* o) {
-    if (o->scene.surface) draw_surface(e, t, c, s, &o->style);
-    else draw_spheres(e, t, c, s, o->color_by_density);
+    if (o->scene.surface)
+        draw_surface(e, t, c, s, &o->style);
+    else
+        draw_spheres(e, t, c, s, o->color_by_density);
     draw_diffuse(e, t, c, s);
 }
 
@@ -213,14 +230,17 @@ static void bench(pbf_egl* e, target* t, const options* o) {
         snprintf(name, sizeof name, "bench_%ld.png", o->bench);
         save_frame(e, t, t->fbo, o->out_dir, name);
     }
-    printf("render path at %u particles (%s, %ld steps of 1 substep): copy %.4f ms GPU (map..unmap), %.4f ms host; "
-           "step %.3f ms GPU; render path = %.2f %% of a step (copy-out of the positions through the host: %.3f ms)\n",
-           b.emitted, o->scene.surface ? "smoothed positions + anisotropy + draw count" : "positions + velocities + draw count",
-           o->bench_frames, copy_gpu, copy_host, step_gpu, step_gpu > 0 ? 100.0 * copy_gpu / step_gpu : 0.0, copyout_ms);
-    printf("BENCH render_path mode=%s particles=%u substeps=1 copy_gpu_ms=%.4f copy_host_ms=%.4f step_gpu_ms=%.4f "
-           "percent=%.3f copyout_host_ms=%.3f\n",
-           o->scene.surface ? "surface" : "spheres", b.emitted, copy_gpu, copy_host, step_gpu,
-           step_gpu > 0 ? 100.0 * copy_gpu / step_gpu : 0.0, copyout_ms);
+    printf(
+        "render path at %u particles (%s, %ld steps of 1 substep): copy %.4f ms GPU (map..unmap), %.4f ms host; "
+        "step %.3f ms GPU; render path = %.2f %% of a step (copy-out of the positions through the host: %.3f ms)\n",
+        b.emitted,
+        o->scene.surface ? "smoothed positions + anisotropy + draw count" : "positions + velocities + draw count",
+        o->bench_frames, copy_gpu, copy_host, step_gpu, step_gpu > 0 ? 100.0 * copy_gpu / step_gpu : 0.0, copyout_ms);
+    printf(
+        "BENCH render_path mode=%s particles=%u substeps=1 copy_gpu_ms=%.4f copy_host_ms=%.4f step_gpu_ms=%.4f "
+        "percent=%.3f copyout_host_ms=%.3f\n",
+        o->scene.surface ? "surface" : "spheres", b.emitted, copy_gpu, copy_host, step_gpu,
+        step_gpu > 0 ? 100.0 * copy_gpu / step_gpu : 0.0, copyout_ms);
     scene_destroy(e, &b);
 }
 
@@ -251,12 +271,15 @@ int main(int argc, char** argv) {
     scene_create(&e, &s, &o.scene);
     camera_look(&c, s.eye, s.at, 40.0f, o.width, o.height);
     printf("%s: %u particles at start, radius %.4f m, %ld frames of 1/60 s, %dx%d, mode %s%s, diffuse particles: %s\n",
-           o.scene.kind == SCENE_POOL ? "pool" : o.scene.kind == SCENE_DAM_BREAK ? "dam break" : kSceneNames[o.scene.kind], s.emitted, s.radius, o.scene.frames, o.width, o.height,
-           o.scene.surface ? "surface" : "spheres",
+           o.scene.kind == SCENE_POOL        ? "pool"
+           : o.scene.kind == SCENE_DAM_BREAK ? "dam break"
+                                             : kSceneNames[o.scene.kind],
+           s.emitted, s.radius, o.scene.frames, o.width, o.height, o.scene.surface ? "surface" : "spheres",
            o.scene.surface ? "" : (o.color_by_density ? " (colour by density ratio)" : " (colour by speed)"),
-           s.has_diffuse                                                ? "drawn"
-           : (o.scene.kind == SCENE_DAM_BREAK || o.scene.kind == SCENE_POOL) ? "not in this libpbf (built without PBF_BUFFER_DIFFUSE_POSITIONS)"
-                                                                             : "off (as in the test)");
+           s.has_diffuse ? "drawn"
+           : (o.scene.kind == SCENE_DAM_BREAK || o.scene.kind == SCENE_POOL)
+               ? "not in this libpbf (built without PBF_BUFFER_DIFFUSE_POSITIONS)"
+               : "off (as in the test)");
 
     /* The frame loop: step (which copies into the GL buffers on the GPU), draw, sometimes save.
      * Nothing in it asks libpbf for data on the host (on the zero-copy path). */
@@ -269,8 +292,10 @@ int main(int argc, char** argv) {
         if (s.zero_copy || is_saved(&o, i)) draw(&e, &t, &c, &s, &o);
         if (is_saved(&o, i)) {
             snprintf(name, sizeof name, "frame_%04ld.png", i);
-            if (save_frame(&e, &t, t.fbo, o.out_dir, name)) ++pngs;
-            else ok = 0;
+            if (save_frame(&e, &t, t.fbo, o.out_dir, name))
+                ++pngs;
+            else
+                ok = 0;
         }
     }
     e.gl.Finish();
@@ -281,17 +306,20 @@ int main(int argc, char** argv) {
            o.out_dir);
     if (o.write_background && o.scene.surface) {
         /* The last frame's background pass alone: the frame equals it wherever no fluid is drawn. */
-        if (save_frame(&e, &t, t.surface.background_fbo, o.out_dir, "background.png")) ++pngs;
-        else ok = 0;
+        if (save_frame(&e, &t, t.surface.background_fbo, o.out_dir, "background.png"))
+            ++pngs;
+        else
+            ok = 0;
     }
     if (s.zero_copy) {
         /* Scenes with colliders: the steps upload the poses and the engine reads forces back
          * (counted around them by scene_step); everything else must add none. */
         const uint64_t render_transfers = transfers_after - transfers_before - s.engine_transfers;
-        printf("library host<->device transfers during the frame loop: %llu, of which steps + engine calls of a scene "
-               "with colliders %llu (render path adds none: %s)\n",
-               (unsigned long long)(transfers_after - transfers_before), (unsigned long long)s.engine_transfers,
-               render_transfers == 0 ? "yes" : "NO");
+        printf(
+            "library host<->device transfers during the frame loop: %llu, of which steps + engine calls of a scene "
+            "with colliders %llu (render path adds none: %s)\n",
+            (unsigned long long)(transfers_after - transfers_before), (unsigned long long)s.engine_transfers,
+            render_transfers == 0 ? "yes" : "NO");
         if (render_transfers != 0) ok = 0;
     } else {
         printf("library host<->device transfers: not checked (copy path)\n");

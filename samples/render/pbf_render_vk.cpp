@@ -54,11 +54,12 @@ pbf_world_id dam_break(long particles) {
 
 int main(int argc, char** argv) {
     long particles = 65536, frames = 30;
-    CLI::App app{"pbf_render_vk: libpbf writes a dam break's positions into a Vulkan buffer through CUDA external "
-                 "memory, ordered by exported semaphores; Vulkan reads it back and it is compared with "
-                 "pbf_world_copy_positions (explicit copies, then copies after each step). Exit status 0 only if "
-                 "every frame matched.",
-                 "pbf_render_vk"};
+    CLI::App app{
+        "pbf_render_vk: libpbf writes a dam break's positions into a Vulkan buffer through CUDA external "
+        "memory, ordered by exported semaphores; Vulkan reads it back and it is compared with "
+        "pbf_world_copy_positions (explicit copies, then copies after each step). Exit status 0 only if "
+        "every frame matched.",
+        "pbf_render_vk"};
     app.option_defaults()->always_capture_default()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     app.add_option("--particles", particles, "particles in the dam break (>= 64)")->check(CLI::Range(64L, 1L << 31));
     app.add_option("--frames", frames, "frames per round trip (>= 2)")->check(CLI::Range(2L, 1L << 31));
@@ -81,13 +82,13 @@ int main(int argc, char** argv) {
         std::memset(&info, 0, sizeof info);
         info.struct_size = sizeof info;
         pbf_world_get_interop_info(world, &info);
-        std::printf("vulkan %s copies on %s: %u frames, %u particles, %llu mismatching floats, %u draw-args mismatches, "
-                    "%llu library transfers in step+copy, last copy %.4f ms GPU: %s%s%s\n",
-                    auto_copy ? "automatic (PBF_COPY_ON_STEP)" : "explicit (pbf_world_copy_to_external_buffer)",
-                    r.device_name.empty() ? "?" : r.device_name.c_str(), r.frames, r.particles,
-                    (unsigned long long)r.mismatching_floats, r.draw_args_mismatches,
-                    (unsigned long long)r.transfers_in_copies, info.last_copy_gpu_ms, r.ok ? "OK" : "FAILED",
-                    r.ok ? "" : ": ", r.error.c_str());
+        std::printf(
+            "vulkan %s copies on %s: %u frames, %u particles, %llu mismatching floats, %u draw-args mismatches, "
+            "%llu library transfers in step+copy, last copy %.4f ms GPU: %s%s%s\n",
+            auto_copy ? "automatic (PBF_COPY_ON_STEP)" : "explicit (pbf_world_copy_to_external_buffer)",
+            r.device_name.empty() ? "?" : r.device_name.c_str(), r.frames, r.particles,
+            (unsigned long long)r.mismatching_floats, r.draw_args_mismatches, (unsigned long long)r.transfers_in_copies,
+            info.last_copy_gpu_ms, r.ok ? "OK" : "FAILED", r.ok ? "" : ": ", r.error.c_str());
         if (!r.ok || r.transfers_in_copies != 0) all_ok = false;
         pbf_world_destroy(world);
     }

@@ -96,7 +96,8 @@ scene_body* body_create_analytic(pbf_egl* e, scene* s, const pbf_collider_desc* 
         }
         return body_create(e, s, d, v, nv, idx, nt, color);
     }
-    if (d->shape != PBF_SHAPE_SPHERE && d->shape != PBF_SHAPE_CAPSULE) die("body_create_analytic: not a box, sphere or capsule");
+    if (d->shape != PBF_SHAPE_SPHERE && d->shape != PBF_SHAPE_CAPSULE)
+        die("body_create_analytic: not a box, sphere or capsule");
     for (r = 0; r < RINGS + 2; ++r) {
         const uint32_t lat = r <= RINGS / 2 ? r : r - 1;
         const float theta = 3.14159265f * (float)lat / RINGS;
@@ -110,7 +111,8 @@ scene_body* body_create_analytic(pbf_egl* e, scene* s, const pbf_collider_desc* 
     }
     for (r = 0; r + 1 < RINGS + 2; ++r)
         for (k = 0; k < SEGMENTS; ++k, nt += 2) {
-            const uint32_t a = r * SEGMENTS + k, b = r * SEGMENTS + (k + 1) % SEGMENTS, c = a + SEGMENTS, dd = b + SEGMENTS;
+            const uint32_t a = r * SEGMENTS + k, b = r * SEGMENTS + (k + 1) % SEGMENTS, c = a + SEGMENTS,
+                           dd = b + SEGMENTS;
             const uint32_t t[6] = {a, c, dd, a, dd, b};
             memcpy(&idx[3 * nt], t, sizeof t);
         }
@@ -137,10 +139,22 @@ void bodies_destroy(pbf_egl* e, scene* s) {
 static void pose_matrix(float m[16], const float p[3], const float q[4]) {
     const float n = sqrtf(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
     const float x = q[0] / n, y = q[1] / n, z = q[2] / n, w = q[3] / n;
-    const float r[16] = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w),     2 * (x * z - y * w),     0,
-                         2 * (x * y - z * w),     1 - 2 * (x * x + z * z), 2 * (y * z + x * w),     0,
-                         2 * (x * z + y * w),     2 * (y * z - x * w),     1 - 2 * (x * x + y * y), 0,
-                         p[0],                    p[1],                    p[2],                    1};
+    const float r[16] = {1 - 2 * (y * y + z * z),
+                         2 * (x * y + z * w),
+                         2 * (x * z - y * w),
+                         0,
+                         2 * (x * y - z * w),
+                         1 - 2 * (x * x + z * z),
+                         2 * (y * z + x * w),
+                         0,
+                         2 * (x * z + y * w),
+                         2 * (y * z - x * w),
+                         1 - 2 * (x * x + y * y),
+                         0,
+                         p[0],
+                         p[1],
+                         p[2],
+                         1};
     memcpy(m, r, sizeof r);
 }
 

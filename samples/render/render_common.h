@@ -8,13 +8,13 @@
 #include "egl_gl.h"
 #include "pbf_c_api.h"
 
-#define CHECK(call)                                                                            \
-    do {                                                                                       \
-        pbf_result r_ = (call);                                                                \
-        if (r_ != PBF_OK) {                                                                    \
+#define CHECK(call)                                                                             \
+    do {                                                                                        \
+        pbf_result r_ = (call);                                                                 \
+        if (r_ != PBF_OK) {                                                                     \
             fprintf(stderr, "pbf_render_gl: %s failed: %s\n", #call, pbf_last_error_message()); \
-            exit(1);                                                                           \
-        }                                                                                      \
+            exit(1);                                                                            \
+        }                                                                                       \
     } while (0)
 
 void die(const char* what);

@@ -51,8 +51,10 @@ void draw_diffuse(pbf_egl* e, const target* t, const camera* c, const scene* s) 
     e->gl.BindVertexArray(s->diffuse_vao);
     e->gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, s->streams[STREAM_DIFFUSE].draw_args);
     for (bubbles = 1; bubbles >= 0; --bubbles) {
-        if (bubbles) e->gl.Disable(GL_DEPTH_TEST);
-        else e->gl.Enable(GL_DEPTH_TEST);
+        if (bubbles)
+            e->gl.Disable(GL_DEPTH_TEST);
+        else
+            e->gl.Enable(GL_DEPTH_TEST);
         e->gl.Uniform1i(uniform(e, p, "u_bubbles"), bubbles);
         e->gl.DrawArraysIndirect(GL_POINTS, (const void*)0);
     }

@@ -46,8 +46,10 @@ void materials_prepare(pbf_egl* e, scene* s) {
         m = pbf_material_desc_default();
         CHECK(pbf_world_get_material(s->world, ids[k], &m));
         material_optics(m.color, sm->absorption[k], sm->deep[k]);
-        if (k == 0) memcpy(base, m.color, sizeof base);
-        else if (memcmp(base, m.color, 3 * sizeof(float)) != 0) distinct = 1;
+        if (k == 0)
+            memcpy(base, m.color, sizeof base);
+        else if (memcmp(base, m.color, 3 * sizeof(float)) != 0)
+            distinct = 1;
     }
     if (!distinct) return; /* one colour: the surface pass as before */
     sm->on = 1;
@@ -69,8 +71,8 @@ void materials_prepare(pbf_egl* e, scene* s) {
     e->gl.TexBuffer(GL_TEXTURE_BUFFER, GL_R8UI, sm->table_buffer);
     e->gl.BindTexture(GL_TEXTURE_BUFFER, 0);
     check_gl(e, "building the material table");
-    printf("materials: %u particles, ids 0..%u, colours from pbf_world_get_material (id -> material table)\n",
-           written, max_id);
+    printf("materials: %u particles, ids 0..%u, colours from pbf_world_get_material (id -> material table)\n", written,
+           max_id);
     free(particle_ids);
     free(particle_materials);
     free(table);

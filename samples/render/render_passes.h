@@ -30,7 +30,7 @@ typedef enum body_pass {
 } body_pass;
 
 typedef struct surface_style {
-    float splat_scale;  /* ellipsoid radii times this (overlap closes the surface) */
+    float splat_scale; /* ellipsoid radii times this (overlap closes the surface) */
     int smooth_iterations;
     float smooth_sigma; /* the filter's spatial sigma, in particle radii */
 } surface_style;

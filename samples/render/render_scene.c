@@ -9,7 +9,7 @@
 #include "render_diffuse_api.h"
 #endif
 
-const char* const kSceneNames[SCENE_KIND_COUNT] = {"dam",     "pool",      "two_fluids",     "droplet",
+const char* const kSceneNames[SCENE_KIND_COUNT] = {"dam",           "pool",      "two_fluids",    "droplet",
                                                    "hanging_drops", "container", "floating_boxes"};
 
 /* Dam break as in samples/dam_break.c: a column a x 2a x a/2 in a 4a x 2.5a x a/2 tank. */
@@ -125,15 +125,18 @@ void scene_create(pbf_egl* e, scene* s, const scene_options* o) {
     s->draw_walls = 1;
     desc.backend = o->backend;
     if (o->kind == SCENE_DAM_BREAK || o->kind == SCENE_POOL) {
-        spacing = o->kind == SCENE_POOL ? pool_spacing(&desc, s, o->particles) : dam_break_spacing(&desc, s, o->particles);
+        spacing =
+            o->kind == SCENE_POOL ? pool_spacing(&desc, s, o->particles) : dam_break_spacing(&desc, s, o->particles);
         desc.max_particles = (uint32_t)(o->particles * 11 / 10 + 64);
         desc.particle_radius = 0.5f * spacing;
         /* substeps 0: enough for the fastest water (the dam front, or the nozzle's jet after its
          * fall) to move < 0.4 h per substep at 1/60 s steps (as dam_break.c); otherwise that many
          * substeps and a dt short enough for it (as pbf_bench). */
         front_speed = o->kind == SCENE_POOL ? sqrtf(3.5f * 3.5f + 2.0f * 9.81f * 0.7f) : sqrtf(2.0f * 9.81f * 0.8f);
-        if (substeps <= 0) substeps = (long)ceilf(front_speed * s->dt / (0.4f * 2.0f * spacing));
-        else s->dt = fminf(s->dt, 0.4f * 2.0f * spacing / front_speed);
+        if (substeps <= 0)
+            substeps = (long)ceilf(front_speed * s->dt / (0.4f * 2.0f * spacing));
+        else
+            s->dt = fminf(s->dt, 0.4f * 2.0f * spacing / front_speed);
         desc.solver.substeps = (uint32_t)(substeps < 1 ? 1 : substeps > 16 ? 16 : substeps);
     } else {
         test_scene_configure(s, o, &desc);
@@ -194,11 +197,13 @@ void scene_create(pbf_egl* e, scene* s, const scene_options* o) {
                 CHECK(pbf_world_unregister_gl_buffer(s->world, s->streams[k].id));
         s->host = malloc((size_t)s->capacity * 48);
         if (!s->host) die("out of memory");
-        printf("GL buffers: COPY PATH (pbf_world_copy_buffer + glBufferSubData; zero-copy registration is not "
-               "available: %s). Published frames come from the zero-copy path on the GPU.\n",
-               pbf_last_error_message());
+        printf(
+            "GL buffers: COPY PATH (pbf_world_copy_buffer + glBufferSubData; zero-copy registration is not "
+            "available: %s). Published frames come from the zero-copy path on the GPU.\n",
+            pbf_last_error_message());
     } else {
-        printf("GL buffers: zero-copy (registered with pbf_world_register_gl_buffer, copied GPU to GPU on each step)\n");
+        printf(
+            "GL buffers: zero-copy (registered with pbf_world_register_gl_buffer, copied GPU to GPU on each step)\n");
     }
 }
 
@@ -210,7 +215,8 @@ static void scene_copy(pbf_egl* e, scene* s) {
         uint32_t written = 0;
         GLuint args[4] = {0, 1, 0, 0};
         if (!s->stream_on[k]) continue;
-        CHECK(pbf_world_copy_buffer(s->world, st->source, s->host, (uint64_t)st->capacity * st->element_bytes, &written));
+        CHECK(
+            pbf_world_copy_buffer(s->world, st->source, s->host, (uint64_t)st->capacity * st->element_bytes, &written));
         e->gl.BindBuffer(GL_ARRAY_BUFFER, st->buffer);
         e->gl.BufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)written * st->element_bytes, s->host);
         args[0] = written;

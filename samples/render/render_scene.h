@@ -38,7 +38,15 @@ typedef struct scene_stream {
 
 /* STREAM_IDS: only in worlds with several materials; the ids pick each particle's material from
  * a table built once after the scene's emissions (render_materials.c). */
-enum { STREAM_POSITIONS, STREAM_VELOCITIES, STREAM_SMOOTHED, STREAM_ANISOTROPY, STREAM_DIFFUSE, STREAM_IDS, STREAM_COUNT };
+enum {
+    STREAM_POSITIONS,
+    STREAM_VELOCITIES,
+    STREAM_SMOOTHED,
+    STREAM_ANISOTROPY,
+    STREAM_DIFFUSE,
+    STREAM_IDS,
+    STREAM_COUNT
+};
 
 /* A collider the renderer draws at the pose it reached in the last step: a triangle mesh in the
  * collider's frame. color.a < 1: glass (a container whose water stays visible). */
@@ -89,8 +97,8 @@ typedef struct scene {
     pbf_emitter_id nozzle;
     int nozzle_on;
     long frame, nozzle_frames;
-    void* host; /* the copy path's staging memory */
-    int draw_walls; /* 1: the domain's walls are the tank (edges drawn) */
+    void* host;                /* the copy path's staging memory */
+    int draw_walls;            /* 1: the domain's walls are the tank (edges drawn) */
     uint64_t engine_transfers; /* host<->device copies of the steps and hooks of a scene with colliders */
     int body_count;
     scene_body bodies[SCENE_MAX_BODIES];

@@ -90,8 +90,8 @@ void surface_destroy(pbf_egl* e, target* t) {
     GLuint textures[7] = {b->background, b->depth, b->thickness, b->smooth[0], b->smooth[1], b->optics, b->tint};
     GLuint fbos[6] = {b->background_fbo, b->depth_fbo,     b->thickness_fbo,
                       b->smooth_fbo[0],  b->smooth_fbo[1], b->material_fbo};
-    GLuint programs[6] = {b->background_program, b->depth_program, b->thickness_program, b->blur_program,
-                          b->composite_program, b->material_program};
+    GLuint programs[6] = {b->background_program, b->depth_program,     b->thickness_program,
+                          b->blur_program,       b->composite_program, b->material_program};
     GLuint renderbuffers[2] = {b->depth_rb, b->solid_rb};
     int k;
     e->gl.DeleteTextures(7, textures);

@@ -4,29 +4,29 @@
 #define PBF_RENDER_SURFACE_SHADERS_H
 
 /* The eye-space ray through this pixel (not normalised, z = -1). */
-#define GLSL_PIXEL_RAY                                                                       \
-    "vec3 pixel_ray(vec2 frag, vec2 viewport, mat4 proj) {\n"                               \
-    "    vec2 ndc = frag / viewport * 2.0 - 1.0;\n"                                         \
-    "    return vec3(ndc.x / proj[0][0], ndc.y / proj[1][1], -1.0);\n"                     \
+#define GLSL_PIXEL_RAY                                                 \
+    "vec3 pixel_ray(vec2 frag, vec2 viewport, mat4 proj) {\n"          \
+    "    vec2 ndc = frag / viewport * 2.0 - 1.0;\n"                    \
+    "    return vec3(ndc.x / proj[0][0], ndc.y / proj[1][1], -1.0);\n" \
     "}\n"
 
 /* The world around the water, in world space: a gradient sky with a sun, and a checker floor
  * at y = 0 (10 cm squares) that fades into the haze. */
 #define GLSL_ENVIRONMENT                                                                     \
-    "vec3 sky(vec3 d) {\n"                                                                  \
-    "    float up = clamp(d.y, 0.0, 1.0);\n"                                                \
-    "    vec3 c = mix(vec3(0.78, 0.84, 0.90), vec3(0.28, 0.46, 0.72), pow(up, 0.6));\n"    \
-    "    float sun = max(dot(d, normalize(vec3(0.4, 0.9, 0.3))), 0.0);\n"                  \
-    "    return c + vec3(1.0, 0.95, 0.85) * pow(sun, 300.0) * 4.0;\n"                     \
-    "}\n"                                                                                   \
-    "vec3 environment(vec3 origin, vec3 d) {\n"                                             \
-    "    if (d.y >= -1e-4 || origin.y <= 0.0) return sky(d);\n"                            \
-    "    vec3 p = origin + d * (-origin.y / d.y);\n"                                       \
-    "    vec2 cell = floor(p.xz / 0.1);\n"                                                  \
-    "    float checker = mod(cell.x + cell.y, 2.0);\n"                                     \
+    "vec3 sky(vec3 d) {\n"                                                                   \
+    "    float up = clamp(d.y, 0.0, 1.0);\n"                                                 \
+    "    vec3 c = mix(vec3(0.78, 0.84, 0.90), vec3(0.28, 0.46, 0.72), pow(up, 0.6));\n"      \
+    "    float sun = max(dot(d, normalize(vec3(0.4, 0.9, 0.3))), 0.0);\n"                    \
+    "    return c + vec3(1.0, 0.95, 0.85) * pow(sun, 300.0) * 4.0;\n"                        \
+    "}\n"                                                                                    \
+    "vec3 environment(vec3 origin, vec3 d) {\n"                                              \
+    "    if (d.y >= -1e-4 || origin.y <= 0.0) return sky(d);\n"                              \
+    "    vec3 p = origin + d * (-origin.y / d.y);\n"                                         \
+    "    vec2 cell = floor(p.xz / 0.1);\n"                                                   \
+    "    float checker = mod(cell.x + cell.y, 2.0);\n"                                       \
     "    vec3 floor_color = mix(vec3(0.62, 0.60, 0.56), vec3(0.86, 0.84, 0.80), checker);\n" \
-    "    float haze = 1.0 - exp(-0.12 * length(p - origin));\n"                            \
-    "    return mix(floor_color, sky(vec3(d.x, 0.0, d.z)), haze);\n"                       \
+    "    float haze = 1.0 - exp(-0.12 * length(p - origin));\n"                              \
+    "    return mix(floor_color, sky(vec3(d.x, 0.0, d.z)), haze);\n"                         \
     "}\n"
 
 static const char* kFullscreenVertexShader =
@@ -51,28 +51,28 @@ static const char* kBackgroundFragmentShader =
 /* Ellipsoid splats: a point sprite over each particle's ellipsoid; the fragment shader hits the
  * ellipsoid with the pixel's ray. The anisotropy rows give the ellipsoid x^T M^-1 x = 1 with
  * M = sum r_k^2 a_k a_k^T, i.e. |T x| = 1 where T's rows are a_k / r_k (in eye space). */
-#define GLSL_SPLAT_VERTEX                                                                    \
-    "layout(location = 0) in vec4 a_center;  // smoothed position, density ratio\n"          \
-    "layout(location = 1) in vec4 a_axis0;   // unit axis, radius (m), longest first\n"      \
-    "layout(location = 2) in vec4 a_axis1;\n"                                                \
-    "layout(location = 3) in vec4 a_axis2;\n"                                                \
-    "uniform mat4 u_view;\n"                                                                 \
-    "uniform mat4 u_proj;\n"                                                                 \
-    "uniform float u_scale;\n"                                                               \
-    "uniform float u_min_radius;\n"                                                          \
-    "uniform float u_viewport_height;\n"                                                     \
-    "flat out vec3 v_center;\n"                                                              \
-    "flat out mat3 v_to_unit;\n"                                                             \
-    "void main() {\n"                                                                        \
-    "    mat3 v = mat3(u_view);\n"                                                           \
-    "    vec3 r = max(vec3(a_axis0.w, a_axis1.w, a_axis2.w) * u_scale, vec3(u_min_radius));\n" \
+#define GLSL_SPLAT_VERTEX                                                                                     \
+    "layout(location = 0) in vec4 a_center;  // smoothed position, density ratio\n"                           \
+    "layout(location = 1) in vec4 a_axis0;   // unit axis, radius (m), longest first\n"                       \
+    "layout(location = 2) in vec4 a_axis1;\n"                                                                 \
+    "layout(location = 3) in vec4 a_axis2;\n"                                                                 \
+    "uniform mat4 u_view;\n"                                                                                  \
+    "uniform mat4 u_proj;\n"                                                                                  \
+    "uniform float u_scale;\n"                                                                                \
+    "uniform float u_min_radius;\n"                                                                           \
+    "uniform float u_viewport_height;\n"                                                                      \
+    "flat out vec3 v_center;\n"                                                                               \
+    "flat out mat3 v_to_unit;\n"                                                                              \
+    "void main() {\n"                                                                                         \
+    "    mat3 v = mat3(u_view);\n"                                                                            \
+    "    vec3 r = max(vec3(a_axis0.w, a_axis1.w, a_axis2.w) * u_scale, vec3(u_min_radius));\n"                \
     "    v_to_unit = transpose(mat3(v * a_axis0.xyz / r.x, v * a_axis1.xyz / r.y, v * a_axis2.xyz / r.z));\n" \
-    "    vec4 eye = u_view * vec4(a_center.xyz, 1.0);\n"                                     \
-    "    v_center = eye.xyz;\n"                                                              \
-    "    gl_Position = u_proj * eye;\n"                                                      \
-    "    // the bounding sphere's diameter in pixels, with a margin for the perspective\n"   \
+    "    vec4 eye = u_view * vec4(a_center.xyz, 1.0);\n"                                                      \
+    "    v_center = eye.xyz;\n"                                                                               \
+    "    gl_Position = u_proj * eye;\n"                                                                       \
+    "    // the bounding sphere's diameter in pixels, with a margin for the perspective\n"                    \
     "    gl_PointSize = 1.3 * u_viewport_height * u_proj[1][1] * max(r.x, max(r.y, r.z)) / gl_Position.w;\n"  \
-    "    SET_MATERIAL\n"                                                                    \
+    "    SET_MATERIAL\n"                                                                                      \
     "}\n"
 static const char* kSplatVertexShader = "#version 430 core\n#define SET_MATERIAL\n" GLSL_SPLAT_VERTEX;
 /* The same splats with the particle's material (render_materials.c): its id (location 4) picks
@@ -89,62 +89,59 @@ static const char* kSplatMaterialVertexShader =
     "v_absorption = u_material_absorption[m]; v_deep = u_material_deep[m];\n" GLSL_SPLAT_VERTEX;
 
 /* The ray p = t d meets |T (p - c)| = 1 where A t^2 - 2 B t + C = 0. */
-#define GLSL_SPLAT_HIT                                                                       \
-    "flat in vec3 v_center;\n"                                                               \
-    "flat in mat3 v_to_unit;\n"                                                              \
-    "uniform mat4 u_proj;\n"                                                                 \
-    "uniform vec2 u_viewport;\n" GLSL_PIXEL_RAY                                              \
-    "bool hit(out vec3 p, out float chord) {\n"                                              \
-    "    vec3 d = pixel_ray(gl_FragCoord.xy, u_viewport, u_proj);\n"                        \
-    "    vec3 td = v_to_unit * d, tc = v_to_unit * v_center;\n"                              \
-    "    float a = dot(td, td), b = dot(td, tc), c = dot(tc, tc) - 1.0;\n"                 \
-    "    float disc = b * b - a * c;\n"                                                      \
-    "    if (disc <= 0.0) return false;\n"                                                   \
-    "    float s = sqrt(disc);\n"                                                            \
-    "    p = d * ((b - s) / a);\n"                                                           \
-    "    chord = 2.0 * s / a * length(d);\n"                                                 \
-    "    return true;\n"                                                                     \
+#define GLSL_SPLAT_HIT                                                     \
+    "flat in vec3 v_center;\n"                                             \
+    "flat in mat3 v_to_unit;\n"                                            \
+    "uniform mat4 u_proj;\n"                                               \
+    "uniform vec2 u_viewport;\n" GLSL_PIXEL_RAY                            \
+    "bool hit(out vec3 p, out float chord) {\n"                            \
+    "    vec3 d = pixel_ray(gl_FragCoord.xy, u_viewport, u_proj);\n"       \
+    "    vec3 td = v_to_unit * d, tc = v_to_unit * v_center;\n"            \
+    "    float a = dot(td, td), b = dot(td, tc), c = dot(tc, tc) - 1.0;\n" \
+    "    float disc = b * b - a * c;\n"                                    \
+    "    if (disc <= 0.0) return false;\n"                                 \
+    "    float s = sqrt(disc);\n"                                          \
+    "    p = d * ((b - s) / a);\n"                                         \
+    "    chord = 2.0 * s / a * length(d);\n"                               \
+    "    return true;\n"                                                   \
     "}\n"
 
-static const char* kSplatDepthFragmentShader =
-    "#version 430 core\n" GLSL_SPLAT_HIT
-    "out float o_depth;\n"
-    "void main() {\n"
-    "    vec3 p;\n"
-    "    float chord;\n"
-    "    if (!hit(p, chord)) discard;\n"
-    "    vec4 clip = u_proj * vec4(p, 1.0);\n"
-    "    gl_FragDepth = clip.z / clip.w * 0.5 + 0.5;\n"
-    "    o_depth = p.z;\n"
-    "}\n";
+static const char* kSplatDepthFragmentShader = "#version 430 core\n" GLSL_SPLAT_HIT
+                                               "out float o_depth;\n"
+                                               "void main() {\n"
+                                               "    vec3 p;\n"
+                                               "    float chord;\n"
+                                               "    if (!hit(p, chord)) discard;\n"
+                                               "    vec4 clip = u_proj * vec4(p, 1.0);\n"
+                                               "    gl_FragDepth = clip.z / clip.w * 0.5 + 0.5;\n"
+                                               "    o_depth = p.z;\n"
+                                               "}\n";
 
 /* Thickness: the chord of the pixel's ray through each ellipsoid, summed (additive blending). */
-static const char* kSplatThicknessFragmentShader =
-    "#version 430 core\n" GLSL_SPLAT_HIT
-    "out float o_thickness;\n"
-    "void main() {\n"
-    "    vec3 p;\n"
-    "    float chord;\n"
-    "    if (!hit(p, chord)) discard;\n"
-    "    o_thickness = chord;\n"
-    "}\n";
+static const char* kSplatThicknessFragmentShader = "#version 430 core\n" GLSL_SPLAT_HIT
+                                                   "out float o_thickness;\n"
+                                                   "void main() {\n"
+                                                   "    vec3 p;\n"
+                                                   "    float chord;\n"
+                                                   "    if (!hit(p, chord)) discard;\n"
+                                                   "    o_thickness = chord;\n"
+                                                   "}\n";
 
 /* Several materials: each ellipsoid's chord times its material's absorption (the optical depth
  * along the ray, summed) and times its deep colour (averaged by the composite over the
  * thickness), additively blended into two targets. */
-static const char* kSplatMaterialFragmentShader =
-    "#version 430 core\n" GLSL_SPLAT_HIT
-    "flat in vec3 v_absorption;\n"
-    "flat in vec3 v_deep;\n"
-    "layout(location = 0) out vec4 o_optics;\n"
-    "layout(location = 1) out vec4 o_tint;\n"
-    "void main() {\n"
-    "    vec3 p;\n"
-    "    float chord;\n"
-    "    if (!hit(p, chord)) discard;\n"
-    "    o_optics = vec4(v_absorption * chord, chord);\n"
-    "    o_tint = vec4(v_deep * chord, chord);\n"
-    "}\n";
+static const char* kSplatMaterialFragmentShader = "#version 430 core\n" GLSL_SPLAT_HIT
+                                                  "flat in vec3 v_absorption;\n"
+                                                  "flat in vec3 v_deep;\n"
+                                                  "layout(location = 0) out vec4 o_optics;\n"
+                                                  "layout(location = 1) out vec4 o_tint;\n"
+                                                  "void main() {\n"
+                                                  "    vec3 p;\n"
+                                                  "    float chord;\n"
+                                                  "    if (!hit(p, chord)) discard;\n"
+                                                  "    o_optics = vec4(v_absorption * chord, chord);\n"
+                                                  "    o_tint = vec4(v_deep * chord, chord);\n"
+                                                  "}\n";
 
 /* One direction of a separable bilateral filter of the depth (Gaussian in screen distance and
  * in depth difference): the spatial sigma is u_sigma metres seen at the pixel's depth, so near

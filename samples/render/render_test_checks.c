@@ -129,9 +129,10 @@ static void report_floating_boxes(const scene* s, const particles* p) {
     for (k = 0; k < s->body_count; ++k) {
         const scene_body* b = &s->bodies[k];
         const double bottom = b->position[1] - b->half;
-        printf("measured: box of %.0f kg/m³: bottom %.3f m, submerged %.3f (surface %.3f m; the test: 500 floats "
-               "half submerged within 5 %%, 2000 reaches the floor, bottom <= 0.05 m)\n",
-               b->mass / (8.0 * b->half * b->half * b->half), bottom, fmin((sum - bottom) / (2.0 * b->half), 1.0), sum);
+        printf(
+            "measured: box of %.0f kg/m³: bottom %.3f m, submerged %.3f (surface %.3f m; the test: 500 floats "
+            "half submerged within 5 %%, 2000 reaches the floor, bottom <= 0.05 m)\n",
+            b->mass / (8.0 * b->half * b->half * b->half), bottom, fmin((sum - bottom) / (2.0 * b->half), 1.0), sum);
     }
 }
 
@@ -139,11 +140,16 @@ void test_scene_report(scene* s, const scene_options* o) {
     particles p;
     if (o->kind == SCENE_DAM_BREAK || o->kind == SCENE_POOL) return;
     p = read_particles(s);
-    if (o->kind == SCENE_TWO_FLUIDS) report_two_fluids(&p);
-    else if (o->kind == SCENE_DROPLET) report_droplet(&p);
-    else if (o->kind == SCENE_HANGING_DROPS) report_hanging_drops(&p);
-    else if (o->kind == SCENE_CONTAINER) report_container(s, &p);
-    else if (o->kind == SCENE_FLOATING_BOXES) report_floating_boxes(s, &p);
+    if (o->kind == SCENE_TWO_FLUIDS)
+        report_two_fluids(&p);
+    else if (o->kind == SCENE_DROPLET)
+        report_droplet(&p);
+    else if (o->kind == SCENE_HANGING_DROPS)
+        report_hanging_drops(&p);
+    else if (o->kind == SCENE_CONTAINER)
+        report_container(s, &p);
+    else if (o->kind == SCENE_FLOATING_BOXES)
+        report_floating_boxes(s, &p);
     free(p.pos);
     free(p.material);
 }

@@ -37,8 +37,8 @@ static void fill(scene* s, pbf_material_id m, float x0, float y0, float z0, floa
     s->emitted += n;
 }
 
-static pbf_material_id add_material(scene* s, float rest_density, float surface_tension, float cohesion,
-                                    float adhesion, const float color[3]) {
+static pbf_material_id add_material(scene* s, float rest_density, float surface_tension, float cohesion, float adhesion,
+                                    const float color[3]) {
     pbf_material_desc m = pbf_material_desc_default();
     pbf_material_id id;
     m.rest_density = rest_density;
@@ -56,11 +56,11 @@ static const float kCircle[3] = {0.0f, 1.1f, 0.0f}; /* raised above the floor th
 
 /* The box [-e, e], counter-clockwise seen from outside (inward: from inside, a cavity). */
 static void add_box(float* v, uint32_t* nv, uint32_t* idx, uint32_t* nt, const float e[3], int inward) {
-    static const uint32_t quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    static const uint32_t quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                         {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
     const uint32_t base = *nv;
     uint32_t k;
-    for (k = 0; k < 8; ++k, ++*nv)
-        set3(&v[3 * *nv], k & 1 ? e[0] : -e[0], k & 2 ? e[1] : -e[1], k & 4 ? e[2] : -e[2]);
+    for (k = 0; k < 8; ++k, ++*nv) set3(&v[3 * *nv], k & 1 ? e[0] : -e[0], k & 2 ? e[1] : -e[1], k & 4 ? e[2] : -e[2]);
     for (k = 0; k < 6; ++k, *nt += 2) {
         const uint32_t a = base + quads[k][0], b = base + quads[k][1], c = base + quads[k][2], d = base + quads[k][3];
         const uint32_t out[6] = {a, b, c, a, c, d}, in[6] = {a, c, b, a, d, c};
@@ -186,32 +186,32 @@ void test_scene_configure(scene* s, const scene_options* o, pbf_world_desc* d) {
     d->particle_radius = kR;
     d->max_particles = 8192;
     switch (o->kind) {
-    case SCENE_TWO_FLUIDS:
-        set3(hi, 0.48f, 0.8f, 0.32f), set3(eye, 0.64f, 0.62f, 1.62f), set3(at, 0.24f, 0.34f, 0.16f);
-        d->solver.ldc_enabled = 1;
-        break;
-    case SCENE_DROPLET:
-        set3(hi, 1.2f, 1.2f, 1.2f), set3(eye, 0.95f, 0.95f, 1.95f), set3(at, 0.6f, 0.6f, 0.6f);
-        set3(d->gravity, 0, 0, 0);
-        break;
-    case SCENE_HANGING_DROPS:
-        set3(hi, 1.6f, 0.8f, 0.8f), set3(eye, 0.8f, 0.52f, 1.6f), set3(at, 0.8f, 0.34f, 0.4f);
-        break;
-    case SCENE_CONTAINER: { /* the test's domain around the circle, raised with it */
-        const float extent = container_path_radius() + 0.6f;
-        set3(lo, kCircle[0] - extent, kCircle[1] - extent, -0.6f);
-        set3(hi, kCircle[0] + extent, kCircle[1] + extent, 0.6f);
-        set3(eye, 0.0f, 1.25f, 3.7f), set3(at, 0.0f, 1.1f, 0.0f);
-        d->solver.max_substeps = 64;
-        s->draw_walls = 0;
-        break;
-    }
-    case SCENE_FLOATING_BOXES:
-        set3(hi, 1.2f, 0.8f, 0.72f), set3(eye, 0.6f, 0.95f, 2.0f), set3(at, 0.6f, 0.28f, 0.36f);
-        d->max_colliders = 8;
-        break;
-    default:
-        die("test_scene_configure: not a test scene");
+        case SCENE_TWO_FLUIDS:
+            set3(hi, 0.48f, 0.8f, 0.32f), set3(eye, 0.64f, 0.62f, 1.62f), set3(at, 0.24f, 0.34f, 0.16f);
+            d->solver.ldc_enabled = 1;
+            break;
+        case SCENE_DROPLET:
+            set3(hi, 1.2f, 1.2f, 1.2f), set3(eye, 0.95f, 0.95f, 1.95f), set3(at, 0.6f, 0.6f, 0.6f);
+            set3(d->gravity, 0, 0, 0);
+            break;
+        case SCENE_HANGING_DROPS:
+            set3(hi, 1.6f, 0.8f, 0.8f), set3(eye, 0.8f, 0.52f, 1.6f), set3(at, 0.8f, 0.34f, 0.4f);
+            break;
+        case SCENE_CONTAINER: { /* the test's domain around the circle, raised with it */
+            const float extent = container_path_radius() + 0.6f;
+            set3(lo, kCircle[0] - extent, kCircle[1] - extent, -0.6f);
+            set3(hi, kCircle[0] + extent, kCircle[1] + extent, 0.6f);
+            set3(eye, 0.0f, 1.25f, 3.7f), set3(at, 0.0f, 1.1f, 0.0f);
+            d->solver.max_substeps = 64;
+            s->draw_walls = 0;
+            break;
+        }
+        case SCENE_FLOATING_BOXES:
+            set3(hi, 1.2f, 0.8f, 0.72f), set3(eye, 0.6f, 0.95f, 2.0f), set3(at, 0.6f, 0.28f, 0.36f);
+            d->max_colliders = 8;
+            break;
+        default:
+            die("test_scene_configure: not a test scene");
     }
     memcpy(d->domain_min, lo, sizeof lo);
     memcpy(d->domain_max, hi, sizeof hi);
@@ -221,22 +221,22 @@ void test_scene_configure(scene* s, const scene_options* o, pbf_world_desc* d) {
 
 void test_scene_populate(pbf_egl* e, scene* s, const scene_options* o) {
     switch (o->kind) {
-    case SCENE_TWO_FLUIDS:
-        two_fluids_populate(s);
-        break;
-    case SCENE_DROPLET:
-        fill(s, add_material(s, 1000.0f, 100.0f, 100.0f, 0.0f, NULL), 0.36f, 0.36f, 0.36f, 0.84f, 0.84f, 0.84f);
-        break;
-    case SCENE_HANGING_DROPS:
-        hanging_drops_populate(e, s);
-        break;
-    case SCENE_CONTAINER:
-        container_populate(e, s);
-        break;
-    case SCENE_FLOATING_BOXES:
-        floating_populate(e, s);
-        break;
-    default:
-        die("test_scene_populate: not a test scene");
+        case SCENE_TWO_FLUIDS:
+            two_fluids_populate(s);
+            break;
+        case SCENE_DROPLET:
+            fill(s, add_material(s, 1000.0f, 100.0f, 100.0f, 0.0f, NULL), 0.36f, 0.36f, 0.36f, 0.84f, 0.84f, 0.84f);
+            break;
+        case SCENE_HANGING_DROPS:
+            hanging_drops_populate(e, s);
+            break;
+        case SCENE_CONTAINER:
+            container_populate(e, s);
+            break;
+        case SCENE_FLOATING_BOXES:
+            floating_populate(e, s);
+            break;
+        default:
+            die("test_scene_populate: not a test scene");
     }
 }

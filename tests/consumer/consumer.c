@@ -5,14 +5,13 @@
 
 #include <pbf_c_api.h>
 
-#define CHECK(call)                                                                           \
-    do {                                                                                      \
-        pbf_result r_ = (call);                                                               \
-        if (r_ != PBF_OK) {                                                                   \
-            fprintf(stderr, "%s failed: %s: %s\n", #call, pbf_result_string(r_),              \
-                    pbf_last_error_message());                                                \
-            return 1;                                                                         \
-        }                                                                                     \
+#define CHECK(call)                                                                                         \
+    do {                                                                                                    \
+        pbf_result r_ = (call);                                                                             \
+        if (r_ != PBF_OK) {                                                                                 \
+            fprintf(stderr, "%s failed: %s: %s\n", #call, pbf_result_string(r_), pbf_last_error_message()); \
+            return 1;                                                                                       \
+        }                                                                                                   \
     } while (0)
 
 int main(void) {
@@ -30,8 +29,12 @@ int main(void) {
     CHECK(pbf_world_create(&desc, &world));
 
     pbf_block_desc block = pbf_block_desc_default();
-    block.box_min[0] = -0.2f; block.box_min[1] = 0.0f; block.box_min[2] = -0.2f;
-    block.box_max[0] = 0.2f;  block.box_max[1] = 0.3f; block.box_max[2] = 0.2f;
+    block.box_min[0] = -0.2f;
+    block.box_min[1] = 0.0f;
+    block.box_min[2] = -0.2f;
+    block.box_max[0] = 0.2f;
+    block.box_max[1] = 0.3f;
+    block.box_max[2] = 0.2f;
     uint32_t emitted = 0;
     CHECK(pbf_world_emit_block(world, &block, &emitted));
     for (int i = 0; i < 10; ++i) CHECK(pbf_world_step(world, 1.0f / 60.0f));
@@ -41,8 +44,8 @@ int main(void) {
     CHECK(pbf_world_get_stats(world, &stats));
     CHECK(pbf_world_destroy(world));
     if (emitted == 0 || stats.particle_count != emitted || stats.step_index != 10) {
-        fprintf(stderr, "unexpected world state: %u emitted, %u particles, step %llu\n", emitted,
-                stats.particle_count, (unsigned long long)stats.step_index);
+        fprintf(stderr, "unexpected world state: %u emitted, %u particles, step %llu\n", emitted, stats.particle_count,
+                (unsigned long long)stats.step_index);
         return 1;
     }
     printf("OK: libpbf %u.%u.%u, %u particles, %llu steps\n", (unsigned)PBF_VERSION_GET_MAJOR(version),

@@ -32,35 +32,70 @@ extern "C" const char* pbf_fuzz_result_string(int32_t value);
 
 namespace {
 
-constexpr uint32_t kMaxCapacity = 65536;    // largest world the fuzzer lets the library allocate
-constexpr double kMaxCells = 65536.0;       // largest grid
-constexpr size_t kMaxWorlds = 6;            // live worlds at once (more creates are skipped)
-constexpr double kWorkBudget = 5.0e7;       // neighbour candidates visited by steps, per input
+constexpr uint32_t kMaxCapacity = 65536;  // largest world the fuzzer lets the library allocate
+constexpr double kMaxCells = 65536.0;     // largest grid
+constexpr size_t kMaxWorlds = 6;          // live worlds at once (more creates are skipped)
+constexpr double kWorkBudget = 5.0e7;     // neighbour candidates visited by steps, per input
 constexpr uint32_t kDeadId = 0xFFFFFFFFu;
 
 [[noreturn]] void fuzz_fail(const char* what, const char* file, int line) {
-    std::fprintf(stderr, "\n*** fuzz invariant violated: %s\n    at %s:%d\n    last error: \"%s\"\n", what, file,
-                 line, pbf_last_error_message());
+    std::fprintf(stderr, "\n*** fuzz invariant violated: %s\n    at %s:%d\n    last error: \"%s\"\n", what, file, line,
+                 pbf_last_error_message());
     std::abort();
 }
-#define FUZZ_ASSERT(cond)                                   \
-    do {                                                    \
-        if (!(cond)) fuzz_fail(#cond, __FILE__, __LINE__);  \
+#define FUZZ_ASSERT(cond)                                  \
+    do {                                                   \
+        if (!(cond)) fuzz_fail(#cond, __FILE__, __LINE__); \
     } while (0)
 
 // ---- input decoding --------------------------------------------------------------------------
 const float kNaN = std::numeric_limits<float>::quiet_NaN();
 const float kInf = std::numeric_limits<float>::infinity();
-const float kSpecialFloats[] = {
-    0.0f, -0.0f, 1.0f, -1.0f, 0.5f, 1.0f / 60.0f, 1e-3f, 1e-6f, 1e-30f,
-    std::numeric_limits<float>::min(), std::numeric_limits<float>::denorm_min(),
-    -std::numeric_limits<float>::denorm_min(), 1e30f, -1e30f, std::numeric_limits<float>::max(),
-    -std::numeric_limits<float>::max(), kInf, -kInf, kNaN, -kNaN,
-    std::numeric_limits<float>::signaling_NaN(), 100.0f, 1000.0f, 16777216.0f, 3e9f, -3e9f, 1e10f, 2.0f,
-    1.0000001f, 0.99999994f, 64.0f, 65.0f};
-const uint32_t kSpecialU32[] = {0u, 1u, 2u, 3u, 4u, 16u, 17u, 31u, 32u, 33u, 64u, 65u, 255u, 1000u, 4096u,
-                                65535u, 65536u, 65537u, 1u << 20, (1u << 30) - 1, 1u << 30, (1u << 30) + 1,
-                                0x7FFFFFFFu, 0x80000000u, 0xFFFFFFFEu, 0xFFFFFFFFu};
+const float kSpecialFloats[] = {0.0f,
+                                -0.0f,
+                                1.0f,
+                                -1.0f,
+                                0.5f,
+                                1.0f / 60.0f,
+                                1e-3f,
+                                1e-6f,
+                                1e-30f,
+                                std::numeric_limits<float>::min(),
+                                std::numeric_limits<float>::denorm_min(),
+                                -std::numeric_limits<float>::denorm_min(),
+                                1e30f,
+                                -1e30f,
+                                std::numeric_limits<float>::max(),
+                                -std::numeric_limits<float>::max(),
+                                kInf,
+                                -kInf,
+                                kNaN,
+                                -kNaN,
+                                std::numeric_limits<float>::signaling_NaN(),
+                                100.0f,
+                                1000.0f,
+                                16777216.0f,
+                                3e9f,
+                                -3e9f,
+                                1e10f,
+                                2.0f,
+                                1.0000001f,
+                                0.99999994f,
+                                64.0f,
+                                65.0f};
+const uint32_t kSpecialU32[] = {0u,          1u,
+                                2u,          3u,
+                                4u,          16u,
+                                17u,         31u,
+                                32u,         33u,
+                                64u,         65u,
+                                255u,        1000u,
+                                4096u,       65535u,
+                                65536u,      65537u,
+                                1u << 20,    (1u << 30) - 1,
+                                1u << 30,    (1u << 30) + 1,
+                                0x7FFFFFFFu, 0x80000000u,
+                                0xFFFFFFFEu, 0xFFFFFFFFu};
 
 struct Reader {
     const uint8_t* p;
@@ -421,8 +456,8 @@ bool params_valid(const pbf_solver_params& p) {
            p.substep_travel >= 0.05f && p.substep_travel <= 1.0f && std::isfinite(p.sound_speed) &&
            p.sound_speed >= 10 && std::isfinite(p.relaxation) && p.relaxation > 0 && std::isfinite(p.scorr_k) &&
            p.scorr_k >= 0 && p.scorr_k <= 1 && std::isfinite(p.scorr_n) && p.scorr_n >= 1 && p.scorr_n <= 8 &&
-           std::isfinite(p.scorr_dq) && p.scorr_dq > 0 && p.scorr_dq < 1 && std::isfinite(p.xsph_c) &&
-           p.xsph_c >= 0 && p.xsph_c <= 1 && std::isfinite(p.vorticity_epsilon) && p.vorticity_epsilon >= 0 &&
+           std::isfinite(p.scorr_dq) && p.scorr_dq > 0 && p.scorr_dq < 1 && std::isfinite(p.xsph_c) && p.xsph_c >= 0 &&
+           p.xsph_c <= 1 && std::isfinite(p.vorticity_epsilon) && p.vorticity_epsilon >= 0 &&
            p.vorticity_epsilon <= 1 && p.ldc_enabled <= 1 && std::isfinite(p.ldc_gain) && p.ldc_gain >= 0 &&
            p.ldc_gain <= 1 && std::isfinite(p.max_speed) && p.max_speed > 0 && std::isfinite(p.adaptive_error_target) &&
            p.adaptive_error_target >= 0 && p.adaptive_error_target < 1;
@@ -461,7 +496,10 @@ void op_create_world(Reader& in, State& s) {
     const uint16_t mask = in.u16();
     if (mask & 0x0001) {
         const uint8_t b = in.u8() % 16;
-        set_bits(&d.backend, b < 10 ? PBF_BACKEND_CPU : b < 13 ? PBF_BACKEND_AUTO : b < 15 ? PBF_BACKEND_CUDA : in.raw32());
+        set_bits(&d.backend, b < 10   ? PBF_BACKEND_CPU
+                             : b < 13 ? PBF_BACKEND_AUTO
+                             : b < 15 ? PBF_BACKEND_CUDA
+                                      : in.raw32());
     }
     if (mask & 0x0002) d.max_particles = in.u32(1, 2048);
     if (mask & 0x0004) d.particle_radius = in.f(0.01f, 0.1f);
@@ -473,7 +511,8 @@ void op_create_world(Reader& in, State& s) {
     }
     if (mask & 0x0080) fuzz_params(in, &d.solver);
     if (mask & 0x0100) d.struct_size = in.struct_size(sizeof d);
-    if (mask & 0x0200) d.header_version = in.u8() < 200 ? PBF_MAKE_VERSION(PBF_VERSION_MAJOR, in.u8(), in.u8()) : in.raw32();
+    if (mask & 0x0200)
+        d.header_version = in.u8() < 200 ? PBF_MAKE_VERSION(PBF_VERSION_MAJOR, in.u8(), in.u8()) : in.raw32();
     if (mask & 0x0400) d.cuda_device = int32_t(in.u32(0, 2));
     if (mask & 0x0800) in.vec3(d.domain_max, -2.0f, 2.0f);
     const bool null_out = (mask & 0x1000) && in.u8() < 32;
@@ -489,15 +528,15 @@ void op_create_world(Reader& in, State& s) {
     if (s.worlds.size() >= kMaxWorlds) return;
 
     if (g_trace)
-        std::fprintf(stderr,
-                     "  desc: size %u version %08x backend %d cap %u radius %g rho0 %g g (%g %g %g) domain (%g %g %g)..(%g "
-                     "%g %g) solver: it %u sub %u relax %g k %g n %g dq %g xsph %g vort %g ldc %u/%g vmax %g\n",
-                     d.struct_size, d.header_version, bits_of(d.backend), d.max_particles, d.particle_radius,
-                     d.rest_density, d.gravity[0], d.gravity[1], d.gravity[2], d.domain_min[0], d.domain_min[1],
-                     d.domain_min[2], d.domain_max[0], d.domain_max[1], d.domain_max[2], d.solver.iterations,
-                     d.solver.substeps, d.solver.relaxation, d.solver.scorr_k, d.solver.scorr_n, d.solver.scorr_dq,
-                     d.solver.xsph_c, d.solver.vorticity_epsilon, d.solver.ldc_enabled, d.solver.ldc_gain,
-                     d.solver.max_speed);
+        std::fprintf(
+            stderr,
+            "  desc: size %u version %08x backend %d cap %u radius %g rho0 %g g (%g %g %g) domain (%g %g %g)..(%g "
+            "%g %g) solver: it %u sub %u relax %g k %g n %g dq %g xsph %g vort %g ldc %u/%g vmax %g\n",
+            d.struct_size, d.header_version, bits_of(d.backend), d.max_particles, d.particle_radius, d.rest_density,
+            d.gravity[0], d.gravity[1], d.gravity[2], d.domain_min[0], d.domain_min[1], d.domain_min[2],
+            d.domain_max[0], d.domain_max[1], d.domain_max[2], d.solver.iterations, d.solver.substeps,
+            d.solver.relaxation, d.solver.scorr_k, d.solver.scorr_n, d.solver.scorr_dq, d.solver.xsph_c,
+            d.solver.vorticity_epsilon, d.solver.ldc_enabled, d.solver.ldc_gain, d.solver.max_speed);
     const auto desc = heap(d);
     pbf_world_id id{0xAAAAAAAAu, 0xBBBBBBBBu};
     const pbf_result r = checked(pbf_world_create(null_desc ? nullptr : desc.get(), null_out ? nullptr : &id));
@@ -575,9 +614,9 @@ void op_step(Reader& in, State& s) {
             const double candidates =
                 std::min(particles, 27.0 * std::ceil(particles / double(std::max(1u, w->grid_cells))) + 27.0);
             // Automatic substeps (0) run up to max_substeps.
-            const double cost = double(w->params.substeps ? w->params.substeps : w->params.max_substeps) *
-                                (particles * candidates * (double(w->params.iterations) * 2.0 + 8.0) +
-                                 4.0 * w->grid_cells + 64.0);
+            const double cost =
+                double(w->params.substeps ? w->params.substeps : w->params.max_substeps) *
+                (particles * candidates * (double(w->params.iterations) * 2.0 + 8.0) + 4.0 * w->grid_cells + 64.0);
             if (cost > s.budget) return;
             s.budget -= cost;
         }
@@ -655,8 +694,10 @@ void op_get(Reader& in, State& s) {
         uint32_t n = 0x12345678u;
         r = checked(pbf_world_get_particle_count(id, null_out ? nullptr : &n));
         FUZZ_ASSERT(r != PBF_OK || w != nullptr);
-        if (r == PBF_OK) FUZZ_ASSERT(n <= w->capacity);
-        else FUZZ_ASSERT(n == 0x12345678u);
+        if (r == PBF_OK)
+            FUZZ_ASSERT(n <= w->capacity);
+        else
+            FUZZ_ASSERT(n == 0x12345678u);
     }
     if (null_out) FUZZ_ASSERT(r == PBF_ERROR_INVALID_ARGUMENT || (r == PBF_ERROR_INVALID_HANDLE && !w));
     if (!w) FUZZ_ASSERT(r != PBF_OK);
@@ -686,7 +727,8 @@ void op_emit_block(Reader& in, State& s) {
         }
     } else {
         in.vec3(b.box_min, -2.0f, 2.0f);
-        for (int a = 0; a < 3; ++a) b.box_max[a] = (mode & (1 << (a + 1))) ? in.f(-2.0f, 2.0f) : b.box_min[a] + in.f(0.0f, 1.0f);
+        for (int a = 0; a < 3; ++a)
+            b.box_max[a] = (mode & (1 << (a + 1))) ? in.f(-2.0f, 2.0f) : b.box_min[a] + in.f(0.0f, 1.0f);
     }
     if (in.u8() < 64) in.vec3(b.velocity, -10.0f, 10.0f);
     b.struct_size = in.struct_size(sizeof b);
@@ -698,9 +740,10 @@ void op_emit_block(Reader& in, State& s) {
     if (take) snap = snapshot(*w);
     const auto hb = heap(b);
     uint32_t emitted = 0xEEEEEEEEu;
-    const pbf_result r = checked(pbf_world_emit_block(id, null_desc ? nullptr : hb.get(), null_out ? nullptr : &emitted));
-    bool valid_desc = !null_desc && b.struct_size == sizeof b && finite3(b.box_min) && finite3(b.box_max) &&
-                      finite3(b.velocity);
+    const pbf_result r =
+        checked(pbf_world_emit_block(id, null_desc ? nullptr : hb.get(), null_out ? nullptr : &emitted));
+    bool valid_desc =
+        !null_desc && b.struct_size == sizeof b && finite3(b.box_min) && finite3(b.box_max) && finite3(b.velocity);
     for (int a = 0; a < 3 && valid_desc; ++a) valid_desc = b.box_max[a] > b.box_min[a];
     if (!null_out && r != PBF_OK) FUZZ_ASSERT(emitted == 0);
     if (!w) {
@@ -770,10 +813,12 @@ void op_create_emitter(Reader& in, State& s) {
     pbf_emitter_desc e = pbf_emitter_desc_default();
     fill_emitter(in, w, &e);
     if (g_trace)
-        std::fprintf(stderr, "  emitter: type %d pos (%g %g %g) dir (%g %g %g) speed %g radius %g pps %g box (%g %g %g)..(%g %g %g)\n",
-                     bits_of(e.type), e.position[0], e.position[1], e.position[2], e.direction[0], e.direction[1],
-                     e.direction[2], e.speed, e.radius, e.particles_per_second, e.box_min[0], e.box_min[1],
-                     e.box_min[2], e.box_max[0], e.box_max[1], e.box_max[2]);
+        std::fprintf(
+            stderr,
+            "  emitter: type %d pos (%g %g %g) dir (%g %g %g) speed %g radius %g pps %g box (%g %g %g)..(%g %g %g)\n",
+            bits_of(e.type), e.position[0], e.position[1], e.position[2], e.direction[0], e.direction[1],
+            e.direction[2], e.speed, e.radius, e.particles_per_second, e.box_min[0], e.box_min[1], e.box_min[2],
+            e.box_max[0], e.box_max[1], e.box_max[2]);
     const auto [r, out, null_desc, null_out] = create_fuzzed<pbf_emitter_id>(in, id, e, pbf_world_create_emitter);
     if (r != PBF_OK) return;
     FUZZ_ASSERT(w && !null_desc && !null_out);
@@ -804,7 +849,8 @@ void op_emitter_update(Reader& in, State& s) {
     const bool as_drain = (in.u8() & 1) != 0;  // the call used: set_drain_box or set_nozzle
     float* pa = (nulls & 0xF0) == 0xF0 ? nullptr : ha.get();
     float* pb = (nulls & 0x0F) == 0x0F ? nullptr : hb.get();
-    const pbf_result r = checked(as_drain ? pbf_emitter_set_drain_box(id, e, pa, pb) : pbf_emitter_set_nozzle(id, e, pa, pb));
+    const pbf_result r =
+        checked(as_drain ? pbf_emitter_set_drain_box(id, e, pa, pb) : pbf_emitter_set_nozzle(id, e, pa, pb));
     if (r == PBF_OK) {
         FUZZ_ASSERT(k >= 0 && finite3(a) && finite3(b) && pa && pb);
         FUZZ_ASSERT((w->emitters[k].type == PBF_EMITTER_DRAIN) == as_drain);
@@ -858,7 +904,8 @@ void op_set_pose(Reader& in, State& s) {
     const auto hp = std::unique_ptr<float[]>(new float[3]{p[0], p[1], p[2]});
     const auto hq = std::unique_ptr<float[]>(new float[4]{q[0], q[1], q[2], q[3]});
     const bool null_p = (mode & 0xF0) == 0xF0, null_q = (mode & 0x0E) == 0x0E;
-    const pbf_result r = checked(pbf_collider_set_target_pose(id, c, null_p ? nullptr : hp.get(), null_q ? nullptr : hq.get()));
+    const pbf_result r =
+        checked(pbf_collider_set_target_pose(id, c, null_p ? nullptr : hp.get(), null_q ? nullptr : hq.get()));
     if (r == PBF_OK) {
         FUZZ_ASSERT(k >= 0 && w->colliders[k].motion == PBF_MOTION_KINEMATIC);
         FUZZ_ASSERT(!null_p && !null_q && finite3(p) && std::isfinite(q[0]) && std::isfinite(q[1]) &&
@@ -869,16 +916,26 @@ void op_set_pose(Reader& in, State& s) {
 
 uint32_t pick_max_count(Reader& in, uint32_t count, uint32_t capacity) {
     switch (in.u8() % 10) {
-        case 0: return 0;
-        case 1: return count;
-        case 2: return count ? count - 1 : 0;
-        case 3: return count + 1;
-        case 4: return in.u16() % 64;
-        case 5: return 0xFFFFFFFFu;
-        case 6: return in.raw32();
-        case 7: return capacity;
-        case 8: return count / 2;
-        default: return count;
+        case 0:
+            return 0;
+        case 1:
+            return count;
+        case 2:
+            return count ? count - 1 : 0;
+        case 3:
+            return count + 1;
+        case 4:
+            return in.u16() % 64;
+        case 5:
+            return 0xFFFFFFFFu;
+        case 6:
+            return in.raw32();
+        case 7:
+            return capacity;
+        case 8:
+            return count / 2;
+        default:
+            return count;
     }
 }
 
@@ -900,9 +957,12 @@ void op_copy(Reader& in, State& s) {
     void* out = null_out ? nullptr : buf.get();
     uint32_t* wp = null_written ? nullptr : &written;
     pbf_result r;
-    if (which == 0) r = checked(pbf_world_copy_positions(id, static_cast<float*>(out), max_count, wp));
-    else if (which == 1) r = checked(pbf_world_copy_velocities(id, static_cast<float*>(out), max_count, wp));
-    else r = checked(pbf_world_copy_ids(id, static_cast<uint32_t*>(out), max_count, wp));
+    if (which == 0)
+        r = checked(pbf_world_copy_positions(id, static_cast<float*>(out), max_count, wp));
+    else if (which == 1)
+        r = checked(pbf_world_copy_velocities(id, static_cast<float*>(out), max_count, wp));
+    else
+        r = checked(pbf_world_copy_ids(id, static_cast<uint32_t*>(out), max_count, wp));
     if (null_out && max_count > 0) {
         FUZZ_ASSERT(r == PBF_ERROR_INVALID_ARGUMENT);
         if (wp) FUZZ_ASSERT(written == 0);
@@ -1068,8 +1128,10 @@ void op_interop(Reader& in, State& s) {
         info.struct_size = in.struct_size(sizeof info);
         const auto hi = heap(info);
         r = checked(pbf_world_get_interop_info(id, null_out ? nullptr : hi.get()));
-        if (r == PBF_OK) FUZZ_ASSERT(w && hi->cuda_device == -1 && hi->gl_buffers == 0);
-        else if (!null_out) FUZZ_ASSERT(std::memcmp(hi.get(), &info, sizeof info) == 0);
+        if (r == PBF_OK)
+            FUZZ_ASSERT(w && hi->cuda_device == -1 && hi->gl_buffers == 0);
+        else if (!null_out)
+            FUZZ_ASSERT(std::memcmp(hi.get(), &info, sizeof info) == 0);
     } else if (what == 3) {
         uint32_t flags = 0;
         r = checked(pbf_get_interop_support(null_out ? nullptr : &flags));
@@ -1136,44 +1198,94 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     while (!in.empty() && ops++ < 256) {
         const uint8_t op = in.u8();
         if (g_trace) {
-            static const char* const names[20] = {"create", "create", "destroy", "step", "step", "step",
-                                                  "set_params", "get", "gravity", "emit_block", "emit_block",
-                                                  "create_emitter", "destroy_emitter", "emitter_update",
-                                                  "create_collider", "destroy_collider", "set_pose", "copy", "map",
+            static const char* const names[20] = {"create",
+                                                  "create",
+                                                  "destroy",
+                                                  "step",
+                                                  "step",
+                                                  "step",
+                                                  "set_params",
+                                                  "get",
+                                                  "gravity",
+                                                  "emit_block",
+                                                  "emit_block",
+                                                  "create_emitter",
+                                                  "destroy_emitter",
+                                                  "emitter_update",
+                                                  "create_collider",
+                                                  "destroy_collider",
+                                                  "set_pose",
+                                                  "copy",
+                                                  "map",
                                                   "desc_init/interop/misc"};
             std::fprintf(stderr, "op %d: %s\n", ops, names[op % 20]);
         }
         switch (op % 20) {
             case 0:
-            case 1: op_create_world(in, s); break;
-            case 2: op_destroy_world(in, s); break;
+            case 1:
+                op_create_world(in, s);
+                break;
+            case 2:
+                op_destroy_world(in, s);
+                break;
             case 3:
             case 4:
-            case 5: op_step(in, s); break;
-            case 6: op_set_params(in, s); break;
-            case 7: op_get(in, s); break;
-            case 8: op_gravity(in, s); break;
+            case 5:
+                op_step(in, s);
+                break;
+            case 6:
+                op_set_params(in, s);
+                break;
+            case 7:
+                op_get(in, s);
+                break;
+            case 8:
+                op_gravity(in, s);
+                break;
             case 9:
-            case 10: op_emit_block(in, s); break;
-            case 11: op_create_emitter(in, s); break;
-            case 12: op_destroy_emitter(in, s); break;
-            case 13: op_emitter_update(in, s); break;
-            case 14: op_create_collider(in, s); break;
-            case 15: op_destroy_collider(in, s); break;
-            case 16: op_set_pose(in, s); break;
-            case 17: op_copy(in, s); break;
-            case 18: op_map(in, s); break;
+            case 10:
+                op_emit_block(in, s);
+                break;
+            case 11:
+                op_create_emitter(in, s);
+                break;
+            case 12:
+                op_destroy_emitter(in, s);
+                break;
+            case 13:
+                op_emitter_update(in, s);
+                break;
+            case 14:
+                op_create_collider(in, s);
+                break;
+            case 15:
+                op_destroy_collider(in, s);
+                break;
+            case 16:
+                op_set_pose(in, s);
+                break;
+            case 17:
+                op_copy(in, s);
+                break;
+            case 18:
+                op_map(in, s);
+                break;
             default:
-                if (op & 0x80) op_desc_init(in);
-                else if (op & 0x40) op_interop(in, s);
-                else op_misc(in);
+                if (op & 0x80)
+                    op_desc_init(in);
+                else if (op & 0x40)
+                    op_interop(in, s);
+                else
+                    op_misc(in);
                 break;
         }
         // Every live world still satisfies the cheap invariants after any call: count <= capacity
         // after each, the stats' accounting every 8th (stats may run a density pass).
         for (const WorldModel& w : s.worlds) {
-            if (ops % 8 == 0) check_world(w, false);
-            else count_of(w);
+            if (ops % 8 == 0)
+                check_world(w, false);
+            else
+                count_of(w);
         }
     }
     for (const WorldModel& w : s.worlds) {

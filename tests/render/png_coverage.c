@@ -63,7 +63,11 @@ int main(int argc, char** argv) {
     }
     share = (double)differ / ((double)w * (double)h);
     printf("png_coverage: %s differs from %s on %lu%s of %u pixels (%.1f %%; expected %.1f..%.1f %%)\n", argv[1],
-           argv[2], differ, hue == 1 ? " warm" : hue == -1 ? " cool" : "", w * h, 100.0 * share, 100.0 * lo, 100.0 * hi);
+           argv[2], differ,
+           hue == 1    ? " warm"
+           : hue == -1 ? " cool"
+                       : "",
+           w * h, 100.0 * share, 100.0 * lo, 100.0 * hi);
     free(frame);
     free(background);
     return share >= lo && share <= hi ? 0 : 1;

@@ -66,13 +66,21 @@ enum {
 #define FATBIN_MAGIC 0xBA55ED50u
 
 enum mode {
-    NO_DEVICE, OLD_DRIVER, INIT_ERROR, NO_DEVICES, MISSING_ENTRY, OLD_GPU, NO_BINARY, LAYOUTS, LAYOUT_MISMATCH,
+    NO_DEVICE,
+    OLD_DRIVER,
+    INIT_ERROR,
+    NO_DEVICES,
+    MISSING_ENTRY,
+    OLD_GPU,
+    NO_BINARY,
+    LAYOUTS,
+    LAYOUT_MISMATCH,
     UNKNOWN_MODE
 };
 
 static enum mode mode(void) {
-    static const char* const names[] = {"no-device", "old-driver", "init-error", "no-devices", "missing-entry",
-                                        "old-gpu", "no-binary", "layouts", "layout-mismatch"};
+    static const char* const names[] = {"no-device", "old-driver", "init-error", "no-devices",     "missing-entry",
+                                        "old-gpu",   "no-binary",  "layouts",    "layout-mismatch"};
     const char* m = getenv("PBF_STUB_CUDA");
     for (int i = 0; m && i < UNKNOWN_MODE; ++i)
         if (strcmp(m, names[i]) == 0) return (enum mode)i;
@@ -81,9 +89,7 @@ static enum mode mode(void) {
 
 static int device_count(void) { return mode() >= OLD_GPU && mode() <= LAYOUT_MISMATCH ? 1 : 0; }
 
-static struct {
-    int init, ctx_retain, ctx_release, module_load;
-} calls;
+static struct { int init, ctx_retain, ctx_release, module_load; } calls;
 
 STUB_EXPORT int pbf_stub_cuda_calls(const char* name) {
     if (strcmp(name, "cuInit") == 0) return calls.init;
@@ -116,9 +122,11 @@ static const struct {
     {CUDA_ERROR_NO_DEVICE, "CUDA_ERROR_NO_DEVICE", "no CUDA-capable device is detected"},
     {CUDA_ERROR_INVALID_DEVICE, "CUDA_ERROR_INVALID_DEVICE", "invalid device ordinal"},
     {CUDA_ERROR_INVALID_IMAGE, "CUDA_ERROR_INVALID_IMAGE", "device kernel image is invalid"},
-    {CUDA_ERROR_NO_BINARY_FOR_GPU, "CUDA_ERROR_NO_BINARY_FOR_GPU", "no kernel image is available for execution on the device"},
+    {CUDA_ERROR_NO_BINARY_FOR_GPU, "CUDA_ERROR_NO_BINARY_FOR_GPU",
+     "no kernel image is available for execution on the device"},
     {CUDA_ERROR_NOT_SUPPORTED, "CUDA_ERROR_NOT_SUPPORTED", "operation not supported"},
-    {CUDA_ERROR_SYSTEM_DRIVER_MISMATCH, "CUDA_ERROR_SYSTEM_DRIVER_MISMATCH", "system has unsupported display driver / cuda driver combination"},
+    {CUDA_ERROR_SYSTEM_DRIVER_MISMATCH, "CUDA_ERROR_SYSTEM_DRIVER_MISMATCH",
+     "system has unsupported display driver / cuda driver combination"},
 };
 
 static CUresult error_entry(CUresult e, const char** out, int text) {
@@ -152,9 +160,12 @@ static CUresult stub_cuDeviceGetName(char* name, int len, CUdevice d) {
 }
 static CUresult stub_cuDeviceGetAttribute(int* v, int attribute, CUdevice d) {
     (void)d;
-    if (attribute == CU_DEVICE_ATTRIBUTE_COMPUTE_CAPABILITY_MAJOR) *v = mode() == OLD_GPU ? 6 : 8;
-    else if (attribute == CU_DEVICE_ATTRIBUTE_COMPUTE_CAPABILITY_MINOR) *v = mode() == OLD_GPU ? 1 : 6;
-    else return CUDA_ERROR_INVALID_VALUE;
+    if (attribute == CU_DEVICE_ATTRIBUTE_COMPUTE_CAPABILITY_MAJOR)
+        *v = mode() == OLD_GPU ? 6 : 8;
+    else if (attribute == CU_DEVICE_ATTRIBUTE_COMPUTE_CAPABILITY_MINOR)
+        *v = mode() == OLD_GPU ? 1 : 6;
+    else
+        return CUDA_ERROR_INVALID_VALUE;
     return CUDA_SUCCESS;
 }
 static int the_context;
@@ -169,7 +180,9 @@ static CUresult stub_cuDevicePrimaryCtxRelease(CUdevice d) {
     ++calls.ctx_release;
     return CUDA_SUCCESS;
 }
-static CUresult stub_cuCtxSetCurrent(CUcontext c) { return c == &the_context ? CUDA_SUCCESS : CUDA_ERROR_INVALID_VALUE; }
+static CUresult stub_cuCtxSetCurrent(CUcontext c) {
+    return c == &the_context ? CUDA_SUCCESS : CUDA_ERROR_INVALID_VALUE;
+}
 
 /* Little-endian reads at any alignment. */
 static uint64_t rd(const unsigned char* p, int bytes) {
@@ -185,7 +198,11 @@ static const unsigned char* first_cubin(const unsigned char* fatbin) {
     const unsigned char *e = fatbin + header, *end = fatbin + header + body;
     while (e + 16 <= end) {
         const uint64_t ehead = rd(e + 4, 4), payload = rd(e + 8, 8);
-        if (rd(e, 2) == 2 && memcmp(e + ehead, "\x7f" "ELF", 4) == 0) return e + ehead;
+        if (rd(e, 2) == 2 && memcmp(e + ehead,
+                                    "\x7f"
+                                    "ELF",
+                                    4) == 0)
+            return e + ehead;
         e += ehead + payload;
     }
     return NULL;
@@ -223,7 +240,9 @@ static CUresult stub_cuModuleLoadData(CUmodule* m, const void* image) {
     *m = (CUmodule)&loaded_cubin;
     return CUDA_SUCCESS;
 }
-static CUresult stub_cuModuleUnload(CUmodule m) { return m == (CUmodule)&loaded_cubin ? CUDA_SUCCESS : CUDA_ERROR_INVALID_HANDLE; }
+static CUresult stub_cuModuleUnload(CUmodule m) {
+    return m == (CUmodule)&loaded_cubin ? CUDA_SUCCESS : CUDA_ERROR_INVALID_HANDLE;
+}
 static CUresult stub_cuModuleGetFunction(CUfunction* f, CUmodule m, const char* name) {
     uint64_t size = 0;
     if (m != (CUmodule)&loaded_cubin) return CUDA_ERROR_INVALID_HANDLE;
@@ -253,16 +272,20 @@ static CUresult stub_cuMemcpyDtoH(void* dst, CUdeviceptr src, size_t n) {
 /* Every other entry point: present, and refusing (none is called in the modes above). */
 static CUresult stub_not_supported(void) { return CUDA_ERROR_NOT_SUPPORTED; }
 
-#define STUB_ENTRY(name) {#name, (void*)stub_##name}
+#define STUB_ENTRY(name) \
+    { #name, (void*)stub_##name }
 static const struct {
     const char* name;
     void* fn;
 } entries[] = {
-    STUB_ENTRY(cuDriverGetVersion), STUB_ENTRY(cuInit), STUB_ENTRY(cuGetErrorName), STUB_ENTRY(cuGetErrorString),
-    STUB_ENTRY(cuDeviceGetCount), STUB_ENTRY(cuDeviceGet), STUB_ENTRY(cuDeviceGetName), STUB_ENTRY(cuDeviceGetAttribute),
-    STUB_ENTRY(cuDevicePrimaryCtxRetain), STUB_ENTRY(cuDevicePrimaryCtxRelease), STUB_ENTRY(cuCtxSetCurrent),
-    STUB_ENTRY(cuModuleLoadData), STUB_ENTRY(cuModuleUnload), STUB_ENTRY(cuModuleGetFunction),
-    STUB_ENTRY(cuModuleGetGlobal), STUB_ENTRY(cuMemcpyDtoH),
+    STUB_ENTRY(cuDriverGetVersion),       STUB_ENTRY(cuInit),
+    STUB_ENTRY(cuGetErrorName),           STUB_ENTRY(cuGetErrorString),
+    STUB_ENTRY(cuDeviceGetCount),         STUB_ENTRY(cuDeviceGet),
+    STUB_ENTRY(cuDeviceGetName),          STUB_ENTRY(cuDeviceGetAttribute),
+    STUB_ENTRY(cuDevicePrimaryCtxRetain), STUB_ENTRY(cuDevicePrimaryCtxRelease),
+    STUB_ENTRY(cuCtxSetCurrent),          STUB_ENTRY(cuModuleLoadData),
+    STUB_ENTRY(cuModuleUnload),           STUB_ENTRY(cuModuleGetFunction),
+    STUB_ENTRY(cuModuleGetGlobal),        STUB_ENTRY(cuMemcpyDtoH),
 };
 
 static void* find(const char* symbol) {

@@ -18,7 +18,9 @@ namespace bake {
 class Progress {
 public:
     Progress(int64_t total, bool enabled)
-        : total_(total > 0 ? total : 1), enabled_(enabled), tty_(PBF_BAKE_ISATTY(2) != 0),
+        : total_(total > 0 ? total : 1),
+          enabled_(enabled),
+          tty_(PBF_BAKE_ISATTY(2) != 0),
           start_(std::chrono::steady_clock::now()) {}
 
     // `done` frames of `total` finished; `count` particles in the last one.
@@ -56,9 +58,7 @@ public:
         drawn_ = false;
     }
 
-    double seconds() const {
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    }
+    double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
 
 private:
     static void format_time(double s, char* out, size_t n) {
@@ -67,8 +67,10 @@ private:
             return;
         }
         const long t = long(s + 0.5);
-        if (t >= 3600) std::snprintf(out, n, "%ld:%02ld:%02ld", t / 3600, (t / 60) % 60, t % 60);
-        else std::snprintf(out, n, "%02ld:%02ld", t / 60, t % 60);
+        if (t >= 3600)
+            std::snprintf(out, n, "%ld:%02ld:%02ld", t / 3600, (t / 60) % 60, t % 60);
+        else
+            std::snprintf(out, n, "%02ld:%02ld", t / 60, t % 60);
     }
 
     int64_t total_;

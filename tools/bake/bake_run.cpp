@@ -49,11 +49,13 @@ RunResult run_bake(const Scene& s, const RunOptions& o) {
     const std::string& file = s.file;
     const unsigned formats = s.output.formats;
     if ((formats & kVdb) && !have_vdb())
-        throw Error(file + ": /output/formats: \"vdb\" asked for, but this pbf_bake was built without OpenVDB "
-                           "(install libopenvdb-dev and reconfigure)");
+        throw Error(file +
+                    ": /output/formats: \"vdb\" asked for, but this pbf_bake was built without OpenVDB "
+                    "(install libopenvdb-dev and reconfigure)");
     const VdbSettings vdb = vdb_settings(s);
     if ((formats & kVdb) && vdb.sphere_radius / vdb.voxel_size < 1.5)
-        throw Error(file + ": /output/vdb: sphere_radius / voxel_size is " + std::to_string(vdb.sphere_radius / vdb.voxel_size) +
+        throw Error(file + ": /output/vdb: sphere_radius / voxel_size is " +
+                    std::to_string(vdb.sphere_radius / vdb.voxel_size) +
                     "; OpenVDB's ParticlesToLevelSet skips spheres under 1.5 voxels: expected at least 1.5");
 
     std::error_code ec;
@@ -81,7 +83,8 @@ RunResult run_bake(const Scene& s, const RunOptions& o) {
         if (warned_full || count < info.max_particles) return;
         warned_full = true;
         progress.break_line();
-        std::fprintf(stderr, "pbf_bake: warning: %s: the world is full (%u particles): %s; raise /world/max_particles\n",
+        std::fprintf(stderr,
+                     "pbf_bake: warning: %s: the world is full (%u particles): %s; raise /world/max_particles\n",
                      file.c_str(), info.max_particles, when.c_str());
     };
     {
@@ -128,8 +131,10 @@ RunResult run_bake(const Scene& s, const RunOptions& o) {
             fr.time = double(k) * frame_dt;
             uint32_t count = 0, written = 0;
             check(pbf_world_get_particle_count(world.id, &count), file, "pbf_world_get_particle_count");
-            check(pbf_world_copy_positions(world.id, fr.xyzw.data(), count, &written), file, "pbf_world_copy_positions");
-            check(pbf_world_copy_velocities(world.id, fr.vel.data(), count, &written), file, "pbf_world_copy_velocities");
+            check(pbf_world_copy_positions(world.id, fr.xyzw.data(), count, &written), file,
+                  "pbf_world_copy_positions");
+            check(pbf_world_copy_velocities(world.id, fr.vel.data(), count, &written), file,
+                  "pbf_world_copy_velocities");
             check(pbf_world_copy_ids(world.id, fr.ids.data(), count, &written), file, "pbf_world_copy_ids");
             fr.count = count;
             if (!s.emitters.empty()) warn_if_full(count, "nozzles stop emitting from frame " + std::to_string(k));

@@ -19,11 +19,11 @@ struct RunOptions {
 
 struct RunResult {
     int64_t frames_written = 0;
-    uint32_t particles = 0;         // at the last frame
-    uint64_t vdb_active_voxels = 0; // at the last frame (0 without vdb)
+    uint32_t particles = 0;          // at the last frame
+    uint64_t vdb_active_voxels = 0;  // at the last frame (0 without vdb)
     double seconds = 0.0;
     std::string device;
-    std::string pvd;                // the .pvd written ("" without vtk)
+    std::string pvd;  // the .pvd written ("" without vtk)
 };
 
 // The voxel size and sphere radius a scene's VDB output uses (documented defaults applied).

@@ -28,8 +28,12 @@ namespace {
 std::string describe(const json& v) {
     std::string s = v.dump();
     if (s.size() > 60) s = s.substr(0, 57) + "...";
-    const char* kind = v.is_null() ? "null" : v.is_boolean() ? "a boolean" : v.is_number() ? "a number"
-                     : v.is_string() ? "a string" : v.is_array() ? "an array" : "an object";
+    const char* kind = v.is_null()      ? "null"
+                       : v.is_boolean() ? "a boolean"
+                       : v.is_number()  ? "a number"
+                       : v.is_string()  ? "a string"
+                       : v.is_array()   ? "an array"
+                                        : "an object";
     return std::string(kind) + " (" + s + ")";
 }
 
@@ -71,9 +75,12 @@ double number(const Ctx& c, const json& v, const std::string& path, double lo, d
     const bool hi_ok = std::isinf(hi) ? true : x <= hi;
     if (!std::isfinite(x) || !lo_ok || !hi_ok) {
         std::string range;
-        if (!std::isinf(lo) && !std::isinf(hi)) range = " in " + std::string(open_lo ? "(" : "[") + fmt(lo) + ", " + fmt(hi) + "]";
-        else if (!std::isinf(lo)) range = std::string(open_lo ? " > " : " >= ") + fmt(lo);
-        else if (!std::isinf(hi)) range = " <= " + fmt(hi);
+        if (!std::isinf(lo) && !std::isinf(hi))
+            range = " in " + std::string(open_lo ? "(" : "[") + fmt(lo) + ", " + fmt(hi) + "]";
+        else if (!std::isinf(lo))
+            range = std::string(open_lo ? " > " : " >= ") + fmt(lo);
+        else if (!std::isinf(hi))
+            range = " <= " + fmt(hi);
         c.expected(path, "a number" + range, v);
     }
     return x;
@@ -83,7 +90,8 @@ int64_t integer(const Ctx& c, const json& v, const std::string& path, int64_t lo
     if (!v.is_number_integer() && !(v.is_number_float() && std::floor(v.get<double>()) == v.get<double>()))
         c.expected(path, "an integer", v);
     const double x = v.get<double>();
-    if (x < double(lo) || x > double(hi)) c.expected(path, "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]", v);
+    if (x < double(lo) || x > double(hi))
+        c.expected(path, "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]", v);
     return int64_t(x);
 }
 
@@ -142,7 +150,8 @@ struct SolverField {
 // One line per field of pbf_solver_params after struct_size. A field added to the header must be
 // added here too: the bake test "every solver parameter is settable by name" checks the count
 // against sizeof(pbf_solver_params).
-#define PBF_FIELD(name, u, b, lo, hi, open) {#name, offsetof(pbf_solver_params, name), u, b, lo, hi, open}
+#define PBF_FIELD(name, u, b, lo, hi, open) \
+    { #name, offsetof(pbf_solver_params, name), u, b, lo, hi, open }
 const SolverField kSolverFields[] = {
     PBF_FIELD(iterations, true, false, 1, 64, false),
     PBF_FIELD(substeps, true, false, 0, 64, false),  // 0: automatic
@@ -188,8 +197,10 @@ void parse_world(const Ctx& c, const json& j, const std::string& path, pbf_world
     check_keys(c, j, path,
                {"particle_radius", "rest_density", "domain_min", "domain_max", "gravity", "backend", "cuda_device",
                 "max_particles"});
-    if (const json* v = find(j, "particle_radius")) d.particle_radius = float(number(c, *v, path + "/particle_radius", 0, kInf, true));
-    if (const json* v = find(j, "rest_density")) d.rest_density = float(number(c, *v, path + "/rest_density", 0, kInf, true));
+    if (const json* v = find(j, "particle_radius"))
+        d.particle_radius = float(number(c, *v, path + "/particle_radius", 0, kInf, true));
+    if (const json* v = find(j, "rest_density"))
+        d.rest_density = float(number(c, *v, path + "/rest_density", 0, kInf, true));
     if (const json* v = find(j, "domain_min")) vec(c, *v, path + "/domain_min", d.domain_min);
     if (const json* v = find(j, "domain_max")) vec(c, *v, path + "/domain_max", d.domain_max);
     if (const json* v = find(j, "gravity")) vec(c, *v, path + "/gravity", d.gravity);
@@ -203,16 +214,16 @@ void parse_world(const Ctx& c, const json& j, const std::string& path, pbf_world
     for (int k = 0; k < 3; ++k)
         if (!(d.domain_max[k] > d.domain_min[k]))
             c.fail(path + "/domain_max/" + std::to_string(k),
-                   "expected domain_max above domain_min on every axis, got " + fmt(d.domain_max[k]) + " <= " +
-                       fmt(d.domain_min[k]));
+                   "expected domain_max above domain_min on every axis, got " + fmt(d.domain_max[k]) +
+                       " <= " + fmt(d.domain_min[k]));
 }
 
 void check_box(const Ctx& c, const std::string& path, const char* max_key, const float* lo, const float* hi) {
     for (int k = 0; k < 3; ++k)
         if (!(hi[k] > lo[k]))
-            c.fail(path + "/" + max_key + "/" + std::to_string(k),
-                   std::string("expected ") + max_key + " above the minimum corner on every axis, got " + fmt(hi[k]) +
-                       " <= " + fmt(lo[k]));
+            c.fail(path + "/" + max_key + "/" + std::to_string(k), std::string("expected ") + max_key +
+                                                                       " above the minimum corner on every axis, got " +
+                                                                       fmt(hi[k]) + " <= " + fmt(lo[k]));
 }
 
 BlockSpec parse_block(const Ctx& c, const json& j, const std::string& path) {
@@ -231,17 +242,22 @@ EmitterSpec parse_emitter(const Ctx& c, const json& j, const std::string& path) 
         choice(c, require(c, j, path, "type", "\"nozzle\" or \"drain\""), path + "/type", {"nozzle", "drain"});
     EmitterSpec e{pbf_emitter_desc_default()};
     if (type == "nozzle") {
-        check_keys(c, j, path, {"type", "position", "direction", "rate", "speed", "radius", "enabled", "start_frame", "end_frame"});
+        check_keys(c, j, path,
+                   {"type", "position", "direction", "rate", "speed", "radius", "enabled", "start_frame", "end_frame"});
         e.desc.type = PBF_EMITTER_NOZZLE;
         vec(c, require(c, j, path, "position", "an array of 3 numbers"), path + "/position", e.desc.position);
         if (const json* v = find(j, "direction")) {
             vec(c, *v, path + "/direction", e.desc.direction);
             const float* d = e.desc.direction;
-            if (!(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > 0.0f)) c.expected(path + "/direction", "a non-zero vector", *v);
+            if (!(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > 0.0f))
+                c.expected(path + "/direction", "a non-zero vector", *v);
         }
-        e.desc.particles_per_second = float(number(c, require(c, j, path, "rate", "particles per second, > 0"), path + "/rate", 0, kInf, true));
-        e.desc.speed = float(number(c, require(c, j, path, "speed", "a speed in m/s, > 0"), path + "/speed", 0, kInf, true));
-        e.desc.radius = float(number(c, require(c, j, path, "radius", "a disc radius in m, > 0"), path + "/radius", 0, kInf, true));
+        e.desc.particles_per_second =
+            float(number(c, require(c, j, path, "rate", "particles per second, > 0"), path + "/rate", 0, kInf, true));
+        e.desc.speed =
+            float(number(c, require(c, j, path, "speed", "a speed in m/s, > 0"), path + "/speed", 0, kInf, true));
+        e.desc.radius =
+            float(number(c, require(c, j, path, "radius", "a disc radius in m, > 0"), path + "/radius", 0, kInf, true));
     } else {
         check_keys(c, j, path, {"type", "min", "max", "enabled", "start_frame", "end_frame"});
         e.desc.type = PBF_EMITTER_DRAIN;
@@ -253,8 +269,8 @@ EmitterSpec parse_emitter(const Ctx& c, const json& j, const std::string& path) 
     if (const json* v = find(j, "start_frame")) e.start_frame = integer(c, *v, path + "/start_frame", 0, INT32_MAX);
     if (const json* v = find(j, "end_frame")) e.end_frame = integer(c, *v, path + "/end_frame", 0, INT32_MAX);
     if (e.end_frame >= 0 && e.end_frame <= e.start_frame)
-        c.fail(path + "/end_frame", "expected end_frame above start_frame (" + std::to_string(e.start_frame) + "), got " +
-                                        std::to_string(e.end_frame));
+        c.fail(path + "/end_frame", "expected end_frame above start_frame (" + std::to_string(e.start_frame) +
+                                        "), got " + std::to_string(e.end_frame));
     return e;
 }
 
@@ -265,12 +281,18 @@ void rotation_from_normal(const float n_in[3], float q[4]) {
     // axis = y × n = (n.z, 0, -n.x); cos θ = n.y
     const double dot = n[1];
     if (dot < -0.999999) {  // upside down: half a turn about x
-        q[0] = 1; q[1] = 0; q[2] = 0; q[3] = 0;
+        q[0] = 1;
+        q[1] = 0;
+        q[2] = 0;
+        q[3] = 0;
         return;
     }
     double x = n[2], y = 0.0, z = -n[0], w = 1.0 + dot;
     const double m = std::sqrt(x * x + y * y + z * z + w * w);
-    q[0] = float(x / m); q[1] = float(y / m); q[2] = float(z / m); q[3] = float(w / m);
+    q[0] = float(x / m);
+    q[1] = float(y / m);
+    q[2] = float(z / m);
+    q[3] = float(w / m);
 }
 
 void parse_rotation(const Ctx& c, const json& j, const std::string& path, float q[4]) {
@@ -294,11 +316,13 @@ ColliderSpec parse_collider(const Ctx& c, const json& j, const std::string& path
 
     ColliderSpec s{pbf_collider_desc_default(), {}};
     pbf_collider_desc& d = s.desc;
-    d.shape = shape == "plane" ? PBF_SHAPE_PLANE : shape == "sphere" ? PBF_SHAPE_SPHERE
-            : shape == "capsule" ? PBF_SHAPE_CAPSULE : PBF_SHAPE_BOX;
+    d.shape = shape == "plane"     ? PBF_SHAPE_PLANE
+              : shape == "sphere"  ? PBF_SHAPE_SPHERE
+              : shape == "capsule" ? PBF_SHAPE_CAPSULE
+                                   : PBF_SHAPE_BOX;
     if (const json* v = find(j, "motion"))
         d.motion = choice(c, *v, path + "/motion", {"static", "kinematic"}) == "kinematic" ? PBF_MOTION_KINEMATIC
-                                                                                         : PBF_MOTION_STATIC;
+                                                                                           : PBF_MOTION_STATIC;
     if (const json* v = find(j, "position")) vec(c, *v, path + "/position", d.position);
     if (const json* v = find(j, "rotation")) parse_rotation(c, *v, path + "/rotation", d.rotation);
     if (const json* v = find(j, "normal")) {
@@ -310,11 +334,14 @@ ColliderSpec parse_collider(const Ctx& c, const json& j, const std::string& path
     }
     if (const json* v = find(j, "friction")) d.friction = float(number(c, *v, path + "/friction", 0, 1));
     if (shape == "sphere" || shape == "capsule")
-        d.radius = float(number(c, require(c, j, path, "radius", "a radius in m, > 0"), path + "/radius", 0, kInf, true));
+        d.radius =
+            float(number(c, require(c, j, path, "radius", "a radius in m, > 0"), path + "/radius", 0, kInf, true));
     if (shape == "capsule")
-        d.half_height = float(number(c, require(c, j, path, "half_height", "a half height in m, >= 0"), path + "/half_height", 0, kInf));
+        d.half_height = float(
+            number(c, require(c, j, path, "half_height", "a half height in m, >= 0"), path + "/half_height", 0, kInf));
     if (shape == "box") {
-        vec(c, require(c, j, path, "half_extents", "an array of 3 numbers > 0"), path + "/half_extents", d.half_extents);
+        vec(c, require(c, j, path, "half_extents", "an array of 3 numbers > 0"), path + "/half_extents",
+            d.half_extents);
         for (int k = 0; k < 3; ++k)
             if (!(d.half_extents[k] > 0.0f))
                 c.expected(path + "/half_extents/" + std::to_string(k), "a number > 0", j["half_extents"][k]);
@@ -357,9 +384,11 @@ void parse_frames(const Ctx& c, const json& j, const std::string& path, Scene& s
     if (const json* v = find(j, "start")) s.frame_start = integer(c, *v, path + "/start", 0, INT32_MAX);
     if (const json* v = find(j, "end")) s.frame_end = integer(c, *v, path + "/end", 0, INT32_MAX);
     if (const json* v = find(j, "rate")) s.frame_rate = number(c, *v, path + "/rate", 1.0, 100000.0);
-    if (const json* v = find(j, "steps_per_frame")) s.steps_per_frame = uint32_t(integer(c, *v, path + "/steps_per_frame", 1, 1000));
+    if (const json* v = find(j, "steps_per_frame"))
+        s.steps_per_frame = uint32_t(integer(c, *v, path + "/steps_per_frame", 1, 1000));
     if (s.frame_end < s.frame_start)
-        c.fail(path + "/end", "expected end >= start (" + std::to_string(s.frame_start) + "), got " + std::to_string(s.frame_end));
+        c.fail(path + "/end",
+               "expected end >= start (" + std::to_string(s.frame_start) + "), got " + std::to_string(s.frame_end));
 }
 
 void parse_output(const Ctx& c, const json& j, const std::string& path, OutputSpec& o) {
@@ -386,7 +415,8 @@ void parse_output(const Ctx& c, const json& j, const std::string& path, OutputSp
         const std::string vp = path + "/vdb";
         check_keys(c, *v, vp, {"voxel_size", "sphere_radius", "half_width"});
         if (const json* x = find(*v, "voxel_size")) o.vdb_voxel_size = number(c, *x, vp + "/voxel_size", 0, kInf, true);
-        if (const json* x = find(*v, "sphere_radius")) o.vdb_sphere_radius = number(c, *x, vp + "/sphere_radius", 0, kInf, true);
+        if (const json* x = find(*v, "sphere_radius"))
+            o.vdb_sphere_radius = number(c, *x, vp + "/sphere_radius", 0, kInf, true);
         if (const json* x = find(*v, "half_width")) o.vdb_half_width = number(c, *x, vp + "/half_width", 1, 100);
     }
 }
@@ -452,10 +482,14 @@ unsigned parse_formats(const std::string& list, const std::string& where) {
     std::stringstream ss(list);
     std::string item;
     while (std::getline(ss, item, ',')) {
-        if (item == "ply") out |= kPly;
-        else if (item == "vtk" || item == "vtp") out |= kVtk;
-        else if (item == "vdb") out |= kVdb;
-        else throw Error(where + ": unknown format \"" + item + "\" (expected a comma-separated list of ply, vtk, vdb)");
+        if (item == "ply")
+            out |= kPly;
+        else if (item == "vtk" || item == "vtp")
+            out |= kVtk;
+        else if (item == "vdb")
+            out |= kVdb;
+        else
+            throw Error(where + ": unknown format \"" + item + "\" (expected a comma-separated list of ply, vtk, vdb)");
     }
     if (!out) throw Error(where + ": expected a comma-separated list of ply, vtk, vdb, got \"" + list + "\"");
     return out;
@@ -504,8 +538,8 @@ Scene parse_scene(const std::string& text, const std::string& file, bool toml) {
         try {
             root = from_toml(toml::parse(text, file));
         } catch (const toml::parse_error& e) {
-            throw Error(file + ":" + std::to_string(e.source().begin.line) + ":" + std::to_string(e.source().begin.column) +
-                        ": not valid TOML: " + std::string(e.description()));
+            throw Error(file + ":" + std::to_string(e.source().begin.line) + ":" +
+                        std::to_string(e.source().begin.column) + ": not valid TOML: " + std::string(e.description()));
         }
 #else
         throw Error(file + ": this pbf_bake was built without TOML support (toml++ was not found); use a JSON scene");
@@ -517,8 +551,10 @@ Scene parse_scene(const std::string& text, const std::string& file, bool toml) {
             // Turn the byte offset into a line and column.
             size_t line = 1, col = 1;
             for (size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
-                if (text[i] == '\n') ++line, col = 1;
-                else ++col;
+                if (text[i] == '\n')
+                    ++line, col = 1;
+                else
+                    ++col;
             }
             // "[json.exception.parse_error.101] parse error at line 3, column 29: syntax error ...":
             // keep what follows the position.
@@ -549,7 +585,8 @@ Scene parse_scene(const std::string& text, const std::string& file, bool toml) {
     list("emitters", [&](const json& j, const std::string& p) { s.emitters.push_back(parse_emitter(c, j, p)); });
     list("colliders", [&](const json& j, const std::string& p) { s.colliders.push_back(parse_collider(c, j, p)); });
     // The world is made to hold every collider of the scene (the library's limit is 2048).
-    if (s.colliders.size() > 2048) c.fail("/colliders", "at most 2048 colliders, got " + std::to_string(s.colliders.size()));
+    if (s.colliders.size() > 2048)
+        c.fail("/colliders", "at most 2048 colliders, got " + std::to_string(s.colliders.size()));
     s.world.max_colliders = std::max<uint32_t>(s.world.max_colliders, uint32_t(s.colliders.size()));
     if (const json* v = find(root, "frames")) parse_frames(c, *v, "/frames", s);
     s.output.name = stem_of(file);

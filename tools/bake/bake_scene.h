@@ -21,8 +21,8 @@ struct BlockSpec {
 
 struct EmitterSpec {
     pbf_emitter_desc desc;
-    int64_t start_frame = 0;   // enabled for frames start_frame <= k < end_frame
-    int64_t end_frame = -1;    // -1: until the end
+    int64_t start_frame = 0;  // enabled for frames start_frame <= k < end_frame
+    int64_t end_frame = -1;   // -1: until the end
 };
 
 struct Keyframe {
@@ -40,8 +40,8 @@ struct ColliderSpec {
 enum Format : unsigned { kPly = 1u, kVtk = 2u, kVdb = 4u };
 
 struct OutputSpec {
-    std::string directory;     // relative paths are relative to the working directory
-    std::string name;          // file prefix: NAME_0000.ply, NAME.pvd, ...
+    std::string directory;  // relative paths are relative to the working directory
+    std::string name;       // file prefix: NAME_0000.ply, NAME.pvd, ...
     unsigned formats = kPly | kVtk;
     double vdb_voxel_size = 0.0;     // 0: particle_radius / 2
     double vdb_sphere_radius = 0.0;  // 0: 2 · particle_radius (the rest spacing)
@@ -49,15 +49,15 @@ struct OutputSpec {
 };
 
 struct Scene {
-    std::string file;               // the scene file as given
-    pbf_world_desc world;           // world and solver (from pbf_*_default, then the file)
+    std::string file;      // the scene file as given
+    pbf_world_desc world;  // world and solver (from pbf_*_default, then the file)
     std::vector<BlockSpec> blocks;
     std::vector<EmitterSpec> emitters;
     std::vector<ColliderSpec> colliders;
-    int64_t frame_start = 0;        // frames written: start..end inclusive; frame k is the
-    int64_t frame_end = 120;        // state at time k / rate (frame 0: before the first step)
+    int64_t frame_start = 0;  // frames written: start..end inclusive; frame k is the
+    int64_t frame_end = 120;  // state at time k / rate (frame 0: before the first step)
     double frame_rate = 60.0;
-    uint32_t steps_per_frame = 1;   // pbf_world_step calls per frame (each dt = 1/(rate·steps))
+    uint32_t steps_per_frame = 1;  // pbf_world_step calls per frame (each dt = 1/(rate·steps))
     OutputSpec output;
 };
 

@@ -23,7 +23,8 @@ struct File {
         if (f) std::fclose(f);
     }
     void write(const void* data, size_t bytes) {
-        if (bytes && std::fwrite(data, 1, bytes, f) != bytes) throw Error(path + ": write failed: " + std::strerror(errno));
+        if (bytes && std::fwrite(data, 1, bytes, f) != bytes)
+            throw Error(path + ": write failed: " + std::strerror(errno));
     }
     void text(const std::string& s) { write(s.data(), s.size()); }
     void close() {
@@ -73,11 +74,20 @@ std::string xml_escape(const std::string& s) {
     std::string out;
     for (char ch : s) {
         switch (ch) {
-            case '&': out += "&amp;"; break;
-            case '<': out += "&lt;"; break;
-            case '>': out += "&gt;"; break;
-            case '"': out += "&quot;"; break;
-            default: out += ch;
+            case '&':
+                out += "&amp;";
+                break;
+            case '<':
+                out += "&lt;";
+                break;
+            case '>':
+                out += "&gt;";
+                break;
+            case '"':
+                out += "&quot;";
+                break;
+            default:
+                out += ch;
         }
     }
     return out;
@@ -189,8 +199,9 @@ void write_vtp(const std::string& path, const Frame& fr) {
 
 void write_pvd(const std::string& path, const std::vector<std::pair<double, std::string>>& entries) {
     File f(path);
-    f.text("<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-           "  <Collection>\n");
+    f.text(
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+        "  <Collection>\n");
     for (const auto& [t, name] : entries) {
         char line[96];
         std::snprintf(line, sizeof line, "    <DataSet timestep=\"%.9g\" group=\"\" part=\"0\" file=\"", t);
@@ -203,7 +214,8 @@ void write_pvd(const std::string& path, const std::vector<std::pair<double, std:
 
 #if !defined(PBF_BAKE_HAVE_OPENVDB)
 uint64_t write_vdb(const std::string& path, const Frame&, const VdbSettings&) {
-    throw Error(path + ": this pbf_bake was built without OpenVDB (libopenvdb-dev was not found when it was configured)");
+    throw Error(path +
+                ": this pbf_bake was built without OpenVDB (libopenvdb-dev was not found when it was configured)");
 }
 #endif
 

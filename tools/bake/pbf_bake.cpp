@@ -54,20 +54,22 @@ std::string version_string() {
 
 int main(int argc, char** argv) {
     CLI::App app{"pbf_bake: bake a libpbf fluid scene (JSON" + std::string(bake::have_toml() ? " or TOML" : "") +
-                 ") into frames for Blender, ParaView and Houdini: binary PLY point clouds, a VTK .vtp series "
-                 "with a .pvd collection" + std::string(bake::have_vdb() ? ", OpenVDB level sets" : "") +
-                 ". See tools/bake/README.md for the scene format.",
+                     ") into frames for Blender, ParaView and Houdini: binary PLY point clouds, a VTK .vtp series "
+                     "with a .pvd collection" +
+                     std::string(bake::have_vdb() ? ", OpenVDB level sets" : "") +
+                     ". See tools/bake/README.md for the scene format.",
                  "pbf_bake"};
     std::string scene_path, frames, out, formats, backend;
     bool quiet = false, check_only = false;
     app.add_option("scene", scene_path, "scene file (.json" + std::string(bake::have_toml() ? " or .toml" : "") + ")")
         ->required();
-    app.add_option("--frames", frames, "frames to write: END or START:END, inclusive (frame k is time k/rate; "
-                                       "overrides the scene's frames.start/end)");
+    app.add_option("--frames", frames,
+                   "frames to write: END or START:END, inclusive (frame k is time k/rate; "
+                   "overrides the scene's frames.start/end)");
     app.add_option("--out", out, "output directory (overrides output.directory)");
-    app.add_option("--format", formats, std::string("comma-separated output formats: ply, vtk") +
-                                            (bake::have_vdb() ? ", vdb" : " (vdb: not in this build)") +
-                                            " (overrides output.formats)");
+    app.add_option("--format", formats,
+                   std::string("comma-separated output formats: ply, vtk") +
+                       (bake::have_vdb() ? ", vdb" : " (vdb: not in this build)") + " (overrides output.formats)");
     app.add_option("--backend", backend, "override world.backend")->check(CLI::IsMember({"auto", "cpu", "cuda"}));
     app.add_flag("-q,--quiet", quiet, "no progress bar");
     app.add_flag("--check", check_only, "validate the scene and exit");
@@ -81,20 +83,24 @@ int main(int argc, char** argv) {
         if (!out.empty()) scene.output.directory = out;
         if (!formats.empty()) scene.output.formats = bake::parse_formats(formats, "--format " + formats);
         if (!backend.empty())
-            scene.world.backend = backend == "cpu" ? PBF_BACKEND_CPU : backend == "cuda" ? PBF_BACKEND_CUDA : PBF_BACKEND_AUTO;
+            scene.world.backend = backend == "cpu"    ? PBF_BACKEND_CPU
+                                  : backend == "cuda" ? PBF_BACKEND_CUDA
+                                                      : PBF_BACKEND_AUTO;
         if ((scene.output.formats & bake::kVdb) && !bake::have_vdb())
-            throw bake::Error("vdb output asked for, but this pbf_bake was built without OpenVDB "
-                              "(install libopenvdb-dev and reconfigure)");
+            throw bake::Error(
+                "vdb output asked for, but this pbf_bake was built without OpenVDB "
+                "(install libopenvdb-dev and reconfigure)");
     } catch (const bake::Error& e) {
         std::fprintf(stderr, "pbf_bake: %s\n", e.what());
         return 2;
     }
     if (check_only) {
-        std::printf("pbf_bake: %s is valid: frames %lld..%lld at %g fps, %zu blocks, %zu emitters, %zu colliders, "
-                    "formats %s into %s\n",
-                    scene_path.c_str(), (long long)scene.frame_start, (long long)scene.frame_end, scene.frame_rate,
-                    scene.blocks.size(), scene.emitters.size(), scene.colliders.size(),
-                    bake::format_list(scene.output.formats).c_str(), scene.output.directory.c_str());
+        std::printf(
+            "pbf_bake: %s is valid: frames %lld..%lld at %g fps, %zu blocks, %zu emitters, %zu colliders, "
+            "formats %s into %s\n",
+            scene_path.c_str(), (long long)scene.frame_start, (long long)scene.frame_end, scene.frame_rate,
+            scene.blocks.size(), scene.emitters.size(), scene.colliders.size(),
+            bake::format_list(scene.output.formats).c_str(), scene.output.directory.c_str());
         return 0;
     }
     try {
@@ -108,9 +114,10 @@ int main(int argc, char** argv) {
                     r.pvd.empty() ? "" : " (ParaView: open ", r.pvd.empty() ? "" : (r.pvd + ")").c_str());
         if (scene.output.formats & bake::kVdb) {
             const bake::VdbSettings v = bake::vdb_settings(scene);
-            std::printf("pbf_bake: OpenVDB level sets: voxel %g m, particle spheres of radius %g m, narrow band %g voxels; "
-                        "%llu active voxels in the last frame\n",
-                        v.voxel_size, v.sphere_radius, v.half_width, (unsigned long long)r.vdb_active_voxels);
+            std::printf(
+                "pbf_bake: OpenVDB level sets: voxel %g m, particle spheres of radius %g m, narrow band %g voxels; "
+                "%llu active voxels in the last frame\n",
+                v.voxel_size, v.sphere_radius, v.half_width, (unsigned long long)r.vdb_active_voxels);
         }
     } catch (const bake::Error& e) {
         std::fprintf(stderr, "\npbf_bake: %s\n", e.what());

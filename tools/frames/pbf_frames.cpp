@@ -51,11 +51,10 @@ void print_header(FILE* f) {
 void print_row(FILE* f, const std::string& scene, const std::string& scale, const frames::FrameCase& c,
                const frames::FrameResult& r) {
     std::fprintf(f, "%s,%s,%u,%s,%u,%u,%s,%.3f,%s,%.2f,%u,%d,%.4f,%.3f,%.3f,%.5f,%.4f,%.2e,%.3f,%.2e,%.1f\n",
-                 scene.c_str(), scale.c_str(), r.particles,
-                 c.substeps ? std::to_string(c.substeps).c_str() : "auto", c.iterations, c.ldc ? 1u : 0u,
-                 r.verdict.c_str(), r.ms_per_frame, r.device.c_str(), r.substeps_mean, r.substeps_max, r.frames_run,
-                 r.max_energy_gain, r.vmax, r.vmax_ratio, r.err_mean, r.err_max, r.ke_end, r.vmax_end,
-                 r.clamp_fraction, r.wall_s);
+                 scene.c_str(), scale.c_str(), r.particles, c.substeps ? std::to_string(c.substeps).c_str() : "auto",
+                 c.iterations, c.ldc ? 1u : 0u, r.verdict.c_str(), r.ms_per_frame, r.device.c_str(), r.substeps_mean,
+                 r.substeps_max, r.frames_run, r.max_energy_gain, r.vmax, r.vmax_ratio, r.err_mean, r.err_max, r.ke_end,
+                 r.vmax_end, r.clamp_fraction, r.wall_s);
     std::fflush(f);
 }
 
@@ -95,13 +94,15 @@ int main(int argc, char** argv) {
         sub->add_option("--frames", frames, "1/60 s frames per run (120 = 2 s)");
         sub->add_option("--na", na, "override: particles across a");
         sub->add_option("--nz", nz, "override: layers in z");
-        sub->add_option("--tank-width", tank_width, "tank: its length in x in units of a (default 2; small: a deep column)");
+        sub->add_option("--tank-width", tank_width,
+                        "tank: its length in x in units of a (default 2; small: a deep column)");
         sub->add_option("--max-substeps", max_substeps, "cap of automatic substeps");
         sub->add_option("--budget-s", budget, "wall-clock seconds per run before it counts as unstable");
         sub->add_option("--csv", csv_path, "CSV output (default stdout)");
         sub->add_option("--scorr-k", scorr_k, "diagnostic: s_corr k (default: the library's)");
         sub->add_option("--relaxation", relaxation, "diagnostic: relaxation (default: the library's)");
-        sub->add_option("--sound-speed", sound_speed, "diagnostic: the error response speed, m/s (default: the library's)");
+        sub->add_option("--sound-speed", sound_speed,
+                        "diagnostic: the error response speed, m/s (default: the library's)");
         sub->add_option("--travel", travel, "automatic substeps' travel per substep in h (default: the library's)");
     }
     CLI11_PARSE(app, argc, argv);
@@ -161,7 +162,8 @@ int main(int argc, char** argv) {
                         if (res[0].ok && res[1].ok) {
                             const double ms = std::max(res[0].ms_per_frame, res[1].ms_per_frame);
                             Best& b = best[entry];
-                            if (ms < b.ms) b = Best{ms, "S=" + s + " it=" + std::to_string(it) + " ldc=" + std::to_string(l)};
+                            if (ms < b.ms)
+                                b = Best{ms, "S=" + s + " it=" + std::to_string(it) + " ldc=" + std::to_string(l)};
                         }
                     }
         }

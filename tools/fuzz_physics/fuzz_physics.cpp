@@ -30,12 +30,13 @@ using namespace fuzz;
 
 // The solver's fields by name and offset (all 4 bytes wide).
 const std::vector<std::pair<std::string, size_t>>& solver_fields() {
-#define PBF_FIELD(name) {#name, offsetof(pbf_solver_params, name)}
+#define PBF_FIELD(name) \
+    { #name, offsetof(pbf_solver_params, name) }
     static const std::vector<std::pair<std::string, size_t>> fields = {
-        PBF_FIELD(iterations), PBF_FIELD(substeps), PBF_FIELD(relaxation), PBF_FIELD(scorr_k), PBF_FIELD(scorr_n),
-        PBF_FIELD(scorr_dq), PBF_FIELD(xsph_c), PBF_FIELD(vorticity_epsilon), PBF_FIELD(ldc_enabled), PBF_FIELD(ldc_gain),
-        PBF_FIELD(max_speed), PBF_FIELD(adaptive_error_target), PBF_FIELD(max_substeps), PBF_FIELD(substep_travel),
-        PBF_FIELD(sound_speed)};
+        PBF_FIELD(iterations),   PBF_FIELD(substeps),       PBF_FIELD(relaxation), PBF_FIELD(scorr_k),
+        PBF_FIELD(scorr_n),      PBF_FIELD(scorr_dq),       PBF_FIELD(xsph_c),     PBF_FIELD(vorticity_epsilon),
+        PBF_FIELD(ldc_enabled),  PBF_FIELD(ldc_gain),       PBF_FIELD(max_speed),  PBF_FIELD(adaptive_error_target),
+        PBF_FIELD(max_substeps), PBF_FIELD(substep_travel), PBF_FIELD(sound_speed)};
 #undef PBF_FIELD
     return fields;
 }
@@ -55,7 +56,8 @@ std::vector<std::string> parts(const WorldSpec& w) {
     // Solver settings back at their defaults, one at a time: what is left names the culprit.
     const pbf_solver_params def = pbf_solver_params_default();
     for (const auto& f : solver_fields())
-        if (std::memcmp(reinterpret_cast<const char*>(&w.desc.solver) + f.second, reinterpret_cast<const char*>(&def) + f.second, 4) != 0)
+        if (std::memcmp(reinterpret_cast<const char*>(&w.desc.solver) + f.second,
+                        reinterpret_cast<const char*>(&def) + f.second, 4) != 0)
             p.push_back("p." + f.first);
     return p;
 }
@@ -67,7 +69,8 @@ bool drop(WorldSpec& w, const std::string& name) {
         const pbf_solver_params def = pbf_solver_params_default();
         for (const auto& f : solver_fields())
             if (name == "p." + f.first) {
-                std::memcpy(reinterpret_cast<char*>(&w.desc.solver) + f.second, reinterpret_cast<const char*>(&def) + f.second, 4);
+                std::memcpy(reinterpret_cast<char*>(&w.desc.solver) + f.second,
+                            reinterpret_cast<const char*>(&def) + f.second, 4);
                 return true;
             }
         return false;
@@ -83,12 +86,18 @@ bool drop(WorldSpec& w, const std::string& name) {
     }
     auto off = [k](auto& v) { return k < v.size() ? (v[k].on = false, true) : false; };
     switch (name[0]) {
-    case 'b': return k > 0 && off(w.blocks);
-    case 'n': return off(w.nozzles);
-    case 'd': return off(w.drains);
-    case 'c': return off(w.colliders);
-    case 'm': return off(w.materials);
-    default: return false;
+        case 'b':
+            return k > 0 && off(w.blocks);
+        case 'n':
+            return off(w.nozzles);
+        case 'd':
+            return off(w.drains);
+        case 'c':
+            return off(w.colliders);
+        case 'm':
+            return off(w.materials);
+        default:
+            return false;
     }
 }
 
@@ -170,12 +179,18 @@ Case parse_corpus_line(const std::string& line) {
     while (in >> tok) {
         const size_t eq = tok.find('=');
         const std::string key = tok.substr(0, eq), value = eq == std::string::npos ? "" : tok.substr(eq + 1);
-        if (key == "seed") c.seed = std::stoull(value);
-        else if (key == "world") c.world = std::stoull(value);
-        else if (key == "frames") c.frames = std::stoi(value);
-        else if (key == "drop") c.drops = split(value);
-        else if (key == "expect" && value == "fail") c.expect_fail = true;
-        else throw std::runtime_error("unknown corpus field '" + tok + "'");
+        if (key == "seed")
+            c.seed = std::stoull(value);
+        else if (key == "world")
+            c.world = std::stoull(value);
+        else if (key == "frames")
+            c.frames = std::stoi(value);
+        else if (key == "drop")
+            c.drops = split(value);
+        else if (key == "expect" && value == "fail")
+            c.expect_fail = true;
+        else
+            throw std::runtime_error("unknown corpus field '" + tok + "'");
     }
     return c;
 }
@@ -229,7 +244,8 @@ int main(int argc, char** argv) {
     } else if (!only.empty()) {
         for (uint64_t k : only) cases.push_back(Case{seed, k, frames, split(drops), false, ""});
     } else {
-        for (uint64_t k = 0; k < worlds; ++k) cases.push_back(Case{seed, first_world + k, frames, split(drops), false, ""});
+        for (uint64_t k = 0; k < worlds; ++k)
+            cases.push_back(Case{seed, first_world + k, frames, split(drops), false, ""});
     }
 
     const auto start = std::chrono::steady_clock::now();
@@ -259,8 +275,8 @@ int main(int argc, char** argv) {
             const bool unexpected = r.failed != c.expect_fail;
             if (r.failed && !c.expect_fail) {
                 std::ostringstream o;
-                o << "FAIL seed=" << c.seed << " world=" << c.world << " frame=" << r.frame << " " << r.invariant << ": "
-                  << r.detail << "\n  replay: " << command_line(c) << "\n";
+                o << "FAIL seed=" << c.seed << " world=" << c.world << " frame=" << r.frame << " " << r.invariant
+                  << ": " << r.detail << "\n  replay: " << command_line(c) << "\n";
                 if (!no_shrink && r.invariant != "repro" && r.frame >= 0) {
                     RunResult last;
                     const Case small = shrink(c, r, backend, last);
@@ -286,9 +302,9 @@ int main(int argc, char** argv) {
             particle_frames += double(r.peak_particles) * r.frames_run;
             if (verbose) {
                 std::string e;
-                std::printf("world %llu: %s, %d frames, peak %u particles, %.2f s%s\n%s",
-                            (unsigned long long)c.world, r.failed ? "FAIL" : "ok", r.frames_run, r.peak_particles,
-                            r.seconds, r.energy_checked ? ", energy checked" : "", describe(build(c, backend, e)).c_str());
+                std::printf("world %llu: %s, %d frames, peak %u particles, %.2f s%s\n%s", (unsigned long long)c.world,
+                            r.failed ? "FAIL" : "ok", r.frames_run, r.peak_particles, r.seconds,
+                            r.energy_checked ? ", energy checked" : "", describe(build(c, backend, e)).c_str());
             }
             if (!report.empty()) std::fputs(report.c_str(), stdout);
             std::fflush(stdout);
@@ -301,7 +317,8 @@ int main(int argc, char** argv) {
     std::printf("fuzz_physics: %zu worlds, %zu failures", worlds_run, failures);
     if (expected_failures) std::printf(" (%zu expected failures)", expected_failures);
     std::printf(" [seed %llu, %s backend, %.1f s; energy checked in %zu, momentum in %zu; %.2g particle-frames]\n",
-                (unsigned long long)seed, backend_name.c_str(), elapsed(), energy_checked, momentum_checked, particle_frames);
+                (unsigned long long)seed, backend_name.c_str(), elapsed(), energy_checked, momentum_checked,
+                particle_frames);
     if (known_failures > 0) {
         if (failures > known_failures) {
             std::printf("fuzz_physics: FAILED: %zu failures, more than the %zu known\n", failures, known_failures);

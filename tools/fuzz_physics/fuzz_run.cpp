@@ -27,8 +27,9 @@ D3 cross(D3 a, D3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x
 double norm(D3 a) { return std::sqrt(dot(a, a)); }
 
 Q4 qmul(const Q4& a, const Q4& b) {
-    return {a[3] * b[0] + a[0] * b[3] + a[1] * b[2] - a[2] * b[1], a[3] * b[1] - a[0] * b[2] + a[1] * b[3] + a[2] * b[0],
-            a[3] * b[2] + a[0] * b[1] - a[1] * b[0] + a[2] * b[3], a[3] * b[3] - a[0] * b[0] - a[1] * b[1] - a[2] * b[2]};
+    return {
+        a[3] * b[0] + a[0] * b[3] + a[1] * b[2] - a[2] * b[1], a[3] * b[1] - a[0] * b[2] + a[1] * b[3] + a[2] * b[0],
+        a[3] * b[2] + a[0] * b[1] - a[1] * b[0] + a[2] * b[3], a[3] * b[3] - a[0] * b[0] - a[1] * b[1] - a[2] * b[2]};
 }
 Q4 qconj(const Q4& q) { return {-q[0], -q[1], -q[2], q[3]}; }
 Q4 qexp(const V3& w, double t) {  // rotation by angle |w| t about w
@@ -91,7 +92,7 @@ struct Live {
     bool alive = false;
     V3 pos{};
     Q4 rot{0, 0, 0, 1};
-    V3 centre{};          // the path's centre (moves with teleports)
+    V3 centre{};  // the path's centre (moves with teleports)
     D3 body_velocity{};
     double body_mass = 0;
 };
@@ -190,27 +191,30 @@ bool Runner::read(State& s, Failure& f) {
     return ok(pbf_world_copy_positions(w_, s.pos.data(), s.n, &k), "pbf_world_copy_positions", f) &&
            ok(pbf_world_copy_velocities(w_, s.vel.data(), s.n, &k), "pbf_world_copy_velocities", f) &&
            ok(pbf_world_copy_ids(w_, s.ids.data(), s.n, &k), "pbf_world_copy_ids", f) &&
-           ok(pbf_world_copy_buffer(w_, PBF_BUFFER_MATERIALS, s.mat.data(), s.n, &k), "pbf_world_copy_buffer(materials)", f);
+           ok(pbf_world_copy_buffer(w_, PBF_BUFFER_MATERIALS, s.mat.data(), s.n, &k),
+              "pbf_world_copy_buffer(materials)", f);
 }
 
 double Runner::sdf(const ColliderSpec& c, const Live& l, D3 x) const {
     const D3 local = rotate(qconj(l.rot), x - d3(l.pos));
     switch (c.shape) {
-    case PBF_SHAPE_SPHERE: return norm(local) - c.radius;
-    case PBF_SHAPE_CAPSULE: {
-        const double y = std::clamp(local.y, -double(c.half_height), double(c.half_height));
-        return norm(local - D3{0, y, 0}) - c.radius;
-    }
-    case PBF_SHAPE_PLANE: return local.y;
-    default: {
-        // Boxes; meshes by their bounding box (closed ones lie within it; an open terrain's shell
-        // reaches one radius beyond its bumps): an over-estimate of what a mesh displaces.
-        D3 e = d3(c.half_extents);
-        if (c.shape == PBF_SHAPE_MESH && c.mesh == MeshKind::open_terrain) e.y += 2 * r_;
-        const D3 q{std::fabs(local.x) - e.x, std::fabs(local.y) - e.y, std::fabs(local.z) - e.z};
-        const D3 outside{std::max(q.x, 0.0), std::max(q.y, 0.0), std::max(q.z, 0.0)};
-        return norm(outside) + std::min(std::max({q.x, q.y, q.z}), 0.0);
-    }
+        case PBF_SHAPE_SPHERE:
+            return norm(local) - c.radius;
+        case PBF_SHAPE_CAPSULE: {
+            const double y = std::clamp(local.y, -double(c.half_height), double(c.half_height));
+            return norm(local - D3{0, y, 0}) - c.radius;
+        }
+        case PBF_SHAPE_PLANE:
+            return local.y;
+        default: {
+            // Boxes; meshes by their bounding box (closed ones lie within it; an open terrain's shell
+            // reaches one radius beyond its bumps): an over-estimate of what a mesh displaces.
+            D3 e = d3(c.half_extents);
+            if (c.shape == PBF_SHAPE_MESH && c.mesh == MeshKind::open_terrain) e.y += 2 * r_;
+            const D3 q{std::fabs(local.x) - e.x, std::fabs(local.y) - e.y, std::fabs(local.z) - e.z};
+            const D3 outside{std::max(q.x, 0.0), std::max(q.y, 0.0), std::max(q.z, 0.0)};
+            return norm(outside) + std::min(std::max({q.x, q.y, q.z}), 0.0);
+        }
     }
 }
 
@@ -225,7 +229,7 @@ double Runner::overlap_allowance(const State& s, const std::vector<char>& candid
     const D3 u = up();
     // A basis across gravity for the footprint.
     const D3 e1 = norm(cross(u, D3{1, 0, 0})) > 0.5 ? cross(u, D3{1, 0, 0}) * (1.0 / norm(cross(u, D3{1, 0, 0})))
-                                                   : cross(u, D3{0, 0, 1}) * (1.0 / norm(cross(u, D3{0, 0, 1})));
+                                                    : cross(u, D3{0, 0, 1}) * (1.0 / norm(cross(u, D3{0, 0, 1})));
     const D3 e2 = cross(u, e1);
     double top = -1e30, a_lo = 1e30, a_hi = -1e30, b_lo = 1e30, b_hi = -1e30;
     D3 old_lo{1e30, 1e30, 1e30}, old_hi{-1e30, -1e30, -1e30};
@@ -249,8 +253,8 @@ double Runner::overlap_allowance(const State& s, const std::vector<char>& candid
         bool inside = false;
         for (size_t k : shapes)
             if (colliders_[k].alive && sdf(spec_.colliders[k], colliders_[k], x) < r_) inside = true;
-        if (with_fluid && x.x >= old_lo.x - r_ && x.x <= old_hi.x + r_ && x.y >= old_lo.y - r_ && x.y <= old_hi.y + r_ &&
-            x.z >= old_lo.z - r_ && x.z <= old_hi.z + r_)
+        if (with_fluid && x.x >= old_lo.x - r_ && x.x <= old_hi.x + r_ && x.y >= old_lo.y - r_ &&
+            x.y <= old_hi.y + r_ && x.z >= old_lo.z - r_ && x.z <= old_hi.z + r_)
             inside = true;
         if (!inside) continue;
         lift += mass(s, i) * (top - dot(x, u));
@@ -292,9 +296,12 @@ bool Runner::create_collider(size_t k, Failure& f) {
     if (c.body) {
         const double pi = kPi;
         double vol = 0;
-        if (c.shape == PBF_SHAPE_SPHERE) vol = 4.0 / 3.0 * pi * std::pow(c.radius, 3);
-        else if (c.shape == PBF_SHAPE_CAPSULE) vol = pi * c.radius * c.radius * 2 * c.half_height + 4.0 / 3.0 * pi * std::pow(c.radius, 3);
-        else vol = 8.0 * c.half_extents[0] * c.half_extents[1] * c.half_extents[2];
+        if (c.shape == PBF_SHAPE_SPHERE)
+            vol = 4.0 / 3.0 * pi * std::pow(c.radius, 3);
+        else if (c.shape == PBF_SHAPE_CAPSULE)
+            vol = pi * c.radius * c.radius * 2 * c.half_height + 4.0 / 3.0 * pi * std::pow(c.radius, 3);
+        else
+            vol = 8.0 * c.half_extents[0] * c.half_extents[1] * c.half_extents[2];
         l.body_mass = c.body_density * vol;
     }
     if (c.shape != PBF_SHAPE_PLANE) {
@@ -313,7 +320,8 @@ bool Runner::events(int frame, float dt, std::vector<size_t>& appeared, bool& pa
         if (!ok(pbf_world_set_gravity(w_, s.gravity_after.data()), "pbf_world_set_gravity", f)) return false;
         particles_changed = true;  // the potential energy's field changed
     }
-    if (frame == s.solver_frame && !ok(pbf_world_set_solver_params(w_, &s.solver_after), "pbf_world_set_solver_params", f))
+    if (frame == s.solver_frame &&
+        !ok(pbf_world_set_solver_params(w_, &s.solver_after), "pbf_world_set_solver_params", f))
         return false;
     for (size_t k = 0; k < s.blocks.size(); ++k) {
         const BlockSpec& b = s.blocks[k];
@@ -343,7 +351,8 @@ bool Runner::events(int frame, float dt, std::vector<size_t>& appeared, bool& pa
             e.radius = n.radius;
             e.particles_per_second = n.rate;
             if (n.material >= 0 && s.materials[size_t(n.material)].on) e.material = mats_[size_t(n.material)];
-            if (!ok(pbf_world_create_emitter(w_, &e, &nozzles_[k]), "pbf_world_create_emitter(nozzle)", f)) return false;
+            if (!ok(pbf_world_create_emitter(w_, &e, &nozzles_[k]), "pbf_world_create_emitter(nozzle)", f))
+                return false;
             nozzle_alive_[k] = nozzle_enabled_[k] = true;
             nozzle_pos_[k] = n.position;
             emit_speed_max_ = std::max(emit_speed_max_, double(n.speed));
@@ -357,7 +366,8 @@ bool Runner::events(int frame, float dt, std::vector<size_t>& appeared, bool& pa
         }
         if (frame == n.toggle_frame) {
             nozzle_enabled_[k] = !nozzle_enabled_[k];
-            if (!ok(pbf_emitter_set_enabled(w_, nozzles_[k], nozzle_enabled_[k] ? 1u : 0u), "pbf_emitter_set_enabled", f))
+            if (!ok(pbf_emitter_set_enabled(w_, nozzles_[k], nozzle_enabled_[k] ? 1u : 0u), "pbf_emitter_set_enabled",
+                    f))
                 return false;
         }
         if (frame == n.move_frame) {
@@ -382,7 +392,8 @@ bool Runner::events(int frame, float dt, std::vector<size_t>& appeared, bool& pa
             drain_hi_[k] = d.hi;
         }
         if (drain_alive_[k] && frame == d.move_frame) {
-            if (!ok(pbf_emitter_set_drain_box(w_, drains_[k], d.moved_lo.data(), d.moved_hi.data()), "pbf_emitter_set_drain_box", f))
+            if (!ok(pbf_emitter_set_drain_box(w_, drains_[k], d.moved_lo.data(), d.moved_hi.data()),
+                    "pbf_emitter_set_drain_box", f))
                 return false;
             drain_lo_[k] = d.moved_lo;
             drain_hi_[k] = d.moved_hi;
@@ -408,7 +419,8 @@ bool Runner::events(int frame, float dt, std::vector<size_t>& appeared, bool& pa
             const V3 at = c.kinematic && !c.body ? path_pos(c, l, time_) : l.pos;
             for (int a = 0; a < 3; ++a) l.centre[a] += c.teleport_to[a] - at[a];
             l.pos = c.teleport_to;
-            if (!ok(pbf_collider_teleport(w_, l.id, l.pos.data(), l.rot.data()), "pbf_collider_teleport", f)) return false;
+            if (!ok(pbf_collider_teleport(w_, l.id, l.pos.data(), l.rot.data()), "pbf_collider_teleport", f))
+                return false;
             appeared.push_back(k);
             if (c.shape != PBF_SHAPE_PLANE) {
                 const double reach = collider_reach(c);
@@ -427,11 +439,13 @@ bool Runner::check_step(int frame, float dt, const State& pre, const pbf_step_st
     // ---- finite ----
     for (size_t k = 0; k < post.pos.size(); ++k)
         if (!std::isfinite(post.pos[k]) || !std::isfinite(post.vel[k])) {
-            o << "particle " << k / 4 << " (id " << post.ids[k / 4] << ") has a non-finite " << (std::isfinite(post.pos[k]) ? "velocity" : "position");
+            o << "particle " << k / 4 << " (id " << post.ids[k / 4] << ") has a non-finite "
+              << (std::isfinite(post.pos[k]) ? "velocity" : "position");
             f = {"finite", o.str()};
             return false;
         }
-    if (!std::isfinite(st1.kinetic_energy) || !std::isfinite(st1.density_error_max) || !std::isfinite(st1.density_error_mean)) {
+    if (!std::isfinite(st1.kinetic_energy) || !std::isfinite(st1.density_error_max) ||
+        !std::isfinite(st1.density_error_mean)) {
         f = {"finite", "stats: kinetic energy or density error not finite"};
         return false;
     }
@@ -440,7 +454,8 @@ bool Runner::check_step(int frame, float dt, const State& pre, const pbf_step_st
         return false;
     }
     // ---- accounting: nothing appears or vanishes but through emission and drains ----
-    const int64_t emitted = int64_t(st1.emitted_total - st0.emitted_total), drained = int64_t(st1.drained_total - st0.drained_total);
+    const int64_t emitted = int64_t(st1.emitted_total - st0.emitted_total),
+                  drained = int64_t(st1.drained_total - st0.drained_total);
     std::unordered_map<uint32_t, uint32_t> before;
     before.reserve(pre.n * 2);
     for (uint32_t i = 0; i < pre.n; ++i) before[pre.ids[i]] = i;
@@ -460,8 +475,9 @@ bool Runner::check_step(int frame, float dt, const State& pre, const pbf_step_st
         if (!seen.count(pre.ids[i])) vanished.push_back(i);
     if (int64_t(post.n) != int64_t(pre.n) + emitted - drained || int64_t(fresh.size()) > emitted ||
         int64_t(vanished.size()) > drained || post.n > spec_.desc.max_particles || st1.particle_count != post.n) {
-        o << "count " << pre.n << " -> " << post.n << " (stats " << st1.particle_count << "), emitted " << emitted << ", drained "
-          << drained << ", new ids " << fresh.size() << ", vanished ids " << vanished.size() << ", capacity " << spec_.desc.max_particles;
+        o << "count " << pre.n << " -> " << post.n << " (stats " << st1.particle_count << "), emitted " << emitted
+          << ", drained " << drained << ", new ids " << fresh.size() << ", vanished ids " << vanished.size()
+          << ", capacity " << spec_.desc.max_particles;
         f = {"accounting", o.str()};
         return false;
     }
@@ -470,7 +486,8 @@ bool Runner::check_step(int frame, float dt, const State& pre, const pbf_step_st
     const double height = std::fabs(up().x) * (box_hi_.x - box_lo_.x) + std::fabs(up().y) * (box_hi_.y - box_lo_.y) +
                           std::fabs(up().z) * (box_hi_.z - box_lo_.z);
     // After a gravity change the drop may lie along any axis: the scene's diagonal.
-    const double drop = spec_.gravity_frame >= 0 && frame >= spec_.gravity_frame ? norm(box_hi_ - box_lo_) : std::max(height, 0.0);
+    const double drop =
+        spec_.gravity_frame >= 0 && frame >= spec_.gravity_frame ? norm(box_hi_ - box_lo_) : std::max(height, 0.0);
     for (uint32_t i : vanished) {  // a drained particle was inside a drain box, as far as it could travel
         const D3 x = d3(&pre.pos[4 * i]);
         bool near = false;
@@ -479,16 +496,19 @@ bool Runner::check_step(int frame, float dt, const State& pre, const pbf_step_st
         for (size_t k = 0; k < colliders_.size(); ++k)
             if (colliders_[k].alive) depth = std::max(depth, r_ - sdf(spec_.colliders[k], colliders_[k], x));
         const double reach = (norm(d3(&pre.vel[4 * i])) + kFrontFactor * std::sqrt(2 * g * std::max(drop, 0.0)) +
-                              2 * coll_speed_max_ + emit_speed_max_ + kSpeedMargin + vort_speed_ + cohesion_speed_) * dt + h_ + depth;
+                              2 * coll_speed_max_ + emit_speed_max_ + kSpeedMargin + vort_speed_ + cohesion_speed_) *
+                                 dt +
+                             h_ + depth;
         for (size_t k = 0; k < drains_.size(); ++k) {
             if (!drain_alive_[k]) continue;
             const D3 lo = d3(drain_lo_[k]), hi = d3(drain_hi_[k]);
-            const D3 q{std::max({lo.x - x.x, 0.0, x.x - hi.x}), std::max({lo.y - x.y, 0.0, x.y - hi.y}), std::max({lo.z - x.z, 0.0, x.z - hi.z})};
+            const D3 q{std::max({lo.x - x.x, 0.0, x.x - hi.x}), std::max({lo.y - x.y, 0.0, x.y - hi.y}),
+                       std::max({lo.z - x.z, 0.0, x.z - hi.z})};
             if (norm(q) <= reach) near = true;
         }
         if (!near) {
-            o << "particle id " << pre.ids[i] << " at (" << x.x << ", " << x.y << ", " << x.z << ") vanished, out of every drain's reach "
-              << reach << " m";
+            o << "particle id " << pre.ids[i] << " at (" << x.x << ", " << x.y << ", " << x.z
+              << ") vanished, out of every drain's reach " << reach << " m";
             f = {"accounting", o.str()};
             return false;
         }
@@ -500,8 +520,9 @@ bool Runner::check_step(int frame, float dt, const State& pre, const pbf_step_st
             for (int a = 0; a < 3; ++a) {
                 const double x = post.pos[4 * i + a], tol = 1e-3 * r_ + 1e-6 * std::fabs(x);
                 if (x < d.domain_min[a] + r_ - tol || x > d.domain_max[a] - r_ + tol) {
-                    o << "particle id " << post.ids[i] << " at " << "xyz"[a] << " = " << x << " is outside the walls "
-                      << d.domain_min[a] << ".." << d.domain_max[a] << " (less one radius)";
+                    o << "particle id " << post.ids[i] << " at "
+                      << "xyz"[a] << " = " << x << " is outside the walls " << d.domain_min[a] << ".."
+                      << d.domain_max[a] << " (less one radius)";
                     f = {"walls", o.str()};
                     return false;
                 }
@@ -513,7 +534,8 @@ bool Runner::check_step(int frame, float dt, const State& pre, const pbf_step_st
         for (uint32_t i = 0; i < post.n; ++i) {
             const double d = sdf(c, colliders_[k], d3(&post.pos[4 * i]));
             if (d < -h_) {
-                o << "particle id " << post.ids[i] << " is " << -d << " m inside collider c" << k << " (more than h = " << h_ << ")";
+                o << "particle id " << post.ids[i] << " is " << -d << " m inside collider c" << k
+                  << " (more than h = " << h_ << ")";
                 f = {"collider", o.str()};
                 return false;
             }
@@ -551,10 +573,10 @@ bool Runner::check_step(int frame, float dt, const State& pre, const pbf_step_st
         // to tolerate, with the same factor.
         const double bound = kDensityBase + kDepthRuleFactor * (depth_rule + sp.adaptive_error_target) + carried;
         if (st1.density_error_max > bound) {
-            o << "density error max " << st1.density_error_max << " (mean " << st1.density_error_mean << ") > bound " << bound
-              << " (0.5 + 2 x (depth rule " << depth_rule << " + adaptive target " << sp.adaptive_error_target << ") + carried "
-              << carried << "; " << substeps << " substeps of "
-              << sub_dt << " s, " << k << " iterations, depth " << depth << " m)";
+            o << "density error max " << st1.density_error_max << " (mean " << st1.density_error_mean << ") > bound "
+              << bound << " (0.5 + 2 x (depth rule " << depth_rule << " + adaptive target " << sp.adaptive_error_target
+              << ") + carried " << carried << "; " << substeps << " substeps of " << sub_dt << " s, " << k
+              << " iterations, depth " << depth << " m)";
             f = {"density", o.str()};
             return false;
         }
@@ -569,14 +591,15 @@ bool Runner::check_step(int frame, float dt, const State& pre, const pbf_step_st
     }
     {
         const double free_fall = kFrontFactor * std::sqrt(2 * g * drop);
-        const double bound = free_fall + 2 * coll_speed_max_ + emit_speed_max_ + kSpeedMargin + vort_speed_ + cohesion_speed_;
+        const double bound =
+            free_fall + 2 * coll_speed_max_ + emit_speed_max_ + kSpeedMargin + vort_speed_ + cohesion_speed_;
         if (v_post_max > bound) {
             const D3 x = d3(&post.pos[4 * fastest]);
-            o << "particle id " << post.ids[fastest] << " at (" << x.x << ", " << x.y << ", " << x.z << ") moves at " << v_post_max
-              << " m/s > bound " << bound << " (free fall over " << drop << " m x sqrt2: " << free_fall << ", 2 x collider "
-              << coll_speed_max_ << ", emitters " << emit_speed_max_ << ", margin " << kSpeedMargin << ", vorticity " << vort_speed_
-              << ", cohesion " << cohesion_speed_ << "); fastest before the step " << v_pre_max << " m/s, " << st1.substeps
-              << " substeps, " << st1.speed_clamps << " speed clamps";
+            o << "particle id " << post.ids[fastest] << " at (" << x.x << ", " << x.y << ", " << x.z << ") moves at "
+              << v_post_max << " m/s > bound " << bound << " (free fall over " << drop << " m x sqrt2: " << free_fall
+              << ", 2 x collider " << coll_speed_max_ << ", emitters " << emit_speed_max_ << ", margin " << kSpeedMargin
+              << ", vorticity " << vort_speed_ << ", cohesion " << cohesion_speed_ << "); fastest before the step "
+              << v_pre_max << " m/s, " << st1.substeps << " substeps, " << st1.speed_clamps << " speed clamps";
             f = {"speed", o.str()};
             return false;
         }
@@ -597,7 +620,8 @@ bool Runner::check_step(int frame, float dt, const State& pre, const pbf_step_st
         double fluid_top = -1e30;
         for (uint32_t i = 0; i < pre.n; ++i) fluid_top = std::max(fluid_top, dot(d3(&pre.pos[4 * i]), u));
         double in = work_in + overlap_in;
-        for (uint32_t i : fresh) {  // a new particle: the nozzle's speed, at the disc's top or against the fluid above it
+        for (uint32_t i :
+             fresh) {  // a new particle: the nozzle's speed, at the disc's top or against the fluid above it
             const double m = mass(post, i);
             in += m * (0.5 * emit_speed_max_ * emit_speed_max_ + gm * std::max(nozzle_top, fluid_top));
         }
@@ -610,13 +634,14 @@ bool Runner::check_step(int frame, float dt, const State& pre, const pbf_step_st
                     drain_floor = std::min(drain_floor, dot(x, u));
                 }
         for (uint32_t i : vanished) in -= mass(pre, i) * gm * drain_floor;  // it left with at least its height's energy
-        in += eps * omega_bound * v_top * m_post * dt;  // what confinement could add at most
+        in += eps * omega_bound * v_top * m_post * dt;                      // what confinement could add at most
         budget_ += in;
         const double margin = m_post * (g_max_ * r_ + 0.5 * kRestSpeed * kRestSpeed);
         if (e_post > budget_ + margin) {
-            o << "energy " << e_post << " J > budget " << budget_ << " + margin " << margin << " J (this step: collider work "
-              << work_in << ", overlaps " << overlap_in << ", " << fresh.size() << " emitted, " << vanished.size()
-              << " drained; fluid mass " << m_post << " kg, fastest " << v_post_max << " m/s)";
+            o << "energy " << e_post << " J > budget " << budget_ << " + margin " << margin
+              << " J (this step: collider work " << work_in << ", overlaps " << overlap_in << ", " << fresh.size()
+              << " emitted, " << vanished.size() << " drained; fluid mass " << m_post << " kg, fastest " << v_post_max
+              << " m/s)";
             f = {"energy", o.str()};
             return false;
         }
@@ -639,10 +664,11 @@ bool Runner::check_step(int frame, float dt, const State& pre, const pbf_step_st
         momentum_allow_p_ += eps * omega_bound * m_post * dt;
         momentum_allow_l_ += eps * omega_bound * m_post * r_scale_ * dt;
         const double tol_p = kMomentumTolerance * p_scale_ + m_post * kMomentumFloorSpeed + momentum_allow_p_;
-        const double tol_l = kMomentumTolerance * l_scale_ + m_post * r_scale_ * kMomentumFloorSpeed + momentum_allow_l_;
+        const double tol_l =
+            kMomentumTolerance * l_scale_ + m_post * r_scale_ * kMomentumFloorSpeed + momentum_allow_l_;
         if (norm(p - p0_) > tol_p || norm(l - l0_) > tol_l) {
-            o << "|dP| " << norm(p - p0_) << " (tolerance " << tol_p << ", scale sum m|v| " << p_scale_ << "), |dL| " << norm(l - l0_)
-              << " (tolerance " << tol_l << ", scale " << l_scale_ << ")";
+            o << "|dP| " << norm(p - p0_) << " (tolerance " << tol_p << ", scale sum m|v| " << p_scale_ << "), |dL| "
+              << norm(l - l0_) << " (tolerance " << tol_l << ", scale " << l_scale_ << ")";
             f = {"momentum", o.str()};
             return false;
         }
@@ -684,14 +710,16 @@ RunResult Runner::run() {
     for (auto& m : mass_by_slot_) m = info.particle_mass;
     for (size_t k = 0; k < s.materials.size(); ++k) {
         if (!s.materials[k].on) continue;
-        if (!ok(pbf_world_create_material(w_, &s.materials[k].desc, &mats_[k]), "pbf_world_create_material", f)) return finish(-1);
+        if (!ok(pbf_world_create_material(w_, &s.materials[k].desc, &mats_[k]), "pbf_world_create_material", f))
+            return finish(-1);
         mass_by_slot_[mats_[k].index % PBF_MAX_MATERIALS] = double(s.materials[k].desc.rest_density) * volume_;
         const pbf_material_desc& d = s.materials[k].desc;
         // Surface forces store energy the API does not expose: the energy check is off, and a
         // particle may move at the speed of an oscillator of the forces' stiffness over h.
         if (d.surface_tension > 0 || d.cohesion > 0 || d.adhesion > 0) {
             energy_on_ = false;
-            cohesion_speed_ = std::max(cohesion_speed_, h_ * std::sqrt(40.0 * (d.surface_tension + d.cohesion) + 6.0 * d.adhesion));
+            cohesion_speed_ =
+                std::max(cohesion_speed_, h_ * std::sqrt(40.0 * (d.surface_tension + d.cohesion) + 6.0 * d.adhesion));
         }
     }
     colliders_.assign(s.colliders.size(), Live{});
@@ -756,7 +784,8 @@ RunResult Runner::run() {
             motion[k] = {dx, dtheta};
             const double reach = c.shape == PBF_SHAPE_PLANE ? 0.0 : collider_reach(c);
             coll_speed = std::max(coll_speed, (norm(dx) + norm(dtheta) * reach) / dt);
-            if (!ok(pbf_collider_set_target_pose(w_, l.id, target.data(), rot.data()), "pbf_collider_set_target_pose", f))
+            if (!ok(pbf_collider_set_target_pose(w_, l.id, target.data(), rot.data()), "pbf_collider_set_target_pose",
+                    f))
                 return finish(frame);
             l.pos = target;
             l.rot = rot;
@@ -831,7 +860,8 @@ RunResult Runner::run() {
             const ColliderSpec& c = s.colliders[k];
             if (!c.on || !colliders_[k].alive || !c.dynamic) continue;
             pbf_collider_force cf{};
-            if (!ok(pbf_collider_get_force(w_, colliders_[k].id, &cf), "pbf_collider_get_force", f)) return finish(frame);
+            if (!ok(pbf_collider_get_force(w_, colliders_[k].id, &cf), "pbf_collider_get_force", f))
+                return finish(frame);
             work_in -= dot(d3(cf.force), motion[k].first) + dot(d3(cf.torque), motion[k].second);
         }
         if (!check_step(frame, dt, pre, st0, st1, work_in, overlap_in, v_pre_max, f)) return finish(frame);

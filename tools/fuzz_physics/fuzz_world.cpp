@@ -85,13 +85,16 @@ std::vector<float> draw_dts(Rng& rng, int frames, std::string& pattern) {
 
 float collider_reach(const ColliderSpec& c) {
     switch (c.shape) {
-    case PBF_SHAPE_SPHERE: return c.radius;
-    case PBF_SHAPE_CAPSULE: return c.radius + c.half_height;
-    case PBF_SHAPE_PLANE: return INFINITY;
-    default: {
-        const V3& e = c.half_extents;
-        return std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
-    }
+        case PBF_SHAPE_SPHERE:
+            return c.radius;
+        case PBF_SHAPE_CAPSULE:
+            return c.radius + c.half_height;
+        case PBF_SHAPE_PLANE:
+            return INFINITY;
+        default: {
+            const V3& e = c.half_extents;
+            return std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+        }
     }
 }
 
@@ -100,7 +103,8 @@ MeshData mesh_of(const ColliderSpec& c) {
     const V3& e = c.half_extents;
     if (c.mesh == MeshKind::closed_box) {
         for (int k = 0; k < 8; ++k)
-            m.vertices.insert(m.vertices.end(), {(k & 1) ? e[0] : -e[0], (k & 2) ? e[1] : -e[1], (k & 4) ? e[2] : -e[2]});
+            m.vertices.insert(m.vertices.end(),
+                              {(k & 1) ? e[0] : -e[0], (k & 2) ? e[1] : -e[1], (k & 4) ? e[2] : -e[2]});
         // Counter-clockwise seen from outside.
         m.indices = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
                      2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
@@ -145,7 +149,8 @@ WorldSpec draw_world(uint64_t seed, uint64_t index, pbf_backend backend) {
     d.walls = !isolated && rng.chance(0.75) ? 1u : 0u;
     d.solver = draw_solver(rng);
     // The scene's box (the walls, or the region an open level's objects are placed in).
-    const float lx = float(rng.integer(8, 24)) * s, ly = float(rng.integer(12, 32)) * s, lz = float(rng.integer(8, 24)) * s;
+    const float lx = float(rng.integer(8, 24)) * s, ly = float(rng.integer(12, 32)) * s,
+                lz = float(rng.integer(8, 24)) * s;
     const V3 lo{-lx / 2, 0.0f, -lz / 2}, hi{lx / 2, ly, lz / 2};
     std::copy(lo.begin(), lo.end(), d.domain_min);
     std::copy(hi.begin(), hi.end(), d.domain_max);
@@ -174,16 +179,21 @@ WorldSpec draw_world(uint64_t seed, uint64_t index, pbf_backend backend) {
         double cost = 0;
         for (float dt : w.dts) {
             const pbf_solver_params& p = d.solver;
-            const double substeps = p.substeps ? p.substeps : (dt >= 0.05f ? p.max_substeps : std::min(p.max_substeps, 4u));
+            const double substeps =
+                p.substeps ? p.substeps : (dt >= 0.05f ? p.max_substeps : std::min(p.max_substeps, 4u));
             cost += substeps * (p.iterations + 3);
         }
         return cost;
     };
     constexpr double kCostCap = 1.5e6;
-    while (per_particle() * 100 > kCostCap && (d.solver.substeps > 1 || d.solver.max_substeps > 1 || d.solver.iterations > 1)) {
-        if (d.solver.substeps > 1) d.solver.substeps /= 2;
-        else if (d.solver.max_substeps > 1) d.solver.max_substeps /= 2;
-        else d.solver.iterations /= 2;
+    while (per_particle() * 100 > kCostCap &&
+           (d.solver.substeps > 1 || d.solver.max_substeps > 1 || d.solver.iterations > 1)) {
+        if (d.solver.substeps > 1)
+            d.solver.substeps /= 2;
+        else if (d.solver.max_substeps > 1)
+            d.solver.max_substeps /= 2;
+        else
+            d.solver.iterations /= 2;
     }
     const int affordable = int(kCostCap / per_particle());
 
@@ -194,14 +204,16 @@ WorldSpec draw_world(uint64_t seed, uint64_t index, pbf_backend backend) {
     const int blocks = rng.integer(1, 3);
     for (int k = 0; k < blocks; ++k) {
         BlockSpec b;
-        const int share = k == 0 ? std::max(100, target * rng.integer(50, 100) / 100) : std::max(8, (target - planned) / 2);
+        const int share =
+            k == 0 ? std::max(100, target * rng.integer(50, 100) / 100) : std::max(8, (target - planned) / 2);
         if (k > 0 && share <= 8) break;
         b.frame = k == 0 || isolated ? 0 : (rng.chance(0.5) ? 0 : rng.integer(1, frames - 1));
         // Isolated worlds stack their drops in separate bands, so none is emitted into another.
         // Each block has its own band of heights, so none is emitted into another's start.
         const float upper = isolated ? float(k) * 0.34f * ly : (k == 0 ? 0.0f : (0.55f + 0.22f * float(k - 1)) * ly);
         // A box of about `share` lattice sites: nx·ny·nz with nx, nz within the box.
-        const int nx = std::min(int(lx / s) - 1, rng.integer(3, 14)), nz = std::min(int(lz / s) - 1, rng.integer(3, 14));
+        const int nx = std::min(int(lx / s) - 1, rng.integer(3, 14)),
+                  nz = std::min(int(lz / s) - 1, rng.integer(3, 14));
         const int max_ny = std::max(1, int((isolated ? 0.3f * ly : (k == 0 ? 0.45f * ly : 0.2f * ly)) / s));
         const int ny = std::max(1, std::min(max_ny, share / std::max(1, nx * nz)));
         const float x0 = rng.uniform(lo[0], hi[0] - nx * s), z0 = rng.uniform(lo[2], hi[2] - nz * s);
@@ -280,10 +292,14 @@ WorldSpec draw_world(uint64_t seed, uint64_t index, pbf_backend backend) {
     for (int k = 0; k < colliders; ++k) {
         ColliderSpec c;
         const double pick = rng.unit();
-        if (pick < 0.1) c.shape = PBF_SHAPE_PLANE;
-        else if (pick < 0.35) c.shape = PBF_SHAPE_SPHERE;
-        else if (pick < 0.55) c.shape = PBF_SHAPE_CAPSULE;
-        else if (pick < 0.8) c.shape = PBF_SHAPE_BOX;
+        if (pick < 0.1)
+            c.shape = PBF_SHAPE_PLANE;
+        else if (pick < 0.35)
+            c.shape = PBF_SHAPE_SPHERE;
+        else if (pick < 0.55)
+            c.shape = PBF_SHAPE_CAPSULE;
+        else if (pick < 0.8)
+            c.shape = PBF_SHAPE_BOX;
         else {
             c.shape = PBF_SHAPE_MESH;
             const double m = rng.unit();
@@ -304,7 +320,8 @@ WorldSpec draw_world(uint64_t seed, uint64_t index, pbf_backend backend) {
         }
         c.friction = rng.chance(0.3) ? rng.uniform(0.0, 1.0) : 0.0f;
         const double motion = rng.unit();
-        const bool can_be_body = c.shape == PBF_SHAPE_SPHERE || c.shape == PBF_SHAPE_BOX || c.shape == PBF_SHAPE_CAPSULE;
+        const bool can_be_body =
+            c.shape == PBF_SHAPE_SPHERE || c.shape == PBF_SHAPE_BOX || c.shape == PBF_SHAPE_CAPSULE;
         if (motion < 0.35 || (motion >= 0.85 && !can_be_body)) {
             c.kinematic = true;
             const double vpick = rng.unit();
@@ -339,7 +356,10 @@ WorldSpec draw_world(uint64_t seed, uint64_t index, pbf_backend backend) {
                     if (b.frame == 0) bottom = std::min(bottom, b.lo[1]);
                 c.centre[1] = bottom - 0.9f * (lx + lz) / 2 - std::fabs(c.amplitude[1]);
             } else {
-                const float reach = collider_reach(c) + std::sqrt(c.amplitude[0] * c.amplitude[0] + c.amplitude[1] * c.amplitude[1] + c.amplitude[2] * c.amplitude[2]) + 2 * r;
+                const float reach = collider_reach(c) +
+                                    std::sqrt(c.amplitude[0] * c.amplitude[0] + c.amplitude[1] * c.amplitude[1] +
+                                              c.amplitude[2] * c.amplitude[2]) +
+                                    2 * r;
                 auto clear = [&](const V3& p) {
                     for (const auto& b : w.blocks) {
                         if (b.frame != 0) continue;
@@ -392,40 +412,44 @@ std::string describe(const WorldSpec& w) {
     const pbf_world_desc& d = w.desc;
     const pbf_solver_params& p = d.solver;
     o << "world: radius " << d.particle_radius << " m, rest density " << d.rest_density << " kg/m3, gravity ("
-      << d.gravity[0] << ", " << d.gravity[1] << ", " << d.gravity[2] << "), " << (d.walls ? "walls " : "open level, box ")
-      << d.domain_min[0] << ".." << d.domain_max[0] << " x " << d.domain_min[1] << ".." << d.domain_max[1] << " x "
-      << d.domain_min[2] << ".." << d.domain_max[2] << ", max_particles " << d.max_particles << "\n";
+      << d.gravity[0] << ", " << d.gravity[1] << ", " << d.gravity[2] << "), "
+      << (d.walls ? "walls " : "open level, box ") << d.domain_min[0] << ".." << d.domain_max[0] << " x "
+      << d.domain_min[1] << ".." << d.domain_max[1] << " x " << d.domain_min[2] << ".." << d.domain_max[2]
+      << ", max_particles " << d.max_particles << "\n";
     o << "solver: iterations " << p.iterations << ", substeps " << p.substeps << ", relaxation " << p.relaxation
-      << ", scorr k/n/dq " << p.scorr_k << "/" << p.scorr_n << "/" << p.scorr_dq << ", xsph " << p.xsph_c << ", vorticity "
-      << p.vorticity_epsilon << ", ldc " << p.ldc_enabled << " gain " << p.ldc_gain << ", max_speed " << p.max_speed
-      << ", adaptive " << p.adaptive_error_target << ", max_substeps " << p.max_substeps << ", travel "
+      << ", scorr k/n/dq " << p.scorr_k << "/" << p.scorr_n << "/" << p.scorr_dq << ", xsph " << p.xsph_c
+      << ", vorticity " << p.vorticity_epsilon << ", ldc " << p.ldc_enabled << " gain " << p.ldc_gain << ", max_speed "
+      << p.max_speed << ", adaptive " << p.adaptive_error_target << ", max_substeps " << p.max_substeps << ", travel "
       << p.substep_travel << ", sound_speed " << p.sound_speed << "\n";
     for (size_t k = 0; k < w.materials.size(); ++k) {
         if (!w.materials[k].on) continue;
         const pbf_material_desc& m = w.materials[k].desc;
         o << "material m" << k << ": rest density " << m.rest_density << ", viscosity " << m.viscosity << ", ldc_gain "
-          << m.ldc_gain << ", sigma " << m.surface_tension << ", kappa " << m.cohesion << ", beta " << m.adhesion << "\n";
+          << m.ldc_gain << ", sigma " << m.surface_tension << ", kappa " << m.cohesion << ", beta " << m.adhesion
+          << "\n";
     }
     for (size_t k = 0; k < w.blocks.size(); ++k) {
         const BlockSpec& b = w.blocks[k];
         if (!b.on) continue;
-        o << "block b" << k << " (frame " << b.frame << "): (" << b.lo[0] << ", " << b.lo[1] << ", " << b.lo[2] << ")..("
-          << b.hi[0] << ", " << b.hi[1] << ", " << b.hi[2] << "), velocity (" << b.velocity[0] << ", " << b.velocity[1]
-          << ", " << b.velocity[2] << "), material " << b.material << "\n";
+        o << "block b" << k << " (frame " << b.frame << "): (" << b.lo[0] << ", " << b.lo[1] << ", " << b.lo[2]
+          << ")..(" << b.hi[0] << ", " << b.hi[1] << ", " << b.hi[2] << "), velocity (" << b.velocity[0] << ", "
+          << b.velocity[1] << ", " << b.velocity[2] << "), material " << b.material << "\n";
     }
     for (size_t k = 0; k < w.nozzles.size(); ++k) {
         const NozzleSpec& n = w.nozzles[k];
         if (!n.on) continue;
-        o << "nozzle n" << k << " (frames " << n.create_frame << ".." << n.destroy_frame << ", toggled " << n.toggle_frame
-          << ", moved " << n.move_frame << "): at (" << n.position[0] << ", " << n.position[1] << ", " << n.position[2]
-          << "), direction (" << n.direction[0] << ", " << n.direction[1] << ", " << n.direction[2] << "), speed "
-          << n.speed << " m/s, radius " << n.radius << ", " << n.rate << "/s, material " << n.material << "\n";
+        o << "nozzle n" << k << " (frames " << n.create_frame << ".." << n.destroy_frame << ", toggled "
+          << n.toggle_frame << ", moved " << n.move_frame << "): at (" << n.position[0] << ", " << n.position[1] << ", "
+          << n.position[2] << "), direction (" << n.direction[0] << ", " << n.direction[1] << ", " << n.direction[2]
+          << "), speed " << n.speed << " m/s, radius " << n.radius << ", " << n.rate << "/s, material " << n.material
+          << "\n";
     }
     for (size_t k = 0; k < w.drains.size(); ++k) {
         const DrainSpec& dr = w.drains[k];
         if (!dr.on) continue;
-        o << "drain d" << k << " (frame " << dr.create_frame << ", moved " << dr.move_frame << "): (" << dr.lo[0] << ", "
-          << dr.lo[1] << ", " << dr.lo[2] << ")..(" << dr.hi[0] << ", " << dr.hi[1] << ", " << dr.hi[2] << ")\n";
+        o << "drain d" << k << " (frame " << dr.create_frame << ", moved " << dr.move_frame << "): (" << dr.lo[0]
+          << ", " << dr.lo[1] << ", " << dr.lo[2] << ")..(" << dr.hi[0] << ", " << dr.hi[1] << ", " << dr.hi[2]
+          << ")\n";
     }
     static const char* shapes[] = {"?", "plane", "sphere", "capsule", "box", "mesh"};
     static const char* meshes[] = {"", " (closed box)", " (octahedron)", " (open terrain)"};
@@ -433,16 +457,17 @@ std::string describe(const WorldSpec& w) {
         const ColliderSpec& c = w.colliders[k];
         if (!c.on) continue;
         o << "collider c" << k << ": " << shapes[c.shape] << meshes[int(c.mesh)]
-          << (c.body ? " body" : (c.kinematic ? " kinematic" : " static")) << (c.dynamic ? " dynamic" : "") << ", frames "
-          << c.create_frame << ".." << c.destroy_frame << ", teleport " << c.teleport_frame << ", centre (" << c.centre[0]
-          << ", " << c.centre[1] << ", " << c.centre[2] << "), r " << c.radius << ", hh " << c.half_height << ", half ("
-          << c.half_extents[0] << ", " << c.half_extents[1] << ", " << c.half_extents[2] << "), amplitude ("
-          << c.amplitude[0] << ", " << c.amplitude[1] << ", " << c.amplitude[2] << ") omega " << c.omega << ", spin ("
-          << c.spin[0] << ", " << c.spin[1] << ", " << c.spin[2] << "), friction " << c.friction << "\n";
+          << (c.body ? " body" : (c.kinematic ? " kinematic" : " static")) << (c.dynamic ? " dynamic" : "")
+          << ", frames " << c.create_frame << ".." << c.destroy_frame << ", teleport " << c.teleport_frame
+          << ", centre (" << c.centre[0] << ", " << c.centre[1] << ", " << c.centre[2] << "), r " << c.radius << ", hh "
+          << c.half_height << ", half (" << c.half_extents[0] << ", " << c.half_extents[1] << ", " << c.half_extents[2]
+          << "), amplitude (" << c.amplitude[0] << ", " << c.amplitude[1] << ", " << c.amplitude[2] << ") omega "
+          << c.omega << ", spin (" << c.spin[0] << ", " << c.spin[1] << ", " << c.spin[2] << "), friction "
+          << c.friction << "\n";
     }
     if (w.gravity_frame >= 0)
-        o << "gravity (" << w.gravity_after[0] << ", " << w.gravity_after[1] << ", " << w.gravity_after[2] << ") from frame "
-          << w.gravity_frame << "\n";
+        o << "gravity (" << w.gravity_after[0] << ", " << w.gravity_after[1] << ", " << w.gravity_after[2]
+          << ") from frame " << w.gravity_frame << "\n";
     if (w.solver_frame >= 0)
         o << "solver params changed at frame " << w.solver_frame << " (iterations " << w.solver_after.iterations
           << ", substeps " << w.solver_after.substeps << ")\n";

@@ -46,7 +46,9 @@ struct Rng {
     }
     double unit() { return double(next() >> 11) * (1.0 / 9007199254740992.0); }  // [0, 1)
     float uniform(double lo, double hi) { return float(lo + (hi - lo) * unit()); }
-    float log_uniform(double lo, double hi) { return float(std::exp(std::log(lo) + (std::log(hi) - std::log(lo)) * unit())); }
+    float log_uniform(double lo, double hi) {
+        return float(std::exp(std::log(lo) + (std::log(hi) - std::log(lo)) * unit()));
+    }
     int integer(int lo, int hi) { return lo + int(next() % uint64_t(hi - lo + 1)); }  // [lo, hi]
     bool chance(double p) { return unit() < p; }
     V3 direction() {
@@ -74,9 +76,9 @@ struct MaterialSpec {
 
 struct BlockSpec {
     bool on = true;
-    int frame = 0;         // emitted before this frame's step
+    int frame = 0;  // emitted before this frame's step
     V3 lo{}, hi{}, velocity{};
-    int material = -1;     // index into WorldSpec::materials, -1: the default material
+    int material = -1;  // index into WorldSpec::materials, -1: the default material
 };
 
 struct NozzleSpec {
@@ -119,11 +121,11 @@ struct WorldSpec {
     std::vector<DrainSpec> drains;
     std::vector<ColliderSpec> colliders;
     std::vector<float> dts;
-    int gravity_frame = -1;   // set_gravity to `gravity_after` before this frame
+    int gravity_frame = -1;  // set_gravity to `gravity_after` before this frame
     V3 gravity_after{};
-    int solver_frame = -1;    // set_solver_params to `solver_after` before this frame
+    int solver_frame = -1;  // set_solver_params to `solver_after` before this frame
     pbf_solver_params solver_after{};
-    std::string dt_pattern;   // what the step sequence is, for the report
+    std::string dt_pattern;  // what the step sequence is, for the report
 };
 
 // The surface's largest distance from a collider's position (its surface speed is |ω| times it);

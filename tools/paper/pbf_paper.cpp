@@ -143,18 +143,19 @@ int cmd_run(const Args& args) {
     const std::string snap_prefix = args.get("--snap-prefix", "");
 
     const double mass_total = double(info.particle_mass) * n;
-    const double energy_scale = mass_total * paper::kGravity * sc.a;  // M g a
+    const double energy_scale = mass_total * paper::kGravity * sc.a;    // M g a
     const double time_scale = std::sqrt(2.0 * paper::kGravity / sc.a);  // T = t·sqrt(2g/a)
     std::fprintf(csv,
                  "scene,na,nz,a,particles,substeps,iterations,ldc,gain,step,t,T,density_error_mean,"
                  "density_error_max,kinetic_energy,ke_norm,pe_norm,front,Z,max_speed,step_ms,adaptive_target,"
                  "iterations_used,iterations_per_substep,wall_ms,substeps_used,speed_clamps,backend\n");
-    std::printf("run: %s na=%u nz=%u a=%.3f m, %u particles, spacing %.5f m, h %.5f m, %s substeps (%.5f s), "
-                "%u iterations%s, LDC %s gain %.3f, adaptive target %g, %s\n",
-                sc.dam ? "dam" : "tank", sc.na, sc.nz, sc.a, n, info.rest_spacing, info.kernel_radius,
-                auto_substeps ? "auto" : std::to_string(substeps).c_str(), auto_substeps ? 0.0 : frame_dt / substeps, d.solver.iterations, d.solver.adaptive_error_target > 0.0f ? " (cap)" : "",
-                d.solver.ldc_enabled ? "on" : "off", d.solver.ldc_gain, double(d.solver.adaptive_error_target),
-                info.device_name);
+    std::printf(
+        "run: %s na=%u nz=%u a=%.3f m, %u particles, spacing %.5f m, h %.5f m, %s substeps (%.5f s), "
+        "%u iterations%s, LDC %s gain %.3f, adaptive target %g, %s\n",
+        sc.dam ? "dam" : "tank", sc.na, sc.nz, sc.a, n, info.rest_spacing, info.kernel_radius,
+        auto_substeps ? "auto" : std::to_string(substeps).c_str(), auto_substeps ? 0.0 : frame_dt / substeps,
+        d.solver.iterations, d.solver.adaptive_error_target > 0.0f ? " (cap)" : "", d.solver.ldc_enabled ? "on" : "off",
+        d.solver.ldc_gain, double(d.solver.adaptive_error_target), info.device_name);
 
     std::vector<float> xyzw(size_t(d.max_particles) * 4), vel(size_t(d.max_particles) * 4);
     double pe0 = 0.0;
@@ -204,8 +205,8 @@ int cmd_run(const Args& args) {
                      "%.4g,%.4f,%u,%u,%s\n",
                      sc.dam ? "dam" : "tank", sc.na, sc.nz, sc.a, count, substeps, d.solver.iterations,
                      d.solver.ldc_enabled, d.solver.ldc_gain, k, t, t * time_scale, st.density_error_mean,
-                     st.density_error_max, st.kinetic_energy, ke_norm, (pe - pe0) / energy_scale, front,
-                     front / sc.a, vmax, step_ms, double(d.solver.adaptive_error_target), iterations_used,
+                     st.density_error_max, st.kinetic_energy, ke_norm, (pe - pe0) / energy_scale, front, front / sc.a,
+                     vmax, step_ms, double(d.solver.adaptive_error_target), iterations_used,
                      double(iterations_used) / substeps_per_call, wall_ms, substeps_used, k > 0 ? st.speed_clamps : 0u,
                      info.backend == PBF_BACKEND_CUDA ? "cuda" : "cpu");
         // Snapshots at whole frames, the first frame at or after each requested time.
@@ -252,8 +253,9 @@ int cmd_timing(const Args& args) {
     const std::string csv_path = args.get("--csv", "");
     FILE* csv = csv_path.empty() ? stdout : std::fopen(csv_path.c_str(), "w");
     if (!csv) return 1;
-    std::fprintf(csv, "backend,device,particles,iterations,ldc,gain,dt,steps,ms_median,ms_p10,ms_p90,ms_mean,"
-                      "density_error_mean,adaptive_target,iterations_mean,iterations_max,wall_ms_median\n");
+    std::fprintf(csv,
+                 "backend,device,particles,iterations,ldc,gain,dt,steps,ms_median,ms_p10,ms_p90,ms_mean,"
+                 "density_error_mean,adaptive_target,iterations_mean,iterations_max,wall_ms_median\n");
     // For each iteration count, one world per LDC setting, stepped alternately (A B A B ...): on a
     // shared machine, load from other jobs then hits both methods alike and their difference
     // (LDC's cost) stays meaningful.
@@ -314,11 +316,12 @@ int cmd_timing(const Args& args) {
                              q(0.1), q(0.9), mean, e.err / double(steps), double(e.d.solver.adaptive_error_target),
                              e.iters / double(steps), e.iters_max, wall[wall.size() / 2]);
                 std::fflush(csv);
-                std::printf("timing: %u particles, %u iterations%s, LDC %u, adaptive target %g: median %.3f ms/step, "
-                            "%.2f iterations/step, mean error %.4f\n",
-                            e.n, e.d.solver.iterations, e.d.solver.adaptive_error_target > 0.0f ? " (cap)" : "",
-                            e.d.solver.ldc_enabled, double(e.d.solver.adaptive_error_target), q(0.5),
-                            e.iters / double(steps), e.err / double(steps));
+                std::printf(
+                    "timing: %u particles, %u iterations%s, LDC %u, adaptive target %g: median %.3f ms/step, "
+                    "%.2f iterations/step, mean error %.4f\n",
+                    e.n, e.d.solver.iterations, e.d.solver.adaptive_error_target > 0.0f ? " (cap)" : "",
+                    e.d.solver.ldc_enabled, double(e.d.solver.adaptive_error_target), q(0.5), e.iters / double(steps),
+                    e.err / double(steps));
                 std::fflush(stdout);
                 if (!check(pbf_world_destroy(e.w), "pbf_world_destroy")) return 1;
             }
@@ -334,8 +337,8 @@ struct OptionSpec {
     const char* name;
     const char* def;
     const char* help;
-    bool number;   // a single number (checked by CLI11); else free text or a comma-separated list
-    unsigned cmds; // 1: run, 2: timing
+    bool number;    // a single number (checked by CLI11); else free text or a comma-separated list
+    unsigned cmds;  // 1: run, 2: timing
 };
 const OptionSpec kOptions[] = {
     {"--scene", "dam", "dam or tank", false, 3},
@@ -349,11 +352,14 @@ const OptionSpec kOptions[] = {
      true, 3},
     {"--frames", "90", "frames to run", true, 1},
     {"--frame-dt", "1/60", "frame length, seconds", true, 1},
-    {"--per-substep", "0", "1: one substep per pbf_world_step call and one CSV row per substep (same physics)", true, 1},
+    {"--per-substep", "0", "1: one substep per pbf_world_step call and one CSV row per substep (same physics)", true,
+     1},
     {"--iterations", "4", "constraint iterations (the cap with --adaptive-target)", true, 1},
     {"--ldc", "1", "Local Density Calibration: 0 off, 1 on", true, 1},
-    {"--substeps", "0", "substeps per frame (0: the CFL-like rule of samples/dam_break.c; auto: the library's "
-     "automatic substeps)", false, 1},
+    {"--substeps", "0",
+     "substeps per frame (0: the CFL-like rule of samples/dam_break.c; auto: the library's "
+     "automatic substeps)",
+     false, 1},
     {"--max-substeps", "library default", "cap of the automatic substeps (and of a fixed count)", true, 1},
     {"--adaptive-target", "0", "0: fixed iterations; > 0: iterate until the mean compressive density error is below it",
      true, 1},
@@ -374,14 +380,16 @@ const OptionSpec kOptions[] = {
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"pbf_paper: the runs behind docs/paper/README.md (the LDC reproduction), public C API only. "
-                 "Exit status: 0 ok, 1 a libpbf error, 2 bad arguments.",
-                 "pbf_paper"};
+    CLI::App app{
+        "pbf_paper: the runs behind docs/paper/README.md (the LDC reproduction), public C API only. "
+        "Exit status: 0 ok, 1 a libpbf error, 2 bad arguments.",
+        "pbf_paper"};
     app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     app.require_subcommand(1);
     app.footer("Run `pbf_paper run --help` or `pbf_paper timing --help` for the options of each command.");
     CLI::App* run = app.add_subcommand("run", "one simulation: one CSV row per frame (or per substep)");
-    CLI::App* timing = app.add_subcommand("timing", "time per step against iterations, LDC off and on stepped alternately");
+    CLI::App* timing =
+        app.add_subcommand("timing", "time per step against iterations, LDC off and on stepped alternately");
     std::map<std::string, std::string> run_values, timing_values;
     CLI::Validator number = CLI::Number;
     number.description("");  // the type X says enough in --help

@@ -75,15 +75,15 @@ Options parse(int argc, char** argv) {
     Options o;
     // Counts are read as numbers so that 1e6 works as it always has; they are truncated to
     // integers (values 0 .. 1e18).
-    double steps = double(o.steps), check_every = double(o.check_every), capacity = double(o.capacity),
-           warmup = 0.0, rss_slack_kb = double(o.rss_slack_kb), substeps = double(o.substeps),
-           iterations = double(o.iterations);
+    double steps = double(o.steps), check_every = double(o.check_every), capacity = double(o.capacity), warmup = 0.0,
+           rss_slack_kb = double(o.rss_slack_kb), substeps = double(o.substeps), iterations = double(o.iterations);
     std::string backend = "cpu";
-    CLI::App app{"pbf_soak: runs a small world with a nozzle, a drain and a kinematic sphere for many steps and "
-                 "checks every K steps that nothing drifts (no NaN/Inf, particles inside the walls, exact particle "
-                 "accounting, unique ids, flat resident memory after the warm-up). Exit status 0 when every check "
-                 "passed; 1 on the first failed check.",
-                 "pbf_soak"};
+    CLI::App app{
+        "pbf_soak: runs a small world with a nozzle, a drain and a kinematic sphere for many steps and "
+        "checks every K steps that nothing drifts (no NaN/Inf, particles inside the walls, exact particle "
+        "accounting, unique ids, flat resident memory after the warm-up). Exit status 0 when every check "
+        "passed; 1 on the first failed check.",
+        "pbf_soak"};
     app.option_defaults()->always_capture_default()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     CLI::Validator count = CLI::Range(0.0, 1e18);
     count.description("");  // the type N says enough in --help
@@ -94,7 +94,9 @@ Options parse(int argc, char** argv) {
         ->check(count)
         ->type_name("N")
         ->default_str("min(steps/10, 20000)");
-    app.add_option("--rss-slack-kb", rss_slack_kb, "allowed growth of resident memory after the warm-up, KiB")->check(count)->type_name("N");
+    app.add_option("--rss-slack-kb", rss_slack_kb, "allowed growth of resident memory after the warm-up, KiB")
+        ->check(count)
+        ->type_name("N");
     app.add_option("--backend", backend, "cpu or cuda")->check(CLI::IsMember({"cpu", "cuda"}));
     app.add_option("--substeps", substeps, "solver substeps per step")->check(count)->type_name("N");
     app.add_option("--iterations", iterations, "constraint iterations per substep")->check(count)->type_name("N");
@@ -247,11 +249,12 @@ int main(int argc, char** argv) {
     std::memset(&info, 0, sizeof info);
     info.struct_size = sizeof info;
     CALL(pbf_world_get_info(s.world, &info));
-    std::printf("pbf_soak: %llu steps, check every %llu, capacity %u, %u grid cells, %s, warm-up %llu steps, "
-                "RSS slack %llu KiB\n",
-                static_cast<unsigned long long>(o.steps), static_cast<unsigned long long>(o.check_every), o.capacity,
-                info.grid_cells, info.device_name, static_cast<unsigned long long>(o.warmup),
-                static_cast<unsigned long long>(o.rss_slack_kb));
+    std::printf(
+        "pbf_soak: %llu steps, check every %llu, capacity %u, %u grid cells, %s, warm-up %llu steps, "
+        "RSS slack %llu KiB\n",
+        static_cast<unsigned long long>(o.steps), static_cast<unsigned long long>(o.check_every), o.capacity,
+        info.grid_cells, info.device_name, static_cast<unsigned long long>(o.warmup),
+        static_cast<unsigned long long>(o.rss_slack_kb));
     std::fflush(stdout);
 
     Buffers buffers;
@@ -282,8 +285,9 @@ int main(int argc, char** argv) {
         if (!o.quiet && std::chrono::duration<double>(now - last_report).count() >= 10.0) {
             last_report = now;
             const double secs = std::chrono::duration<double>(now - t0).count();
-            std::printf("  step %llu: %u particles, %.0f steps/s, RSS %llu KiB\n", static_cast<unsigned long long>(step),
-                        n, double(step) / secs, static_cast<unsigned long long>(rss));
+            std::printf("  step %llu: %u particles, %.0f steps/s, RSS %llu KiB\n",
+                        static_cast<unsigned long long>(step), n, double(step) / secs,
+                        static_cast<unsigned long long>(rss));
             std::fflush(stdout);
         }
     }
@@ -293,12 +297,12 @@ int main(int argc, char** argv) {
     st.struct_size = sizeof st;
     CALL(pbf_world_get_stats(s.world, &st));
     CALL(pbf_world_destroy(s.world));
-    std::printf("pbf_soak: OK: %llu steps in %.1f s (%.0f steps/s), %llu checks; particles %u..%u after warm-up "
-                "(at capacity in %u checks); emitted %llu, drained %llu; RSS %llu KiB at warm-up end, max %llu KiB\n",
-                static_cast<unsigned long long>(o.steps), secs, double(o.steps) / secs,
-                static_cast<unsigned long long>(checks), count_min == UINT32_MAX ? 0 : count_min, count_max,
-                full_checks, static_cast<unsigned long long>(st.emitted_total),
-                static_cast<unsigned long long>(st.drained_total), static_cast<unsigned long long>(rss_base),
-                static_cast<unsigned long long>(rss_max));
+    std::printf(
+        "pbf_soak: OK: %llu steps in %.1f s (%.0f steps/s), %llu checks; particles %u..%u after warm-up "
+        "(at capacity in %u checks); emitted %llu, drained %llu; RSS %llu KiB at warm-up end, max %llu KiB\n",
+        static_cast<unsigned long long>(o.steps), secs, double(o.steps) / secs, static_cast<unsigned long long>(checks),
+        count_min == UINT32_MAX ? 0 : count_min, count_max, full_checks,
+        static_cast<unsigned long long>(st.emitted_total), static_cast<unsigned long long>(st.drained_total),
+        static_cast<unsigned long long>(rss_base), static_cast<unsigned long long>(rss_max));
     return 0;
 }

@@ -51,7 +51,8 @@ std::string tiny_scene(const std::string& out, const std::string& formats) {
                       "rate": 300, "speed": 5.0, "radius": 0.05, "start_frame": 1, "end_frame": 4 } ],
       "colliders": [ { "shape": "sphere", "position": [0.7, 0.1, 0.1], "radius": 0.08 } ],
       "frames": { "start": 0, "end": 5, "rate": 30 },
-      "output": { "directory": ")" + out + R"(", "name": "tiny", "formats": )" + formats + R"( }
+      "output": { "directory": ")" +
+           out + R"(", "name": "tiny", "formats": )" + formats + R"( }
     })";
 }
 
@@ -73,7 +74,9 @@ Particles copy_world(pbf_world_id w) {
     return p;
 }
 
-uint32_t le32(const unsigned char* p) { return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24; }
+uint32_t le32(const unsigned char* p) {
+    return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+}
 float lef(const unsigned char* p) {
     const uint32_t v = le32(p);
     float f;
@@ -95,7 +98,8 @@ Particles read_ply(const std::string& path) {
     CHECK(lines[1] == "format binary_little_endian 1.0");
     REQUIRE(lines[2].rfind("element vertex ", 0) == 0);
     const uint32_t n = uint32_t(std::stoul(lines[2].substr(15)));
-    const char* props[] = {"float x", "float y", "float z", "float vx", "float vy", "float vz", "float density_ratio", "uint id"};
+    const char* props[] = {"float x", "float y", "float z", "float vx", "float vy", "float vz", "float density_ratio",
+                           "uint id"};
     for (int k = 0; k < 8; ++k) CHECK(lines[3 + k] == std::string("property ") + props[k]);
     const size_t payload = end + std::strlen("end_header\n");
     REQUIRE(data.size() == payload + size_t(n) * 32);
@@ -115,12 +119,18 @@ std::vector<unsigned char> unbase64(const std::string& s) {
     int bits = 0;
     for (char c : s) {
         int v;
-        if (c >= 'A' && c <= 'Z') v = c - 'A';
-        else if (c >= 'a' && c <= 'z') v = c - 'a' + 26;
-        else if (c >= '0' && c <= '9') v = c - '0' + 52;
-        else if (c == '+') v = 62;
-        else if (c == '/') v = 63;
-        else continue;  // whitespace and padding
+        if (c >= 'A' && c <= 'Z')
+            v = c - 'A';
+        else if (c >= 'a' && c <= 'z')
+            v = c - 'a' + 26;
+        else if (c >= '0' && c <= '9')
+            v = c - '0' + 52;
+        else if (c == '+')
+            v = 62;
+        else if (c == '/')
+            v = 63;
+        else
+            continue;  // whitespace and padding
         acc = acc << 6 | uint32_t(v);
         bits += 6;
         if (bits >= 8) {
@@ -136,9 +146,9 @@ struct Vtp {
     bool well_formed = false;
     std::string error;
     std::string root;
-    std::map<std::string, std::string> piece;           // attributes of <Piece>
-    std::map<std::string, std::string> array_text;      // DataArray Name -> text
-    std::map<std::string, std::string> array_type;      // DataArray Name -> type
+    std::map<std::string, std::string> piece;       // attributes of <Piece>
+    std::map<std::string, std::string> array_text;  // DataArray Name -> text
+    std::map<std::string, std::string> array_type;  // DataArray Name -> type
 };
 
 #if defined(PBF_BAKE_TEST_EXPAT)
@@ -198,8 +208,8 @@ Vtp parse_vtp(const std::string& text) {
         const size_t open = text.find('>', at) + 1;
         v.array_text[name] = text.substr(open, text.find("</DataArray>", open) - open);
     }
-    v.well_formed = text.rfind("</VTKFile>") != std::string::npos &&
-                    text.find_first_of(std::string("\0", 1)) == std::string::npos;
+    v.well_formed =
+        text.rfind("</VTKFile>") != std::string::npos && text.find_first_of(std::string("\0", 1)) == std::string::npos;
     return v;
 }
 #endif
@@ -260,7 +270,9 @@ TEST_CASE("bake: the .pvd lists every frame and each .vtp is XML with the frame'
     std::map<int64_t, Particles> seen;
     bake::RunOptions o;
     o.progress = false;
-    o.on_frame = [&](const bake::Frame& f, pbf_world_id w, const std::vector<std::string>&) { seen[f.index] = copy_world(w); };
+    o.on_frame = [&](const bake::Frame& f, pbf_world_id w, const std::vector<std::string>&) {
+        seen[f.index] = copy_world(w);
+    };
     const bake::RunResult r = bake::run_bake(s, o);
     REQUIRE(r.frames_written == 4);
     REQUIRE(r.pvd == (fs::path(out) / "tiny.pvd").string());
@@ -316,7 +328,8 @@ TEST_CASE("bake: scene errors name the file, the JSON path and what was expected
     };
     const std::string blocks = R"("blocks": [ { "min": [0, 0, 0], "max": [0.2, 0.2, 0.2] } ])";
     CHECK_THAT(message("{" + blocks + R"(, "solver": { "iteratons": 3 } })"),
-               Catch::StartsWith("s.json: /solver/iteratons: unknown key \"iteratons\" (expected one of: iterations, substeps"));
+               Catch::StartsWith(
+                   "s.json: /solver/iteratons: unknown key \"iteratons\" (expected one of: iterations, substeps"));
     CHECK(message("{" + blocks + R"(, "wrld": {} })").rfind("s.json: /wrld: unknown key", 0) == 0);
     CHECK(message("{" + blocks + R"(, "world": { "gravity": [0, "down", 0] } })") ==
           "s.json: /world/gravity/1: expected a number, got a string (\"down\")");
@@ -332,10 +345,14 @@ TEST_CASE("bake: scene errors name the file, the JSON path and what was expected
           "s.json: /emitters/0/type: expected one of \"nozzle, drain\", got a string (\"hose\")");
     CHECK(message(R"({ "emitters": [ { "type": "drain", "min": [0, 0, 0] } ] })") ==
           "s.json: /emitters/0/max: missing (expected an array of 3 numbers)");
-    CHECK(message("{" + blocks + R"(, "colliders": [ { "shape": "sphere", "radius": 0.1, "half_extents": [1, 1, 1] } ] })")
+    CHECK(message("{" + blocks +
+                  R"(, "colliders": [ { "shape": "sphere", "radius": 0.1, "half_extents": [1, 1, 1] } ] })")
               .rfind("s.json: /colliders/0/half_extents: unknown key", 0) == 0);
-    CHECK(message("{" + blocks + R"(, "colliders": [ { "shape": "box", "half_extents": [1, 1, 1], "keyframes": [ { "frame": 0 } ] } ] })") ==
-          "s.json: /colliders/0/keyframes: keyframes need \"motion\": \"kinematic\"");
+    CHECK(
+        message(
+            "{" + blocks +
+            R"(, "colliders": [ { "shape": "box", "half_extents": [1, 1, 1], "keyframes": [ { "frame": 0 } ] } ] })") ==
+        "s.json: /colliders/0/keyframes: keyframes need \"motion\": \"kinematic\"");
     CHECK(message("{" + blocks + R"(, "output": { "formats": ["ply", "obj"] } })") ==
           "s.json: /output/formats/1: expected one of \"ply, vtk, vdb\", got a string (\"obj\")");
     CHECK(message("{" + blocks + R"(, "frames": { "start": 10, "end": 5 } })") ==
@@ -349,7 +366,8 @@ TEST_CASE("bake: scene errors name the file, the JSON path and what was expected
         bake::load_scene(std::string(PBF_BAKE_TEST_DIR) + "/does_not_exist.json");
         FAIL("no error for a missing file");
     } catch (const bake::Error& e) {
-        CHECK_THAT(e.what(), Catch::EndsWith("does_not_exist.json: cannot open the scene file: No such file or directory"));
+        CHECK_THAT(e.what(),
+                   Catch::EndsWith("does_not_exist.json: cannot open the scene file: No such file or directory"));
     }
     CHECK(bake::parse_formats("ply,vtk", "--format") == (bake::kPly | bake::kVtk));
     CHECK_THROWS_WITH(bake::parse_formats("ply,gif", "--format ply,gif"),
@@ -369,8 +387,9 @@ TEST_CASE("bake: every solver parameter is settable by name and reaches the worl
       "output": { "directory": ")" + out + R"(", "formats": ["ply"] } })",
                                             "solver.json");
     // Every field after struct_size is 4 bytes today: a new field of pbf_solver_params shows here.
-    INFO("pbf_solver_params has fields that scene files cannot set: add them to kSolverFields in "
-         "tools/bake/bake_scene.cpp (and to tools/bake/README.md)");
+    INFO(
+        "pbf_solver_params has fields that scene files cannot set: add them to kSolverFields in "
+        "tools/bake/bake_scene.cpp (and to tools/bake/README.md)");
     CHECK(sizeof(pbf_solver_params) == sizeof(uint32_t) * (1 + bake::solver_field_names().size()));
     bake::RunOptions o;
     o.progress = false;
