@@ -26,7 +26,9 @@ semver() { grep -m1 -oE '[0-9]+\.[0-9]+\.[0-9]+' || true; }
 three_defines() {
   local file="$1" part value out=""
   for part in MAJOR MINOR PATCH; do
-    value="$(grep -m1 -E "PBF_VERSION_${part}([^A-Za-z_]|$)" "$file" | grep -oE '[0-9]+' | tail -n 1)"
+    # Only a definition counts ("#define NAME n" in C, "NAME = n" in C#), not a mention in a comment.
+    value="$(grep -m1 -E "^[[:space:]]*#[[:space:]]*define[[:space:]]+PBF_VERSION_${part}[[:space:]]+[0-9]+|PBF_VERSION_${part}[[:space:]]*=[[:space:]]*[0-9]+" "$file" |
+      grep -oE '[0-9]+' | tail -n 1)"
     [ -z "$value" ] && return 0
     out="${out:+$out.}$value"
   done
