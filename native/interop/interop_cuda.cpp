@@ -4,6 +4,8 @@
 
 #include "interop_cuda.h"
 
+#include "../common/c_text.h"
+
 namespace pbf {
 
 uint32_t interop_support() {
@@ -145,8 +147,7 @@ void CudaInterop::get_info(pbf_interop_info* out) {
     }
 #endif
     out->cuda_device = device_;
-    std::strncpy(out->last_render_event_message, last_render_event_.message.c_str(),
-                 sizeof out->last_render_event_message - 1);
+    copy_text(out->last_render_event_message, last_render_event_.message);
 }
 
 }  // namespace cuda_interop

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <string>
 
+#include "../common/c_text.h"
 #include "../solver/step_plan.h"
 
 namespace pbf {
@@ -134,9 +135,7 @@ void World::get_info(pbf_world_info* info) const {
     info->particle_mass = constants_.mass;
     info->grid_cells = constants_.grid.num_cells;
     info->device_bytes = backend_->device_bytes();
-    const std::string name = backend_->device_name();
-    std::memset(info->device_name, 0, sizeof info->device_name);
-    std::strncpy(info->device_name, name.c_str(), sizeof info->device_name - 1);
+    copy_text(info->device_name, backend_->device_name());
     info->render_flags = desc_.render.flags;
     info->reserved0 = 0;
     info->render_bytes = backend_->render_bytes();

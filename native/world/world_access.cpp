@@ -7,6 +7,8 @@
 
 #include "world.h"
 
+#include "../common/c_text.h"
+
 #include "../solver/step_plan.h"
 
 namespace pbf {
@@ -20,10 +22,6 @@ void World::describe_backend(pbf_backend backend, int32_t device, pbf_backend_in
     const uint32_t size = out->struct_size;
     std::memset(out, 0, sizeof *out);
     out->struct_size = size;
-    auto copy = [](char* dst, size_t capacity, const std::string& text) {
-        std::strncpy(dst, text.c_str(), capacity - 1);
-        dst[capacity - 1] = '\0';
-    };
     CudaAvailability cuda;
     if (backend != PBF_BACKEND_CPU) {
         cuda = cuda_availability(device);
@@ -35,16 +33,16 @@ void World::describe_backend(pbf_backend backend, int32_t device, pbf_backend_in
         out->backend = PBF_BACKEND_CUDA;
         out->status = cuda.status;
         out->cuda_device = device;
-        copy(out->device_name, sizeof out->device_name, cuda.device_name);
-        copy(out->message, sizeof out->message, cuda.message);
+        copy_text(out->device_name, cuda.device_name);
+        copy_text(out->message, cuda.message);
         return;
     }
     out->backend = PBF_BACKEND_CPU;
     out->status = PBF_BACKEND_STATUS_AVAILABLE;
     out->cuda_device = -1;
-    copy(out->device_name, sizeof out->device_name, cpu_device_name());
-    copy(out->message, sizeof out->message,
-         backend == PBF_BACKEND_AUTO ? "CUDA not taken: " + cuda.message : "the CPU backend is always available");
+    copy_text(out->device_name, cpu_device_name());
+    copy_text(out->message,
+              backend == PBF_BACKEND_AUTO ? "CUDA not taken: " + cuda.message : "the CPU backend is always available");
 }
 
 pbf_backend World::backend_kind() const { return backend_->kind(); }
