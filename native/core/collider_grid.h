@@ -36,6 +36,7 @@ PBF_HD uint32_t coarse_bucket(int32_t x, int32_t y, int32_t z, uint32_t mask) {
 // cell's list, each in ascending order. One loop for both keeps f inlined once.
 template <class F>
 PBF_HD void for_each_candidate(const ColliderView& cv, bool in_grid, int32_t x, int32_t y, int32_t z, F&& f) {
+    if constexpr (!kCollidersBuilt) return;
     const ColliderGrid& g = cv.grid;
     uint32_t total = cv.count, listed = 0;
     if (in_grid) {

@@ -37,12 +37,41 @@
 namespace pbf {
 
 // The material slot of particle i (0 where the solver keeps none).
-PBF_HD uint32_t material_of(const StepContext& ctx, uint32_t i) { return ctx.materials ? ctx.materials[i] : 0u; }
+PBF_HD uint32_t material_of(const StepContext& ctx, uint32_t i) {
+    return kMaterialsBuilt && ctx.materials ? ctx.materials[i] : 0u;
+}
 
 // w_i = ρ0_slot0 / ρ0_i in a multiphase world, else exactly 1.
 PBF_HD float inverse_mass(const WorldConstants& s, const StepContext& ctx, uint32_t i) {
-    return (s.materials.flags & kMaterialMultiphase) ? s.materials.inv_mass[material_of(ctx, i)] : 1.0f;
+    return kMaterialsBuilt && (s.materials.flags & kMaterialMultiphase) ? s.materials.inv_mass[material_of(ctx, i)]
+                                                                        : 1.0f;
 }
+
+// What the hot passes read of the world's colliders and materials. A pass is compiled twice:
+// Features<false> reads them from the step, Features<true> is the pass for a world that has
+// neither (no collider this step, every particle of the default material, no material forces),
+// whose answers are constants, so that the colliders' walks and the materials' loads and
+// branches are not in its kernel at all (a feature that is off costs no register either).
+template <bool kPlain>
+struct Features;
+template <>
+struct Features<false> {
+    PBF_HD static const ColliderView& colliders(const StepContext& ctx) { return ctx.colliders; }
+    PBF_HD static uint32_t material(const StepContext& ctx, uint32_t i) { return material_of(ctx, i); }
+    PBF_HD static float inv_mass(const WorldConstants& s, const StepContext& ctx, uint32_t i) {
+        return inverse_mass(s, ctx, i);
+    }
+    PBF_HD static bool multiphase(const WorldConstants& s) {
+        return kMaterialsBuilt && (s.materials.flags & kMaterialMultiphase);
+    }
+};
+template <>
+struct Features<true> {
+    PBF_HD static ColliderView colliders(const StepContext&) { return ColliderView{}; }
+    PBF_HD static uint32_t material(const StepContext&, uint32_t) { return 0u; }
+    PBF_HD static float inv_mass(const WorldConstants&, const StepContext&, uint32_t) { return 1.0f; }
+    PBF_HD static bool multiphase(const WorldConstants&) { return false; }
+};
 
 // A collider view whose recorded impulses use particle i's mass (m_i = m0 / w_i).
 PBF_HD ColliderView colliders_for_mass(const ColliderView& cv, float inverse_mass) {

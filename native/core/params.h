@@ -93,6 +93,15 @@ struct ColliderGrid {
     float query_reach = 0.0f;  // the widest query margin (h); the lists' pad exceeds it
 };
 
+// What the passes carry. A measurement build (cmake -DPBF_FEATURELESS=ON, never shipped)
+// compiles colliders and materials out of every pass, so that a world using neither can be timed
+// against kernels that never had them: what those features cost a world that leaves them off.
+#ifdef PBF_FEATURELESS
+constexpr bool kCollidersBuilt = false, kMaterialsBuilt = false;
+#else
+constexpr bool kCollidersBuilt = true, kMaterialsBuilt = true;
+#endif
+
 // The colliders of one substep, in backend memory: shapes[k] moves from prev[k] (the substep's
 // start) to cur[k] (its end). Outside a step, prev = cur = the poses the last step reached.
 // impulses: where position corrections of dynamic colliders' contacts go (null: nowhere, e.g.

@@ -293,7 +293,9 @@ struct PredictOp {
 // With colliders, the pass also keeps their share's gradient at x* for the iteration's Δ pass
 // (which reads it instead of walking the colliders again: x* and the poses are the same there)
 // and records the dynamic colliders' reaction to the push ∇C_k·λ_i that pass gives particle i.
-struct LambdaOp {
+template <bool kPlain>
+struct LambdaPass {
+    using F = Features<kPlain>;
     WorldConstants s;
     StepContext ctx;
     const uint32_t* cell_begin;
@@ -311,7 +313,7 @@ struct LambdaOp {
         float rho = 0.0f, sum_grad2 = 0.0f;
         Vec3 grad_i{0.0f, 0.0f, 0.0f};
         // Multiphase: each particle's share of the correction weighted by its inverse mass.
-        const bool multiphase = s.materials.flags & kMaterialMultiphase;
+        const bool multiphase = F::multiphase(s);
         const bool first = record || !denominator;
         if (first) {
             const float scale = s.mass * s.inv_rest_density;
@@ -323,7 +325,7 @@ struct LambdaOp {
                 if (j == i) return;
                 const Vec3 g = pair_gradient(d, r2, s.h, s.spiky_coef, i, j) * scale;
                 grad_i += g;
-                sum_grad2 += multiphase ? length_sq(g) * inverse_mass(s, ctx, j) : length_sq(g);
+                sum_grad2 += multiphase ? length_sq(g) * F::inv_mass(s, ctx, j) : length_sq(g);
             };
             if (record)
                 for_each_neighbor_recording(s.grid, cell_begin, predicted, s.h2, masks, i, xi, visit);
@@ -337,13 +339,13 @@ struct LambdaOp {
         }
         // The colliders once: their density, their gradient (the denominator's, and the Δ
         // pass's), and which dynamic ones are within h (the reaction below).
-        const ColliderShares colliders = collider_shares(s, ctx.colliders, xi);
+        const ColliderShares colliders = collider_shares(s, F::colliders(ctx), xi);
         const BoundarySample walls = walls_boundary(s, xi);
         float denom;
         if (first) {
             // The walls' and colliders' density moves with x_i too (they carry no λ of their own).
             const float self = length_sq(grad_i + walls.gradient + colliders.gradient);
-            denom = (1.0f + ctx.error_damping) * (sum_grad2 + (multiphase ? self * inverse_mass(s, ctx, i) : self)) +
+            denom = (1.0f + ctx.error_damping) * (sum_grad2 + (multiphase ? self * F::inv_mass(s, ctx, i) : self)) +
                     ctx.lambda_epsilon;
             if (denominator) denominator[i] = denom;
         } else {
@@ -360,13 +362,14 @@ struct LambdaOp {
         const float c0 = fmaxf(positions[i].w - 1.0f, 0.0f);
         const float lambda = -fmaxf(c + ctx.error_damping * (c - c0), 0.0f) / denom;
         predicted[i].w = lambda;
-        if (ctx.colliders.count == 0) return;
+        if (F::colliders(ctx).count == 0) return;
         // Packed, the Δ pass's push differs from the reaction below by at most 1e-4 of it.
         colliders_gradient.store(i, colliders.gradient);
         if (colliders.reacting < kStaticNear && ctx.colliders.impulses)
-            record_shares_push(s, colliders_for_mass(ctx.colliders, inverse_mass(s, ctx, i)), xi, colliders, lambda);
+            record_shares_push(s, colliders_for_mass(ctx.colliders, F::inv_mass(s, ctx, i)), xi, colliders, lambda);
     }
 };
+using LambdaOp = LambdaPass<false>;
 
 // ratio^n; the default n = 4 (and any whole n) by multiplication, since powf costs a log and
 // an exp per neighbour in the hottest loop.
@@ -392,7 +395,9 @@ constexpr float kScorrPowerCap = 2.0f;
 // reads predicted, writes the corrected, collided position to corrected. The substep's last
 // iteration does the velocity update in the same pass (finish_positions set): v = (x* - x)/Δt
 // and x = x*, each particle writing only its own x and v, which no other thread reads here.
-struct DeltaOp {
+template <bool kPlain>
+struct DeltaPass {
+    using F = Features<kPlain>;
     WorldConstants s;
     StepContext ctx;
     const uint32_t* cell_begin;
@@ -427,12 +432,12 @@ struct DeltaOp {
             // The boundary's share of ∇C_i, weighted by λ_i alone (the boundary has no λ): the
             // walls', and the colliders' from the λ pass, which recorded their reaction
             // (multiphase: Δx_i = w_i ∇_i C λ, the reaction with particle i's own mass).
-            const float w_i = inverse_mass(s, ctx, i);
-            const ColliderView cv = colliders_for_mass(ctx.colliders, w_i);
+            const float w_i = F::inv_mass(s, ctx, i);
+            const ColliderView cv = colliders_for_mass(F::colliders(ctx), w_i);
             Vec3 boundary_grad = walls_boundary(s, xi).gradient;
-            if (ctx.colliders.count > 0) boundary_grad += colliders_gradient.load(i);
+            if (cv.count > 0) boundary_grad += colliders_gradient.load(i);
             dp = dp * (s.mass * s.inv_rest_density) + boundary_grad * lambda_i;
-            if (s.materials.flags & kMaterialMultiphase) dp = dp * w_i;
+            if (F::multiphase(s)) dp = dp * w_i;
             c = collide(s, cv, xi + dp, xyz(positions[i]));
         }
         if (finish_positions) {
@@ -445,11 +450,15 @@ struct DeltaOp {
     }
 };
 
+using DeltaOp = DeltaPass<false>;
+
 // ---- velocity update, vorticity confinement, XSPH ---------------------------------------------
 // Pass 1 after the iterations: ω_i = Σ_j (m/ρ_j) v_ij × ∇_j W_ij (Macklin & Müller Eq. 15) and
 // XSPH, v_i + c Σ_j (m/ρ_j) v_ij W_ij (Eq. 17), v_ij = v_j - v_i; both read the velocities of the
 // velocity update, so one walk serves both. The smoothed velocity goes to velocities_out.
-struct VorticityXsphOp {
+template <bool kPlain>
+struct VorticityXsphPass {
+    using F = Features<kPlain>;
     WorldConstants s;
     StepContext ctx;
     const uint32_t* cell_begin;
@@ -479,10 +488,10 @@ struct VorticityXsphOp {
         });
         omega[i] = make_vec4(w, length(w));
         // The walls and colliders smooth too (no-slip for a viscous fluid: material_ops.h).
-        const float c = material_xsph_c(ctx, material_of(ctx, i));
+        const float c = material_xsph_c(ctx, F::material(ctx, i));
         Vec3 dv = xsph * c;
         if (c > 0.0f) {
-            const ColliderView cv = colliders_for_mass(ctx.colliders, inverse_mass(s, ctx, i));
+            const ColliderView cv = colliders_for_mass(F::colliders(ctx), F::inv_mass(s, ctx, i));
             dv += boundary_viscosity(s, cv, ctx.inv_dt, c, c * weight, xi, vi);
         }
         velocities_out[i] = make_vec4(vi + dv, 0.0f);
@@ -496,8 +505,9 @@ struct VorticityXsphOp {
 // (kSurfaceNormals) it also sums each particle's surface normal from the same gradients, as
 // SurfaceNormalOp does, into surface_normals: the next substep's surface forces then need no
 // normal pass of their own (its positions are these, unless something moved them in between).
-template <bool kSurfaceNormals>
+template <bool kSurfaceNormals, bool kPlain = false>
 struct VorticityForcePass {
+    using F = Features<kPlain>;
     WorldConstants s;
     StepContext ctx;
     const uint32_t* cell_begin;
@@ -526,7 +536,7 @@ struct VorticityForcePass {
             if (kSurfaceNormals && material_of(ctx, j) == mi) normal += surface_normal_term(s, grad);
         });
         if (kSurfaceNormals) surface_normals[i] = make_vec4(normal * s.h, 0.0f);
-        density[i] = rho * s.mass + boundary_at(s, ctx.colliders, xi).density_ratio * s.rest_density;
+        density[i] = rho * s.mass + boundary_at(s, F::colliders(ctx), xi).density_ratio * s.rest_density;
         Vec3 v = xyz(velocities[i]);
         const float eta_len = length(eta);
         if (s.vorticity_epsilon > 0.0f && eta_len > 1e-9f) {
@@ -538,6 +548,10 @@ struct VorticityForcePass {
 };
 
 using VorticityForceOp = VorticityForcePass<false>;
+using VorticityXsphOp = VorticityXsphPass<false>;
+// The vorticity force without the surface normals, compiled with or without the features.
+template <bool kPlain>
+using VorticityForceOnly = VorticityForcePass<false, kPlain>;
 
 // ---- emission and drains -------------------------------------------------------------------
 // Fills slots count..count+n-1 (as far as capacity allows) with a lattice block.

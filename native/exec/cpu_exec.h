@@ -42,6 +42,9 @@ public:
     void release_host_visible(void* p) { release(p); }
     // The step's feedback is complete when for_each returns: always ready.
     void feedback_published() {}
+    // The CPU runs each op as it is called: nothing to record.
+    void record_begin() {}
+    void record_end() {}
     bool feedback_ready() const { return true; }
     // *out = the max over live particles (i < *count) of each field of feedback_sample.
     void reduce_feedback(const HeightFrame& frame, const Vec4* positions, const Vec4* velocities, const uint32_t* count,

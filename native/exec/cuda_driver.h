@@ -64,8 +64,11 @@ typedef CUresult(CUDAAPI* PFN_cuGraphicsD3D11RegisterResource_v3000)(CUgraphicsR
 // Entry points of optional features (graphics interop, graphs): where the driver lacks one, only
 // the calls that need it are refused.
 #define PBF_CUDA_OPTIONAL_ENTRY_POINTS(X)       \
-    X(cuStreamBeginCapture, 10010)              \
-    X(cuStreamEndCapture, 10000)                \
+    X(cuGraphCreate, 10000)                     \
+    X(cuGraphAddKernelNode, 12000)              \
+    X(cuGraphAddMemsetNode, 10000)              \
+    X(cuGraphExecKernelNodeSetParams, 12000)    \
+    X(cuGraphExecMemsetNodeSetParams, 10020)    \
     X(cuGraphInstantiateWithFlags, 11040)       \
     X(cuGraphLaunch, 10000)                     \
     X(cuGraphExecDestroy, 10000)                \

@@ -3,6 +3,7 @@
 #include "cuda_exec.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <cstring>
 
 #include "../common/transfers.h"
@@ -39,6 +40,7 @@ CudaExec::~CudaExec() {
     if (!cu_) return;
     cu_->cuCtxSetCurrent(k_->context);
     if (own_stream_) cu_->cuStreamSynchronize(own_stream_);
+    graph_.clear();
     for (CUevent e : mark_event_)
         if (e) cu_->cuEventDestroy(e);
     release(grid_scan_temp_);
@@ -67,6 +69,10 @@ Status CudaExec::init(uint32_t, uint32_t num_cells) {
     activate();
     record(cu_->cuStreamCreate(&own_stream_, CU_STREAM_NON_BLOCKING));
     stream_ = own_stream_;
+    // A step's launches go as one graph unless PBF_CUDA_GRAPHS=0 (a diagnostic: the same step
+    // launch by launch, to compare with).
+    const char* graphs = std::getenv("PBF_CUDA_GRAPHS");
+    graph_.init(cu_, k_->context, !(graphs && std::strcmp(graphs, "0") == 0));
     record(cu_->cuEventCreate(&start_, CU_EVENT_DEFAULT));
     record(cu_->cuEventCreate(&stop_, CU_EVENT_DEFAULT));
     record(cu_->cuEventCreate(&feedback_event_, CU_EVENT_DISABLE_TIMING));
@@ -81,18 +87,24 @@ Status CudaExec::init(uint32_t, uint32_t num_cells) {
     return check("CUDA initialisation");
 }
 
-void CudaExec::launch(CUfunction f, uint32_t blocks, uint32_t threads, void** params) {
-    record(cu_->cuLaunchKernel(f, blocks, 1, 1, threads, 1, 1, 0, stream_, params, nullptr));
+void CudaExec::launch_args(CUfunction f, uint32_t blocks, uint32_t threads, const cuda::KernelArg* args,
+                           uint32_t count) {
+    if (graph_.open()) return graph_.add_kernel(f, blocks, threads, args, count);
+    void* params[8];
+    for (uint32_t k = 0; k < count && k < 8; ++k) params[k] = const_cast<void*>(args[k].value);
+    record(count <= 8 ? cu_->cuLaunchKernel(f, blocks, 1, 1, threads, 1, 1, 0, stream_, params, nullptr)
+                      : CUDA_ERROR_INVALID_VALUE);
 }
 
-void CudaExec::launch_op(uint32_t index, uint32_t n, const void* op) {
-    void* params[] = {&n, const_cast<void*>(op)};
-    launch(k_->op[index], (n + kBlock - 1) / kBlock, kBlock, params);
+void CudaExec::launch_op(uint32_t index, uint32_t n, const void* op, uint32_t op_bytes) {
+    const cuda::KernelArg args[] = {{&n, uint32_t(sizeof n)}, {op, op_bytes}};
+    launch_args(k_->op[index], (n + kBlock - 1) / kBlock, kBlock, args, 2);
 }
 
 Status CudaExec::use_stream(void* stream) {
     CUstream next = stream ? static_cast<CUstream>(stream) : own_stream_;
     if (next == stream_) return Status{};
+    flush_recording();
     // Errors here are the caller's (a stream of another device, say): reported, not recorded,
     // so the world stays usable on its current stream.
     CUresult e = CUDA_SUCCESS;
@@ -150,11 +162,14 @@ void CudaExec::release(void* p) {
 }
 
 void CudaExec::zero(void* p, size_t bytes) {
-    if (bytes) record(cu_->cuMemsetD8Async(dptr(p), 0, bytes, stream_));
+    if (!bytes) return;
+    if (graph_.open()) return graph_.add_memset(dptr(p), bytes);
+    record(cu_->cuMemsetD8Async(dptr(p), 0, bytes, stream_));
 }
 
 void CudaExec::upload(void* dst, const void* src, size_t bytes) {
     if (bytes == 0) return;
+    flush_recording();
     note_host_device_transfer(bytes);
     if (bytes > kStagingBytes || !staging_[staging_next_]) {  // larger than a slot: a copy that waits
         record(cu_->cuMemcpyHtoDAsync(dptr(dst), src, bytes, stream_));
@@ -171,6 +186,7 @@ void CudaExec::upload(void* dst, const void* src, size_t bytes) {
 }
 
 void CudaExec::download(void* dst, const void* src, size_t bytes) {
+    flush_recording();
     if (bytes) {
         record(cu_->cuMemcpyDtoHAsync(dst, dptr(src), bytes, stream_));
         note_host_device_transfer(bytes);
@@ -204,12 +220,9 @@ void CudaExec::exclusive_scan(const uint32_t* in, uint32_t* out, uint32_t n, voi
     uint32_t tiles = tiles_of(n);
     if (temp_bytes < scan_temp_bytes(n)) return record(CUDA_ERROR_INVALID_VALUE);
     uint32_t* partials = static_cast<uint32_t*>(temp);
-    void* reduce[] = {&in, &n, &partials};
-    launch(k_->scan_reduce, tiles, kCudaScanBlock, reduce);
-    void* spine[] = {&partials, &tiles};
-    launch(k_->scan_spine, 1, kCudaScanBlock, spine);
-    void* down[] = {&in, &out, &n, &partials};
-    launch(k_->scan_downsweep, tiles, kCudaScanBlock, down);
+    launch(k_->scan_reduce, tiles, kCudaScanBlock, in, n, partials);
+    launch(k_->scan_spine, 1, kCudaScanBlock, partials, tiles);
+    launch(k_->scan_downsweep, tiles, kCudaScanBlock, in, out, n, static_cast<const uint32_t*>(partials));
 }
 
 size_t CudaExec::sort_temp_bytes(uint32_t n, uint32_t) const { return sort_layout(n).bytes(); }
@@ -219,15 +232,13 @@ void CudaExec::sort_cells(uint32_t* keys[2], uint32_t* values[2], uint32_t n, ui
     *key_sel = *value_sel = 1;
     if (n == 0) return;
     uint32_t words = num_cells + 2;
-    record(cu_->cuMemsetD8Async(dptr(counters), 0, size_t(words) * sizeof(uint32_t), stream_));
+    zero(counters, size_t(words) * sizeof(uint32_t));
     const uint32_t blocks = (n + kBlock - 1) / kBlock;
-    void* count[] = {&keys[0], &n, &counters};
-    launch(k_->count_keys, blocks, kBlock, count);
+    launch(k_->count_keys, blocks, kBlock, keys[0], n, counters);
     exclusive_scan(counters, counters, words, grid_scan_temp_, grid_scan_temp_bytes_);
-    void* scatter[] = {&keys[0], &values[0], &keys[1], &values[1], &n, &counters};
-    launch(k_->scatter_keys, blocks, kBlock, scatter);
-    void* order[] = {&counters, &num_cells, &values[1]};
-    if (num_cells > 0) launch(k_->order_keys, (num_cells + kBlock - 1) / kBlock, kBlock, order);
+    launch(k_->scatter_keys, blocks, kBlock, keys[0], values[0], keys[1], values[1], n, counters);
+    if (num_cells > 0)
+        launch(k_->order_keys, (num_cells + kBlock - 1) / kBlock, kBlock, counters, num_cells, values[1]);
 }
 
 void CudaExec::sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, uint32_t max_key, int* key_sel,
@@ -239,12 +250,10 @@ void CudaExec::sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, ui
         uint32_t* totals = counts + l.counts;
         uint32_t tiles = l.tiles;
         for (uint32_t shift = 0; shift < uint32_t(bits_for(max_key)); shift += kCudaRadixBits) {
-            void* up[] = {&keys[sel], &n, &shift, &counts};
-            launch(k_->radix_upsweep, tiles, kCudaScanBlock, up);
-            void* rows[] = {&counts, &tiles, &totals};
-            launch(k_->radix_scan_rows, kCudaRadixDigits, kCudaScanBlock, rows);
-            void* down[] = {&keys[sel], &values[sel], &keys[1 - sel], &values[1 - sel], &n, &shift, &counts, &totals};
-            launch(k_->radix_downsweep, tiles, kCudaScanBlock, down);
+            launch(k_->radix_upsweep, tiles, kCudaScanBlock, keys[sel], n, shift, counts);
+            launch(k_->radix_scan_rows, kCudaRadixDigits, kCudaScanBlock, counts, tiles, totals);
+            launch(k_->radix_downsweep, tiles, kCudaScanBlock, keys[sel], values[sel], keys[1 - sel], values[1 - sel],
+                   n, shift, counts, totals);
             sel = 1 - sel;
         }
     } else if (n > 0) {
@@ -259,9 +268,7 @@ void CudaExec::reduce_stats(const WorldConstants& s, const float* density, const
     record(cu_->cuMemsetD8Async(dptr(reduce_out_), 0, 3 * sizeof(double), stream_));
     if (n > 0) {
         const uint32_t blocks = std::min<uint32_t>((n + kCudaReduceBlock - 1) / kCudaReduceBlock, 1024);
-        WorldConstants constants = s;
-        void* params[] = {&constants, &density, &velocities, &n, &reduce_out_};
-        launch(k_->reduce_stats, blocks, kCudaReduceBlock, params);
+        launch(k_->reduce_stats, blocks, kCudaReduceBlock, s, density, velocities, n, reduce_out_);
     }
     double host[3] = {0, 0, 0};
     download(host, reduce_out_, sizeof host);
@@ -276,18 +283,14 @@ void CudaExec::sum_compressive_error(const WorldConstants& s, const float* densi
                                      float* out) {
     if (n == 0) return;
     const uint32_t blocks = std::min<uint32_t>((n + kCudaReduceBlock - 1) / kCudaReduceBlock, 264);
-    WorldConstants constants = s;
-    void* params[] = {&constants, &density, &count, &n, &out};
-    launch(k_->sum_error, blocks, kCudaReduceBlock, params);
+    launch(k_->sum_error, blocks, kCudaReduceBlock, s, density, count, n, out);
 }
 
 void CudaExec::reduce_feedback(const HeightFrame& frame, const Vec4* positions, const Vec4* velocities,
                                const uint32_t* count, uint32_t n, FeedbackBits* out) {
     if (n == 0) return;
     const uint32_t blocks = std::min<uint32_t>((n + kCudaReduceBlock - 1) / kCudaReduceBlock, 264);
-    HeightFrame f = frame;
-    void* params[] = {&f, &positions, &velocities, &count, &n, &out};
-    launch(k_->feedback, blocks, kCudaReduceBlock, params);
+    launch(k_->feedback, blocks, kCudaReduceBlock, frame, positions, velocities, count, n, out);
 }
 
 // ---- timing and errors ------------------------------------------------------------------------

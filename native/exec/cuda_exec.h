@@ -5,6 +5,7 @@
 #pragma once
 #include <string>
 
+#include "cuda_graph.h"
 #include "cuda_module.h"
 #include "exec_common.h"
 
@@ -57,19 +58,33 @@ public:
     void release_host_visible(void* p);
     // Marks the end of a step's feedback writes; feedback_ready() says, without waiting,
     // whether the latest marked step has finished.
-    void feedback_published() { record(cu_->cuEventRecord(feedback_event_, stream_)); }
+    void feedback_published() {
+        flush_recording();
+        record(cu_->cuEventRecord(feedback_event_, stream_));
+    }
     bool feedback_ready();
     // *out (device memory) = the max over live particles (i < *count) of each field of feedback_sample.
     void reduce_feedback(const HeightFrame& frame, const Vec4* positions, const Vec4* velocities, const uint32_t* count,
                          uint32_t n, FeedbackBits* out);
     void* native_stream() const { return stream_; }
+    // A step's launches, recorded between these two and queued as one CUDA graph (cuda_graph.h).
+    // Anything else that uses the stream meanwhile (a copy, an event) queues what was recorded
+    // before it first, so the order on the stream is always the order of the calls. Not while
+    // profiling: the stage marks are events between the launches.
+    void record_begin() {
+        if (!profiling_ && graph_.enabled()) graph_.begin();
+    }
+    void record_end() {
+        if (graph_.open()) record(graph_.end(stream_));
+    }
+    const cuda::StepGraph::Counters& graph_counters() const { return graph_.counters(); }
     // Runs on stream from now on (null: the world's own); work queued before is ordered first.
     Status use_stream(void* stream);
 
     // op(i) for i in [0, n), one thread each: the op's own kernel (cuda_ops.h lists them).
     template <class Op>
     void for_each(uint32_t n, const Op& op) {
-        if (n > 0) launch_op(CudaOp<Op>::index, n, &op);
+        if (n > 0) launch_op(CudaOp<Op>::index, n, &op, uint32_t(sizeof(Op)));
     }
 
     // The grid's sort: (cell, slot) pairs by cell, cells in 0..num_cells (num_cells: the dead),
@@ -96,8 +111,12 @@ public:
     void sum_compressive_error(const WorldConstants& s, const float* density, const uint32_t* count, uint32_t n,
                                float* out);
 
-    void timer_begin() { record(cu_->cuEventRecord(start_, stream_)); }
+    void timer_begin() {
+        flush_recording();
+        record(cu_->cuEventRecord(start_, stream_));
+    }
     void timer_end() {
+        flush_recording();
         record(cu_->cuEventRecord(stop_, stream_));
         timed_ = true;
     }
@@ -118,8 +137,20 @@ private:
     static constexpr int kMaxMarks = 1024;
     static constexpr int kStagingSlots = 8;
     static constexpr size_t kStagingBytes = 256 * 1024;
-    void launch_op(uint32_t index, uint32_t n, const void* op);
-    void launch(CUfunction f, uint32_t blocks, uint32_t threads, void** params);
+    void launch_op(uint32_t index, uint32_t n, const void* op, uint32_t op_bytes);
+    template <class... Args>
+    void launch(CUfunction f, uint32_t blocks, uint32_t threads, const Args&... args) {
+        const cuda::KernelArg list[] = {cuda::KernelArg{&args, uint32_t(sizeof(Args))}...};
+        launch_args(f, blocks, threads, list, uint32_t(sizeof...(Args)));
+    }
+    void launch_args(CUfunction f, uint32_t blocks, uint32_t threads, const cuda::KernelArg* args, uint32_t count);
+    // Queues what the open recording holds and keeps recording after it (see record_begin).
+    void flush_recording() {
+        if (graph_.open()) {
+            record(graph_.end(stream_));
+            graph_.begin();
+        }
+    }
     void* alloc_bytes(size_t bytes);
     void* try_alloc_bytes(size_t bytes);
     void* malloc_counted(size_t bytes, CUresult* error);
@@ -147,6 +178,7 @@ private:
     int marks_ = 0;
     int mark_stage_[kMaxMarks] = {};
     CUevent mark_event_[kMaxMarks] = {};
+    cuda::StepGraph graph_;
     void* grid_scan_temp_ = nullptr;  // the scan of the grid sort's counters
     size_t grid_scan_temp_bytes_ = 0;
     void* scan_temp_ = nullptr;

@@ -34,20 +34,20 @@ template <class Op>
 struct MinBlocksPerSm {
     static constexpr int value = 1;
 };
-template <>
-struct MinBlocksPerSm<LambdaOp> {
+template <bool kPlain>
+struct MinBlocksPerSm<LambdaPass<kPlain>> {
     static constexpr int value = blocks_that_fit(5);  // 48 registers on sm_90
 };
 template <>
 struct MinBlocksPerSm<PredictOp> {
     static constexpr int value = blocks_that_fit(4);  // 64
 };
-template <>
-struct MinBlocksPerSm<DeltaOp> {
+template <bool kPlain>
+struct MinBlocksPerSm<DeltaPass<kPlain>> {
     static constexpr int value = blocks_that_fit(4);  // 64
 };
-template <>
-struct MinBlocksPerSm<VorticityXsphOp> {
+template <bool kPlain>
+struct MinBlocksPerSm<VorticityXsphPass<kPlain>> {
     static constexpr int value = blocks_that_fit(4);  // 64
 };
 

@@ -27,47 +27,51 @@ namespace pbf {
 
 // Every op a solver launches through CudaExec::for_each: X(kernel name suffix, op type). A new op
 // joins this list, or CudaExec::for_each refuses to compile it.
-#define PBF_CUDA_OPS(X)                                \
-    X(CellKey, CellKeyOp)                              \
-    X(CellBegin, CellBeginOp)                          \
-    X(Gather, GatherOp)                                \
-    X(CopyMaterials, CopyMaterialsOp)                  \
-    X(ResetControl, ResetControlOp)                    \
-    X(Convergence, ConvergenceOp)                      \
-    X(Density, DensityOp)                              \
-    X(SettleOverlap, SettleOverlapOp)                  \
-    X(CopyPositions, CopyPositionsOp)                  \
-    X(AdoptSettled, AdoptSettledOp)                    \
-    X(Predict, PredictOp)                              \
-    X(Lambda, LambdaOp)                                \
-    X(Delta, DeltaOp)                                  \
-    X(VorticityXsph, VorticityXsphOp)                  \
-    X(VorticityForce, VorticityForcePass<false>)       \
-    X(VorticityForceNormals, VorticityForcePass<true>) \
-    X(EmitBlock, EmitBlockOp)                          \
-    X(EmitNozzle, EmitNozzleOp)                        \
-    X(CommitEmission, CommitEmissionOp)                \
-    X(Drain, DrainOp)                                  \
-    X(CommitDrain, CommitDrainOp)                      \
-    X(SurfaceNormal, SurfaceNormalOp)                  \
-    X(SurfaceForce, SurfaceForceOp)                    \
-    X(ColliderPose, ColliderPoseOp)                    \
-    X(ColliderForce, ColliderForceOp)                  \
-    X(RenderData, RenderDataOp)                        \
-    X(DiffuseNormal, DiffuseNormalOp)                  \
-    X(DiffuseSource, DiffuseSourceOp)                  \
-    X(DiffuseAdvect, DiffuseAdvectOp)                  \
-    X(DiffuseScatter, DiffuseScatterOp)                \
-    X(DiffuseCommit, DiffuseCommitOp)                  \
-    X(SdfCorners, SdfCornersOp)                        \
-    X(SdfBinCount, SdfBinCountOp)                      \
-    X(SdfBinFill, SdfBinFillOp)                        \
-    X(SdfBrickBegin, SdfBrickBeginOp)                  \
-    X(SdfWindingPart, SdfWindingPartOp)                \
-    X(SdfBrickWinding, SdfBrickWindingOp)              \
-    X(SdfVoxel, SdfVoxelOp)                            \
-    X(SdfBoundary, SdfBoundaryOp)                      \
-    X(BeginStep, BeginStepOp)                          \
+#define PBF_CUDA_OPS(X)                                     \
+    X(CellKey, CellKeyOp)                                   \
+    X(CellBegin, CellBeginOp)                               \
+    X(Gather, GatherOp)                                     \
+    X(CopyMaterials, CopyMaterialsOp)                       \
+    X(ResetControl, ResetControlOp)                         \
+    X(Convergence, ConvergenceOp)                           \
+    X(Density, DensityOp)                                   \
+    X(SettleOverlap, SettleOverlapOp)                       \
+    X(CopyPositions, CopyPositionsOp)                       \
+    X(AdoptSettled, AdoptSettledOp)                         \
+    X(Predict, PredictOp)                                   \
+    X(Lambda, LambdaOp)                                     \
+    X(Delta, DeltaOp)                                       \
+    X(VorticityXsph, VorticityXsphOp)                       \
+    X(VorticityForce, VorticityForcePass<false>)            \
+    X(VorticityForceNormals, VorticityForcePass<true>)      \
+    X(LambdaPlain, LambdaPass<true>)                        \
+    X(DeltaPlain, DeltaPass<true>)                          \
+    X(VorticityXsphPlain, VorticityXsphPass<true>)          \
+    X(VorticityForcePlain, VorticityForcePass<false, true>) \
+    X(EmitBlock, EmitBlockOp)                               \
+    X(EmitNozzle, EmitNozzleOp)                             \
+    X(CommitEmission, CommitEmissionOp)                     \
+    X(Drain, DrainOp)                                       \
+    X(CommitDrain, CommitDrainOp)                           \
+    X(SurfaceNormal, SurfaceNormalOp)                       \
+    X(SurfaceForce, SurfaceForceOp)                         \
+    X(ColliderPose, ColliderPoseOp)                         \
+    X(ColliderForce, ColliderForceOp)                       \
+    X(RenderData, RenderDataOp)                             \
+    X(DiffuseNormal, DiffuseNormalOp)                       \
+    X(DiffuseSource, DiffuseSourceOp)                       \
+    X(DiffuseAdvect, DiffuseAdvectOp)                       \
+    X(DiffuseScatter, DiffuseScatterOp)                     \
+    X(DiffuseCommit, DiffuseCommitOp)                       \
+    X(SdfCorners, SdfCornersOp)                             \
+    X(SdfBinCount, SdfBinCountOp)                           \
+    X(SdfBinFill, SdfBinFillOp)                             \
+    X(SdfBrickBegin, SdfBrickBeginOp)                       \
+    X(SdfWindingPart, SdfWindingPartOp)                     \
+    X(SdfBrickWinding, SdfBrickWindingOp)                   \
+    X(SdfVoxel, SdfVoxelOp)                                 \
+    X(SdfBoundary, SdfBoundaryOp)                           \
+    X(BeginStep, BeginStepOp)                               \
     X(PublishFeedback, PublishFeedbackOp)
 
 enum CudaOpIndex : uint32_t {

@@ -128,15 +128,19 @@ public:
             return Status::error(PBF_ERROR_INTERNAL, "step input exceeds the solver's collider buffers");
         exec_.timer_begin();
         exec_.profile_reset();
-        // The step's colliders go up once, before its first kernel (shapes and where each starts
-        // and ends); the substeps' poses are interpolated on the backend, each substep's end into
-        // one of two rows that alternate (row k % 2 holds the poses at t = k / substeps).
+        // The step's colliders go up once, before its first kernel (shapes, where each starts
+        // and ends, the broad phase's lists); the substeps' poses are interpolated on the
+        // backend, each substep's end into one of two rows that alternate (row k % 2 holds the
+        // poses at t = k / substeps).
         if (count > 0) {
             exec_.upload(collider_shapes_, in.collider_shapes.data(), count * sizeof(Collider));
             exec_.upload(collider_keys_, in.collider_keys.data(), count * sizeof(ColliderKey));
-            exec_.for_each(count, ColliderPoseOp{collider_keys_, collider_poses_, count, substeps, 0});
         }
         const ColliderGrid grid = upload_collider_grid(in.collider_shapes);
+        // From here to the end of the step there are launches only: recorded, they go to the
+        // device as one graph.
+        exec_.record_begin();
+        if (count > 0) exec_.for_each(count, ColliderPoseOp{collider_keys_, collider_poses_, count, substeps, 0});
         const bool dynamic = in.dynamic_count > 0;
         if (dynamic) exec_.zero(collider_impulses_, size_t(config_.max_colliders) * sizeof(ColliderForce));
         exec_.for_each(1, BeginStepOp{counters_});
@@ -165,9 +169,10 @@ public:
         const HeightFrame frame = height_frame(s);
         exec_.reduce_feedback(frame, pos_, vel_, &counters_->count, bound_, &counters_->feedback);
         exec_.for_each(1, PublishFeedbackOp{counters_, frame, feedback_});
-        exec_.feedback_published();
         update_diffuse(s, in.frame_dt);
         update_render_data(s);  // last, so its stage time is the pass alone
+        exec_.record_end();
+        exec_.feedback_published();
         exec_.profile_mark(kStageCount);
         exec_.timer_end();
         return exec_.check("pbf_world_step");
@@ -502,13 +507,16 @@ private:
         // iterations >= 1 (the API refuses 0): the first λ pass records the neighbour masks and
         // the last Δp pass updates v and x.
         const NeighborMasks masks{masks_, sorted_keys_, config_.capacity};
+        // Without colliders this substep and with every particle of the default material, the
+        // hot passes run their kernels compiled without either (Features, material_ops.h).
+        const bool plain = ctx.colliders.count == 0 && !materials_moved_;
         // The sort's value buffers are free until the next grid build: λ leaves the colliders'
         // boundary gradient there for Δ.
         const PackedVectors colliders_gradient{order_[0], reinterpret_cast<float*>(order_[1])};
         for (uint32_t it = 0; it < in.iterations; ++it) {
             exec_.profile_mark(kStageLambda);
-            exec_.for_each(bound_, LambdaOp{s, ctx, cell_begin_, masks, it == 0 ? 1u : 0u, pos_, pred_, density_,
-                                            control, denominator_, colliders_gradient});
+            for_each_pass<LambdaPass>(plain, bound_, s, ctx, cell_begin_, masks, it == 0 ? 1u : 0u, pos_, pred_,
+                                      density_, control, denominator_, colliders_gradient);
             if (adaptive) {
                 exec_.sum_compressive_error(s, density_, &counters_->count, bound_, &control->error_sum);
                 exec_.for_each(1, ConvergenceOp{control, &counters_->count, s.adaptive_target, it == 0 ? 1u : 0u});
@@ -516,8 +524,8 @@ private:
             exec_.profile_mark(kStageDeltaCollide);
             // The last iteration also updates v and x (no separate velocity pass).
             const bool last = it + 1 == in.iterations;
-            exec_.for_each(bound_, DeltaOp{s, ctx, cell_begin_, masks, pos_, pred_, spare_, control,
-                                           last ? pos_ : nullptr, last ? vel_ : nullptr, density_, colliders_gradient});
+            for_each_pass<DeltaPass>(plain, bound_, s, ctx, cell_begin_, masks, pos_, pred_, spare_, control,
+                                     last ? pos_ : nullptr, last ? vel_ : nullptr, density_, colliders_gradient);
             if (!last) std::swap(pred_, spare_);  // Jacobi: the corrected positions are the next input
         }
         masks_valid_ = true;  // recorded by the first λ pass
@@ -526,7 +534,7 @@ private:
             // x* now lives in x: pred_ and spare_ are free until the next substep.
             Vec4* omega = spare_;
             exec_.profile_mark(kStageVorticity);
-            exec_.for_each(bound_, VorticityXsphOp{s, ctx, cell_begin_, masks, pos_, vel_, omega, pred_});
+            for_each_pass<VorticityXsphPass>(plain, bound_, s, ctx, cell_begin_, masks, pos_, vel_, omega, pred_);
             exec_.profile_mark(kStageVorticityXsph);
             // The old velocities (vel_) are dead now: with surface tension the pass sums the
             // surface normals there, which the swap leaves in pred_ for the next substep.
@@ -535,7 +543,8 @@ private:
                     bound_, VorticityForcePass<true>{s, ctx, cell_begin_, masks, pos_, omega, pred_, density_, vel_});
                 surface_normals_valid_ = true;
             } else {
-                exec_.for_each(bound_, VorticityForceOp{s, ctx, cell_begin_, masks, pos_, omega, pred_, density_});
+                for_each_pass<VorticityForceOnly>(plain, bound_, s, ctx, cell_begin_, masks, pos_, omega, pred_,
+                                                  density_);
             }
             std::swap(vel_, pred_);
             density_valid_ = true;  // that pass also summed ρ at the final positions
@@ -549,6 +558,15 @@ private:
             exec_.for_each(bound_, DensityOp{s, ctx.colliders, cell_begin_, pos_, density_, masks});
             density_valid_ = true;
         }
+    }
+
+    // Launches Pass<true> (plain) or Pass<false> with the same fields.
+    template <template <bool> class Pass, class... Args>
+    void for_each_pass(bool plain, uint32_t n, const Args&... args) {
+        if (plain)
+            exec_.for_each(n, Pass<true>{args...});
+        else
+            exec_.for_each(n, Pass<false>{args...});
     }
 
     // Smoothed positions and anisotropy from the current grid (one pass; none when the world

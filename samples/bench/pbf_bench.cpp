@@ -16,6 +16,8 @@
 // steps, and reads every box's force back with pbf_collider_get_force (which waits for the
 // step). "frame ms" is the host-clock median of that whole frame (poses, step, read-back,
 // pbf_world_get_stats), the figure to compare across N; "ms median" stays the backend's step.
+// "call ms" is the host clock inside pbf_world_step alone (median): what queuing a step costs the
+// engine's thread, the GPU's work running on after it returns.
 //
 // --level-size L > 0 puts the scene in an open level (pbf_world_desc.walls = 0, a hashed grid):
 // the same fluid 0.3 L, -0.2 L, 0.45 L from the origin, held by five static plane colliders
@@ -82,6 +84,7 @@ struct Result {
     uint32_t grid_hashed = 0;
     uint64_t grid_bytes = 0;
     double frame_ms = 0;  // host clock: target poses, step, force read-back, stats (median)
+    double call_ms = 0;   // host clock inside pbf_world_step alone: what queuing the step costs the caller (median)
 };
 
 // The solver's stages, as the library names them (pbf_profile_stage_name).
@@ -330,12 +333,16 @@ Result run(const Config& c, int warmup, int steps, bool stages) {
     pbf_step_stats s;
     std::memset(&s, 0, sizeof s);
     s.struct_size = sizeof s;
-    std::vector<double> times, frames;
+    std::vector<double> times, frames, calls;
     double force_checksum = 0;
     for (int k = 0; k < warmup + steps; ++k) {
         const auto t0 = std::chrono::steady_clock::now();
-        if (!move_dynamic_boxes(w, boxes, k, dt) || pbf_world_step(w, dt) != PBF_OK ||
-            !read_dynamic_forces(w, boxes, &force_checksum) || pbf_world_get_stats(w, &s) != PBF_OK) {
+        bool ok = move_dynamic_boxes(w, boxes, k, dt);
+        const auto call = std::chrono::steady_clock::now();
+        ok = ok && pbf_world_step(w, dt) == PBF_OK;
+        const double call_ms =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - call).count();
+        if (!ok || !read_dynamic_forces(w, boxes, &force_checksum) || pbf_world_get_stats(w, &s) != PBF_OK) {
             r.error = pbf_last_error_message();
             pbf_world_destroy(w);
             return r;
@@ -344,6 +351,7 @@ Result run(const Config& c, int warmup, int steps, bool stages) {
         if (k < warmup) continue;
         times.push_back(s.step_time_ms);
         frames.push_back(frame);
+        calls.push_back(call_ms);
         r.error_mean += s.density_error_mean;
         r.error_max = std::max<double>(r.error_max, s.density_error_max);
         if (stages) {
@@ -362,6 +370,8 @@ Result run(const Config& c, int warmup, int steps, bool stages) {
     r.ms_max = times.back();
     std::sort(frames.begin(), frames.end());
     r.frame_ms = frames[frames.size() / 2];
+    std::sort(calls.begin(), calls.end());
+    r.call_ms = calls[calls.size() / 2];
     r.ok = std::isfinite(s.kinetic_energy) && std::isfinite(force_checksum);
     if (!r.ok) r.error = "simulation diverged";
     pbf_world_destroy(w);
@@ -437,15 +447,15 @@ int main(int argc, char** argv) {
             csv,
             "scene,particles,iterations,ldc,render,backend,device,ms_median,ms_min,ms_max,particle_steps_per_s,"
             "bytes_per_particle,density_error_mean,density_error_max,dt,diffuse,diffuse_count,collider,triangles,"
-            "build_ms,level_size,grid_hashed,grid_bytes,first_build_ms,dynamic_colliders,frame_ms");
+            "build_ms,level_size,grid_hashed,grid_bytes,first_build_ms,dynamic_colliders,frame_ms,call_ms");
         for (uint32_t k = 0; k < stage_count(); ++k) std::fprintf(csv, ",stage_%s_ms", pbf_profile_stage_name(k));
         std::fprintf(csv, "\n");
     }
     std::printf(
         "| scene | particles | iter | LDC | render | diffuse cap/live | backend | device | ms median | min | max | "
         "particle-steps/s | B/particle | density err mean | max | collider | triangles | build ms | level | grid | "
-        "dynamic | frame ms |\n"
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+        "dynamic | frame ms | call ms |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     int failures = 0;
     std::vector<double> create_ms;
     std::vector<std::pair<Config, Result>> staged;
@@ -494,14 +504,14 @@ int main(int argc, char** argv) {
                                                     std::printf(
                                                         "| %s | %u | %u | %u | %u | %u/%u | %s | %s | %.3f | %.3f | "
                                                         "%.3f | %.3g | %.1f | %.5f | %.4f "
-                                                        "| %s | %u | %.1f | %s | %s %.1f KB | %u | %.3f |\n",
+                                                        "| %s | %u | %.1f | %s | %s %.1f KB | %u | %.3f | %.3f |\n",
                                                         scene.c_str(), r.count, c.iterations, c.ldc, c.render,
                                                         c.diffuse, r.diffuse_count, bname, r.device.c_str(),
                                                         r.ms_median, r.ms_min, r.ms_max, rate, r.bytes_per_particle,
                                                         r.error_mean, r.error_max, c.collider.c_str(), r.triangles,
                                                         r.build_ms, c.level_size > 0 ? lv.c_str() : "box",
                                                         r.grid_hashed ? "hashed" : "dense", r.grid_bytes / 1024.0,
-                                                        c.dynamic_colliders, r.frame_ms);
+                                                        c.dynamic_colliders, r.frame_ms, r.call_ms);
                                                     std::fflush(stdout);
                                                     if (csv) {
                                                         std::fprintf(csv,
@@ -511,11 +521,12 @@ int main(int argc, char** argv) {
                                                                      c.render, bname, r.device.c_str(), r.ms_median,
                                                                      r.ms_min, r.ms_max, rate, r.bytes_per_particle,
                                                                      r.error_mean, r.error_max, r.dt);
-                                                        std::fprintf(csv, ",%u,%u,%s,%u,%.3f,%g,%u,%llu,%.3f,%u,%.4f",
-                                                                     c.diffuse, r.diffuse_count, c.collider.c_str(),
-                                                                     r.triangles, r.build_ms, c.level_size,
-                                                                     r.grid_hashed, (unsigned long long)r.grid_bytes,
-                                                                     r.first_build_ms, c.dynamic_colliders, r.frame_ms);
+                                                        std::fprintf(
+                                                            csv, ",%u,%u,%s,%u,%.3f,%g,%u,%llu,%.3f,%u,%.4f,%.4f",
+                                                            c.diffuse, r.diffuse_count, c.collider.c_str(), r.triangles,
+                                                            r.build_ms, c.level_size, r.grid_hashed,
+                                                            (unsigned long long)r.grid_bytes, r.first_build_ms,
+                                                            c.dynamic_colliders, r.frame_ms, r.call_ms);
                                                         for (uint32_t k = 0; k < stage_count(); ++k)
                                                             std::fprintf(csv, ",%.4f", r.stage_ms[k]);
                                                         std::fprintf(csv, "\n");
