@@ -12,8 +12,9 @@
 #
 # A file may include its own layer, common/, and the layers named in `reach` below: the API
 # reaches the world and interop only (never the solver or an executor), the world reaches the
-# solver (and core/ for its constants), the solver its executors. include/pbf_c_api.h (the public header) may be included from anywhere; tests/, tools/ and
-# samples/ are outside the layers.
+# solver (and core/ for its constants), the solver its executors. include/pbf_c_api.h (the
+# public header) may be included from anywhere; tests/, tools/, samples/ and harness/ are
+# outside the layers.
 #
 # Includes are not the only way around a door: a name the solver declares can reach the API
 # through a header the world includes. So above the world (native/api/, native/interop/):
