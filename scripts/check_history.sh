@@ -4,8 +4,9 @@
 # commit messages, which this check leaves alone). Fails, listing file:line and the text, where a
 # tracked file's contents or name cite an issue number ("issue 13", "issue #7", "issues 13 and 16"),
 # a session ("session 7", "this session's runs") or a work period ("work period 9"), or carry a
-# work-period suffix ("h100_gpu_suite_s9.log", "h100_s5_diffuse.csv": name a log by what it
-# measures and its commit).
+# work-period suffix ("h100_gpu_suite_s9.log", "h100_s5_diffuse.csv"), or a recorded run under
+# docs/ is named by a stage of the work ("h100_bench_sizes_v5a.csv", "h100_gpu_suite_final.log"):
+# name a log by what it measures and its commit.
 #
 #   bash scripts/check_history.sh     # from anywhere in the repository; about a second
 #
@@ -23,6 +24,8 @@ period='(this|that|next|last|previous|same|earlier|a) (session|work[ -]period)([
 words="(^|[^[:alnum:]])(issues?[ _#-]*[0-9]|sessions?[ _#-]*[0-9]|work[ -]periods?[ _#-]*[0-9]|$period)"
 # Case-sensitive: a work-period suffix in a file name (_s9.log, _s5_open.log, h100_s5_mesh.csv).
 suffix='_s[0-9]+(_[[:alnum:]]+)*\.(log|csv|txt|json|png)|_s[0-9]+_'
+# A stage of the work in the name of a recorded run under docs/ (_v5, _v5a_, _final.log).
+stage='_(v[0-9]+[a-z]?|final)([._]|$)'
 
 # Exempt: the history itself, this check (its patterns and examples), and the contents of
 # recorded output (logs and CSVs are what a run printed; their names are still checked).
@@ -48,7 +51,8 @@ is_allowed() {  # is_allowed PATH: PATH equals or lies under an allow-listed pat
 if git rev-parse --is-inside-work-tree >/dev/null 2>&1; then
   hits="$( { git grep -n -I -i -E "$words" -- . "${exempt[@]}"
              git grep -n -I -E "$suffix" -- . "${exempt[@]}"; } | sort -u -t: -k1,1 -k2,2n)"
-  names="$(git ls-files | grep -E -i 'issues?[ _#-]*[0-9]|session' ; git ls-files | grep -E '_s[0-9]+([._]|$)')"
+  names="$(git ls-files | grep -E -i 'issues?[ _#-]*[0-9]|session' ; git ls-files | grep -E '_s[0-9]+([._]|$)'
+           git ls-files docs | grep -E "$stage")"
 else  # a source tarball: every text file but build output
   excl=(--exclude=CHANGELOG.md --exclude=check_history.sh --exclude=check_history.allow
         --exclude='*.log' --exclude='*.csv' --exclude-dir=.git --exclude-dir='build*')
@@ -56,7 +60,7 @@ else  # a source tarball: every text file but build output
            sed 's|^\./||' | sort -u -t: -k1,1 -k2,2n)"
   names="$(find . -path ./.git -prune -o -path './build*' -prune -o -type f -print | sed 's|^\./||' |
            grep -E -i 'issues?[ _#-]*[0-9]|session'; find . -path ./.git -prune -o -type f -print |
-           sed 's|^\./||' | grep -E '_s[0-9]+([._]|$)')"
+           sed 's|^\./||' | grep -E '_s[0-9]+([._]|$)'; find docs -type f 2>/dev/null | grep -E "$stage")"
 fi
 
 failed=0 tolerated=0

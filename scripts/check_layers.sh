@@ -12,15 +12,19 @@
 #
 # A file may include its own layer, common/, and the layers named in `reach` below: the API
 # reaches the world and interop only (never the solver or an executor), the world reaches the
-# solver (and core/ for its constants), the solver its executors. include/pbf_c_api.h (the public header) may be included from anywhere; tests/, tools/ and
-# samples/ are outside the layers.
+# solver (and core/ for its constants), the solver its executors. include/pbf_c_api.h (the
+# public header) may be included from anywhere; tests/, tools/, samples/ and harness/ are
+# outside the layers.
 #
 # Includes are not the only way around a door: a name the solver declares can reach the API
-# through a header the world includes. So the names native/solver/*.h declare at namespace
-# scope (types, enum constants, constants, free functions) must not be used in native/api/;
-# a use qualified by another scope (World::stage_name) is that scope's name. The uses still in
-# native/interop/ are listed as notes until interop reaches the world only through its own
-# names. Usage: scripts/check_layers.sh [REPO_ROOT]
+# through a header the world includes. So above the world (native/api/, native/interop/):
+#   - no header they reach, directly or through others, is a solver header that declares a
+#     name (world_cuda.h passes through backend_cuda.h, which declares none);
+#   - none of the names native/solver/*.h declare at namespace scope (types, enum constants,
+#     constants, free functions) is used; a use qualified by another scope (World::stage_name)
+#     is that scope's name.
+# What both sides of the world share (the live buffers) lives in common/.
+# Usage: scripts/check_layers.sh [REPO_ROOT]
 set -euo pipefail
 root="${1:-$(cd "$(dirname "$0")/.." && pwd)}"
 if ! command -v python3 >/dev/null; then
@@ -129,20 +133,58 @@ def solver_names_in(layer):
                         uses.append(f"{os.path.relpath(path, root)}:{lineno}: {name} (solver/{declared[name]})")
     return uses
 
+# ---- solver headers reached from above the world, through the headers in between ------------
+naming = {os.path.join(solver_dir, n) for n in set(declared.values())}
+def includes_of(path):
+    out = []
+    with open(path, encoding="utf-8", errors="replace") as f:
+        for line in f:
+            m = include.match(line)
+            if not m:
+                continue
+            target = os.path.normpath(os.path.join(os.path.dirname(path), m.group(1)))
+            if not os.path.exists(target):
+                target = os.path.normpath(os.path.join(native, m.group(1)))
+            if target.startswith(native + os.sep) and os.path.exists(target):
+                out.append(target)
+    return out
+
+def solver_headers_reached(path):
+    """(solver header, include chain) for each naming solver header path reaches."""
+    seen, found, todo = {path}, [], [(path, [])]
+    while todo:
+        here, chain = todo.pop()
+        for target in includes_of(here):
+            if target in seen:
+                continue
+            seen.add(target)
+            step = chain + [os.path.relpath(target, native)]
+            if target in naming:
+                found.append((target, step))
+            todo.append((target, step))
+    return found
+
+for layer in ("api", "interop"):
+    for dirpath, _, names in os.walk(os.path.join(native, layer)):
+        for n in sorted(names):
+            if not n.endswith((".h", ".hpp", ".c", ".cpp", ".cu", ".cuh")):
+                continue
+            path = os.path.join(dirpath, n)
+            for target, chain in solver_headers_reached(path):
+                bad.append(f"{os.path.relpath(path, root)}: reaches {os.path.relpath(target, root)} "
+                           f"({' -> '.join(chain)}), a solver header above the world")
+
 if os.environ.get("CHECK_LAYERS_LIST_SOLVER_NAMES"):
     print(" ".join(sorted(declared)))
-api_uses = solver_names_in("api")
-for use in api_uses:
-    bad.append(f"{use}: a solver name above the world")
-interop_uses = solver_names_in("interop")
+for layer in ("api", "interop"):
+    for use in solver_names_in(layer):
+        bad.append(f"{use}: a solver name above the world")
 
 if bad:
     print("check_layers: includes against the layering (api > interop > world > solver > exec > core > common):")
     print("\n".join("  " + b for b in bad))
     sys.exit(1)
 print(f"check_layers: {files} files under native/, every include points down through a door; "
-      f"native/api/ uses none of the {len(declared)} names native/solver/ declares")
-if interop_uses:
-    print(f"check_layers: note: native/interop/ still uses {len(interop_uses)} solver names:")
-    print("\n".join("  " + u for u in interop_uses))
+      f"native/api/ and native/interop/ reach no solver header that declares a name and use none "
+      f"of the {len(declared)} names native/solver/ declares")
 PY

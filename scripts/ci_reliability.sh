@@ -17,6 +17,9 @@
 #   PBF_ASAN_CTEST_EXCLUDE  ctest -E regex of tests skipped under ASan (default: none)
 #   PBF_RELIABILITY_SKIP    comma list of parts to skip: fuzz,sanitize,soak
 #   PBF_JOBS                build parallelism (default: nproc)
+#   PBF_WARNINGS_AS_ERRORS  ON: the three builds compile with -Werror (.ci/run sets it, as for
+#                           the main build; default OFF, so a newer compiler's warning run by
+#                           hand does not stop the checks)
 # Missing clang / libFuzzer runtime are installed with apt-get (as root, or with sudo).
 # Exits non-zero if a part fails; a summary comes last.
 set -uo pipefail
@@ -27,6 +30,7 @@ jobs="${PBF_JOBS:-$(nproc)}"
 fuzz_seconds="${PBF_FUZZ_SECONDS:-60}"
 soak_steps="${PBF_SOAK_STEPS:-20000}"
 skip=",${PBF_RELIABILITY_SKIP:-},"
+werror="-DPBF_WARNINGS_AS_ERRORS=${PBF_WARNINGS_AS_ERRORS:-OFF}"
 declare -a summary=()
 failed=0
 
@@ -84,7 +88,7 @@ else
   fi
   fuzz_log=build-fuzz/ci_fuzz.log
   if ! CC=clang CXX=clang++ configure_build build-fuzz pbf_fuzz_c_api -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-         -DPBF_BUILD_FUZZ=ON -DPBF_WITH_CUDA=OFF -DPBF_BUILD_TESTS=OFF -DPBF_BUILD_SAMPLES=OFF; then
+         -DPBF_BUILD_FUZZ=ON -DPBF_WITH_CUDA=OFF -DPBF_BUILD_TESTS=OFF -DPBF_BUILD_SAMPLES=OFF "$werror"; then
     fail "fuzz:     FAILED to build (build-fuzz/ci_build.log)"
   else
     fuzzer=build-fuzz/tests/fuzz/pbf_fuzz_c_api
@@ -115,7 +119,7 @@ else
   echo
   echo "== sanitize: CPU test suite under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/)"
   if ! configure_build build-asan "" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPBF_SANITIZE=ON -DPBF_WITH_CUDA=OFF \
-         -DPBF_BUILD_SAMPLES=OFF; then
+         -DPBF_BUILD_SAMPLES=OFF "$werror"; then
     fail "sanitize: FAILED to build (build-asan/ci_build.log)"
   else
     # allocator_may_return_null: the out-of-memory tests ask for more than the machine has and
@@ -145,7 +149,7 @@ else
   echo
   echo "== soak: pbf_soak, $soak_steps steps of a nozzle-and-drain world (build-soak/, Release)"
   if ! configure_build build-soak pbf_soak -DCMAKE_BUILD_TYPE=Release -DPBF_WITH_CUDA=OFF -DPBF_BUILD_TESTS=OFF \
-         -DPBF_BUILD_SAMPLES=OFF -DPBF_BUILD_SOAK=ON; then
+         -DPBF_BUILD_SAMPLES=OFF -DPBF_BUILD_SOAK=ON "$werror"; then
     fail "soak:     FAILED to build (build-soak/ci_build.log)"
   else
     soak_log=build-soak/ci_soak.log

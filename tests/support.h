@@ -182,6 +182,13 @@ inline bool same_params(const pbf_solver_params& a, const pbf_solver_params& b) 
     return std::memcmp(&a, &b, sizeof a) == 0;
 }
 
+// d with one edit applied: a desc one field away from a valid one, as a row of a table of refusals.
+template <class Desc, class Edit>
+inline Desc edited(Desc d, Edit edit) {
+    edit(d);
+    return d;
+}
+
 // REQUIRE_OK under the name the scene tests use.
 #define REQUIRE_PBF(call) REQUIRE_OK(call)
 

@@ -174,13 +174,7 @@ TEST_CASE("emitter desc: NaN, Inf and out-of-range fields are refused", "[api][n
     }
 
     // Out-of-range fields: test_validate.cpp compares the check that refuses each.
-    refuse(
-        [] {
-            pbf_emitter_desc e = nozzle_desc();
-            e.speed = 0;
-            return e;
-        }(),
-        "speed");
+    refuse(edited(nozzle_desc(), [](pbf_emitter_desc& e) { e.speed = 0; }), "speed");
 
     // set_enabled and set_transform validate too.
     pbf_emitter_id nz{}, dr{};
@@ -229,62 +223,29 @@ TEST_CASE("collider desc and set_pose: NaN, Inf and out-of-range fields are refu
         refuse_bad_value(base, &pbf_collider_desc::friction, "friction", refuse);
     }
 
+    const pbf_collider_desc box = collider_desc(PBF_SHAPE_BOX);
     struct Case {
         const char* what;
-        pbf_collider_desc (*make)();
+        pbf_collider_desc desc;
         const char* needle;
     };
     const Case cases[] = {
-        {"shape 0", [] { return collider_desc(static_cast<pbf_collider_shape>(0)); }, "shape"},
-        {"shape 99", [] { return collider_desc(static_cast<pbf_collider_shape>(99)); }, "shape"},
-        {"unset shape", [] { return pbf_collider_desc_default(); }, "shape"},
-        {"motion 5", [] { return collider_desc(PBF_SHAPE_SPHERE, static_cast<pbf_collider_motion>(5)); }, "motion"},
-        {"zero quaternion",
-         [] {
-             pbf_collider_desc c = collider_desc(PBF_SHAPE_BOX);
-             c.rotation[3] = 0;
-             return c;
-         },
-         "rotation"},
-        {"friction 1.5",
-         [] {
-             pbf_collider_desc c = collider_desc(PBF_SHAPE_BOX);
-             c.friction = 1.5f;
-             return c;
-         },
-         "friction"},
-        {"friction -0.5",
-         [] {
-             pbf_collider_desc c = collider_desc(PBF_SHAPE_BOX);
-             c.friction = -0.5f;
-             return c;
-         },
-         "friction"},
-        {"sphere radius 0",
-         [] {
-             pbf_collider_desc c = collider_desc(PBF_SHAPE_SPHERE);
-             c.radius = 0;
-             return c;
-         },
+        {"shape 0", collider_desc(static_cast<pbf_collider_shape>(0)), "shape"},
+        {"shape 99", collider_desc(static_cast<pbf_collider_shape>(99)), "shape"},
+        {"unset shape", pbf_collider_desc_default(), "shape"},
+        {"motion 5", collider_desc(PBF_SHAPE_SPHERE, static_cast<pbf_collider_motion>(5)), "motion"},
+        {"zero quaternion", edited(box, [](pbf_collider_desc& c) { c.rotation[3] = 0; }), "rotation"},
+        {"friction 1.5", edited(box, [](pbf_collider_desc& c) { c.friction = 1.5f; }), "friction"},
+        {"friction -0.5", edited(box, [](pbf_collider_desc& c) { c.friction = -0.5f; }), "friction"},
+        {"sphere radius 0", edited(collider_desc(PBF_SHAPE_SPHERE), [](pbf_collider_desc& c) { c.radius = 0; }),
          "radius"},
         {"capsule half_height -1",
-         [] {
-             pbf_collider_desc c = collider_desc(PBF_SHAPE_CAPSULE);
-             c.half_height = -1;
-             return c;
-         },
-         "half_height"},
-        {"box half_extents 0",
-         [] {
-             pbf_collider_desc c = collider_desc(PBF_SHAPE_BOX);
-             c.half_extents[1] = 0;
-             return c;
-         },
-         "half_extents"},
+         edited(collider_desc(PBF_SHAPE_CAPSULE), [](pbf_collider_desc& c) { c.half_height = -1; }), "half_height"},
+        {"box half_extents 0", edited(box, [](pbf_collider_desc& c) { c.half_extents[1] = 0; }), "half_extents"},
     };
     for (const Case& c : cases) {
         INFO(c.what);
-        refuse(c.make(), c.needle);
+        refuse(c.desc, c.needle);
     }
 
     // set_pose: NaN and Inf in the position, the quaternion, and a zero quaternion.

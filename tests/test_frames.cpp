@@ -1,4 +1,4 @@
-// The frame benchmark's verdict rules (samples/common/frame_run.h) on the CPU cut of its scenes:
+// The frame benchmark's verdict rules (harness/frame_run.h) on the CPU cut of its scenes:
 // the dam break and the resting tank of the frame matrix at ~12k particles (32 particles
 // across a = 0.4 m, 6 layers deep: h = 25 mm), 2 s of 1/60 s frames. These are the settings that
 // must hold; docs/perf.md ("Frames") has the whole matrix on the GPU.

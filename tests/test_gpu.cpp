@@ -13,11 +13,7 @@ pbf_world_id dam_break(pbf_backend backend, uint32_t iterations) {
     d.solver.substeps = 2;
     d.solver.iterations = iterations;
     pbf_world_id w = create(d);
-    pbf_world_info info;
-    std::memset(&info, 0, sizeof info);
-    info.struct_size = sizeof info;
-    REQUIRE_PBF(pbf_world_get_info(w, &info));
-    REQUIRE(info.backend == backend);
+    REQUIRE(world_info(w).backend == backend);
     fill(w, 0, 0, 0, 0.2f, 0.4f, 0.2f);
     return w;
 }
@@ -212,10 +208,7 @@ TEST_CASE("the CUDA backend is found through the driver the library opens itself
     pbf_world_desc d = pbf_world_desc_default();
     d.max_particles = 64;
     pbf_world_id w = create(d);
-    pbf_world_info info;
-    std::memset(&info, 0, sizeof info);
-    info.struct_size = sizeof info;
-    REQUIRE_PBF(pbf_world_get_info(w, &info));
+    const pbf_world_info info = world_info(w);
     CHECK(info.backend == PBF_BACKEND_CUDA);
     CHECK(std::string(info.device_name) == cuda.device_name);
     pbf_world_destroy(w);

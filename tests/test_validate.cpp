@@ -131,116 +131,41 @@ TEST_CASE("validate: world desc and solver parameters name the failed check", "[
 // message does not break the test.
 TEST_CASE("validate: emitter descs and transforms name the failed check", "[api][validate][emitter]") {
     TestWorld w;
+    const pbf_emitter_desc nozzle = nozzle_desc(), drain = drain_desc();
     struct Case {
         const char* what;
-        pbf_emitter_desc (*make)();
+        pbf_emitter_desc desc;
         Check check;
     };
     const Case cases[] = {
-        {"type 0",
-         [] {
-             pbf_emitter_desc e = nozzle_desc();
-             e.type = static_cast<pbf_emitter_type>(0);
-             return e;
-         },
+        {"type 0", edited(nozzle, [](pbf_emitter_desc& e) { e.type = static_cast<pbf_emitter_type>(0); }),
          Check::EMITTER_TYPE},
-        {"type 3",
-         [] {
-             pbf_emitter_desc e = nozzle_desc();
-             e.type = static_cast<pbf_emitter_type>(3);
-             return e;
-         },
+        {"type 3", edited(nozzle, [](pbf_emitter_desc& e) { e.type = static_cast<pbf_emitter_type>(3); }),
          Check::EMITTER_TYPE},
-        {"unset type", [] { return pbf_emitter_desc_default(); }, Check::EMITTER_TYPE},
-        {"enabled 2",
-         [] {
-             pbf_emitter_desc e = nozzle_desc();
-             e.enabled = 2;
-             return e;
-         },
-         Check::EMITTER_ENABLED},
-        {"drain enabled 2",
-         [] {
-             pbf_emitter_desc e = drain_desc();
-             e.enabled = 2;
-             return e;
-         },
-         Check::EMITTER_ENABLED},
-        {"speed 0",
-         [] {
-             pbf_emitter_desc e = nozzle_desc();
-             e.speed = 0;
-             return e;
-         },
-         Check::NOZZLE_SPEED},
-        {"radius -1",
-         [] {
-             pbf_emitter_desc e = nozzle_desc();
-             e.radius = -1;
-             return e;
-         },
-         Check::NOZZLE_RADIUS},
-        {"rate 0",
-         [] {
-             pbf_emitter_desc e = nozzle_desc();
-             e.particles_per_second = 0;
-             return e;
-         },
-         Check::NOZZLE_RATE},
-        {"rate 2e9",
-         [] {
-             pbf_emitter_desc e = nozzle_desc();
-             e.particles_per_second = 2e9f;
-             return e;
-         },
-         Check::NOZZLE_RATE},
-        {"zero direction",
-         [] {
-             pbf_emitter_desc e = nozzle_desc();
-             e.direction[1] = 0;
-             return e;
-         },
-         Check::NOZZLE_DIRECTION},
-        {"nozzle position NaN",
-         [] {
-             pbf_emitter_desc e = nozzle_desc();
-             e.position[0] = NAN;
-             return e;
-         },
-         Check::NOZZLE_FINITE},
-        {"inverted drain",
-         [] {
-             pbf_emitter_desc e = drain_desc();
-             std::swap(e.box_min[0], e.box_max[0]);
-             return e;
-         },
+        {"unset type", pbf_emitter_desc_default(), Check::EMITTER_TYPE},
+        {"enabled 2", edited(nozzle, [](pbf_emitter_desc& e) { e.enabled = 2; }), Check::EMITTER_ENABLED},
+        {"drain enabled 2", edited(drain, [](pbf_emitter_desc& e) { e.enabled = 2; }), Check::EMITTER_ENABLED},
+        {"speed 0", edited(nozzle, [](pbf_emitter_desc& e) { e.speed = 0; }), Check::NOZZLE_SPEED},
+        {"radius -1", edited(nozzle, [](pbf_emitter_desc& e) { e.radius = -1; }), Check::NOZZLE_RADIUS},
+        {"rate 0", edited(nozzle, [](pbf_emitter_desc& e) { e.particles_per_second = 0; }), Check::NOZZLE_RATE},
+        {"rate 2e9", edited(nozzle, [](pbf_emitter_desc& e) { e.particles_per_second = 2e9f; }), Check::NOZZLE_RATE},
+        {"zero direction", edited(nozzle, [](pbf_emitter_desc& e) { e.direction[1] = 0; }), Check::NOZZLE_DIRECTION},
+        {"nozzle position NaN", edited(nozzle, [](pbf_emitter_desc& e) { e.position[0] = NAN; }), Check::NOZZLE_FINITE},
+        {"inverted drain", edited(drain, [](pbf_emitter_desc& e) { std::swap(e.box_min[0], e.box_max[0]); }),
          Check::DRAIN_BOX},
-        {"drain box Inf",
-         [] {
-             pbf_emitter_desc e = drain_desc();
-             e.box_max[2] = INFINITY;
-             return e;
-         },
-         Check::DRAIN_FINITE},
-        {"drain with NaN speed",
-         [] {
-             pbf_emitter_desc e = drain_desc();
-             e.speed = NAN;
-             return e;
-         },
+        {"drain box Inf", edited(drain, [](pbf_emitter_desc& e) { e.box_max[2] = INFINITY; }), Check::DRAIN_FINITE},
+        {"drain with NaN speed", edited(drain, [](pbf_emitter_desc& e) { e.speed = NAN; }),
          Check::EMITTER_UNUSED_FINITE},
     };
     for (const Case& c : cases) {
         INFO(c.what);
-        const pbf_emitter_desc e = c.make();
         pbf_emitter_id id{9, 9};
-        CHECK_REFUSED_BY(pbf_world_create_emitter(w.id, &e, &id), c.check);
+        CHECK_REFUSED_BY(pbf_world_create_emitter(w.id, &c.desc, &id), c.check);
         CHECK(id.generation == 0);
     }
     pbf_emitter_id nz{}, dr{};
-    const pbf_emitter_desc n = nozzle_desc(), d = drain_desc();
-    REQUIRE(pbf_world_create_emitter(w.id, &n, &nz) == PBF_OK);
-    REQUIRE(pbf_world_create_emitter(w.id, &d, &dr) == PBF_OK);
+    REQUIRE(pbf_world_create_emitter(w.id, &nozzle, &nz) == PBF_OK);
+    REQUIRE(pbf_world_create_emitter(w.id, &drain, &dr) == PBF_OK);
     const float zero[3] = {0, 0, 0}, pos[3] = {0, 0.7f, 0}, nan3[3] = {NAN, 0, 0};
     CHECK_REFUSED_BY(pbf_emitter_set_nozzle(w.id, nz, pos, zero), Check::NOZZLE_DIRECTION);
     CHECK_REFUSED_BY(pbf_emitter_set_nozzle(w.id, nz, pos, nan3), Check::TRANSFORM_FINITE);

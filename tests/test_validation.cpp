@@ -1,6 +1,6 @@
 // Validation against experiment: the dam break of Martin & Moyce (1952), n² = 2, on the CPU
 // backend through the public C API. The scene, the front measure and the comparison are the
-// ones the reproduction report plots (samples/common/paper_scene.h, docs/paper/README.md).
+// ones the reproduction report plots (harness/paper_scene.h, docs/paper/README.md).
 //
 // Geometry: a column a wide and 2a high released at the left end of a 5a tank, 24 particles
 // across a, 8 layers deep in z between frictionless walls (9216 particles); a = 0.4 m, frames

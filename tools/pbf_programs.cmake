@@ -1,5 +1,5 @@
 # Programs of the public C API (samples/, tools/): each links the shared library only and may
-# read the headers in samples/common. Included by the CMakeLists that add them.
+# read the headers in harness/. Included by the CMakeLists that add them.
 include_guard(GLOBAL)
 
 # pbf_add_program(NAME SOURCES... [LIBS LIBRARIES...]): the executable, with -Wall -Wextra on
@@ -8,7 +8,7 @@ function(pbf_add_program name)
   cmake_parse_arguments(arg "" "" "LIBS" ${ARGN})
   add_executable(${name} ${arg_UNPARSED_ARGUMENTS})
   target_link_libraries(${name} PRIVATE pbf ${arg_LIBS})
-  target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/samples/common)
+  target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/harness)
   if(CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
     target_compile_options(${name} PRIVATE -Wall -Wextra)
   endif()

@@ -9,13 +9,13 @@
 #include <vector>
 
 #include "../exec/exec_common.h"
+#include "../common/live_buffers.h"
 #include "../common/status.h"
 #include "../core/limits.h"
 #include "../core/params.h"
 #include "../core/diffuse_ops.h"
 #include "../core/render_ops.h"
 #include "../core/step_ops.h"
-#include "live_buffers.h"
 #include "mesh_input.h"
 #include "pbf_c_api.h"
 

@@ -2,16 +2,16 @@
 // lifecycle, its parameters, and the backend that holds the particles. Inputs arrive validated
 // by the C API layer; the world only applies them. The physics of a step (constants, substeps,
 // emission) is the step plan's (solver/step_plan.h); this header names the solver only by
-// forward declarations, and passes on the live buffers (solver/live_buffers.h) to interop.
+// forward declarations, and passes on the live buffers (common/live_buffers.h) to interop.
 #pragma once
 #include <memory>
 #include <vector>
 
+#include "../common/live_buffers.h"
 #include "../common/slot_table.h"
 #include "../common/status.h"
 #include "../core/params.h"
 #include "../core/sdf.h"
-#include "../solver/live_buffers.h"
 #include "pbf_c_api.h"
 
 namespace pbf {

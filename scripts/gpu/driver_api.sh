@@ -30,7 +30,7 @@ fi
 for rep in ${PBF_REPS:-1 2}; do
   for b in old new; do
     dir=$OLD; [ "$b" = new ] && dir=$NEW
-    "$dir/samples/pbf_bench" --backend cuda --scene dam,tank --particles 1000000 --iterations 4 --ldc 0,1 \
+    "$dir/tools/bench/pbf_bench" --backend cuda --scene dam,tank --particles 1000000 --iterations 4 --ldc 0,1 \
       --csv "$OUT/bench_${b}_${rep}.csv" > "$OUT/bench_${b}_${rep}.md" 2>&1
     echo "bench $b rep $rep rc=$?"
   done
@@ -42,7 +42,7 @@ done
 if [ -n "${PBF_STAGES:-}" ]; then
   for b in old new; do
     dir=$OLD; [ "$b" = new ] && dir=$NEW
-    "$dir/samples/pbf_bench" --backend cuda --scene dam --particles 1000000 --iterations 4 --ldc 0 --stages \
+    "$dir/tools/bench/pbf_bench" --backend cuda --scene dam --particles 1000000 --iterations 4 --ldc 0 --stages \
       --csv "$OUT/stages_${b}.csv" > "$OUT/stages_${b}.md" 2>&1
     echo "== stages $b"; grep -A3 "Per-stage" "$OUT/stages_${b}.md" | tail -1 | cut -c1-220
   done

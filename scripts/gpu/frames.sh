@@ -26,7 +26,7 @@ case "${1:-suite}" in
     t0=$SECONDS
     "$B/tests/pbf_gpu_tests" "[gpu]" > "$OUT/gpu_tests.log" 2>&1; echo "gpu tests rc=$? ($((SECONDS - t0)) s)"
     grep -E "FAILED|passed|failed|test cases" "$OUT/gpu_tests.log" | tail -12
-    "$B/samples/pbf_bench" --backend cuda --scene dam,tank --particles 1000000 --iterations 4 --ldc 0,1 \
+    "$B/tools/bench/pbf_bench" --backend cuda --scene dam,tank --particles 1000000 --iterations 4 --ldc 0,1 \
       --csv "$OUT/bench_1m.csv" > "$OUT/bench_1m.md" 2>&1; echo "bench rc=$?"; cat "$OUT/bench_1m.md"
     ;;
   fine)

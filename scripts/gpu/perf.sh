@@ -25,17 +25,17 @@ t0=$SECONDS
 "$B/tests/pbf_gpu_tests" "[gpu]" > "$OUT/gpu_tests.log" 2>&1; echo "gpu tests rc=$? ($((SECONDS - t0)) s)"
 grep -E "difference|FAILED|passed|failed" "$OUT/gpu_tests.log" | tail -8
 PBF_BACKEND=cuda "$B/samples/dam_break" 262144 100 4 > "$OUT/sample_256k_it4.log" 2>&1; echo "sample rc=$?"; tail -2 "$OUT/sample_256k_it4.log"
-"$B/samples/pbf_bench" --backend cuda --scene dam,tank --particles 65536,262144,1000000,4096000,16000000 --iterations 4 \
+"$B/tools/bench/pbf_bench" --backend cuda --scene dam,tank --particles 65536,262144,1000000,4096000,16000000 --iterations 4 \
   --ldc 0,1 --csv "$OUT/bench_sizes.csv" > "$OUT/bench_sizes.md" 2>&1; echo "bench sizes rc=$?"
-"$B/samples/pbf_bench" --backend cuda --scene dam --particles 1000000 --iterations 1,2,3,4,5,6 --ldc 0,1 --stages \
+"$B/tools/bench/pbf_bench" --backend cuda --scene dam --particles 1000000 --iterations 1,2,3,4,5,6 --ldc 0,1 --stages \
   --csv "$OUT/bench_iters.csv" > "$OUT/bench_iters.md" 2>&1; echo "bench iters rc=$?"
 # Open levels: a puddle in a walled 2 m box (dense grid) and 1 km out in an open level
 # (hashed grid, five planes), and the walled box on the hashed grid.
-"$B/samples/pbf_bench" --backend cuda --scene puddle --particles 100000,1000000 --iterations 4 --ldc 0 \
+"$B/tools/bench/pbf_bench" --backend cuda --scene puddle --particles 100000,1000000 --iterations 4 --ldc 0 \
   --level-size 0,1000 --grid auto,hashed --csv "$OUT/bench_open.csv" > "$OUT/bench_open.md" 2>&1; echo "bench open rc=$?"
 for v in ${PBF_VARIANTS:-}; do
-  [ -x "$v/samples/pbf_bench" ] || continue
-  "$v/samples/pbf_bench" --backend cuda --scene dam --particles 1000000 --iterations 4 --ldc 0,1 --stages \
+  [ -x "$v/tools/bench/pbf_bench" ] || continue
+  "$v/tools/bench/pbf_bench" --backend cuda --scene dam --particles 1000000 --iterations 4 --ldc 0,1 --stages \
     --csv "$OUT/bench_$(basename "$v").csv" > "$OUT/bench_$(basename "$v").md" 2>&1
   echo "== variant $v"; grep -E "^\| dam" "$OUT/bench_$(basename "$v").md"
 done

@@ -14,6 +14,6 @@ done
 wait
 for v in $variants; do
   b=${v%:*}; r=${v#*:}
-  line=$(build-tune-$b-$r/samples/pbf_bench --backend cuda --scene dam --particles 1000000 --iterations 4 --ldc 0,1 2>&1 | grep '^| dam' | cut -d'|' -f5,8 | tr '\n' ' ')
+  line=$(build-tune-$b-$r/tools/bench/pbf_bench --backend cuda --scene dam --particles 1000000 --iterations 4 --ldc 0,1 2>&1 | grep '^| dam' | cut -d'|' -f5,8 | tr '\n' ' ')
   echo "block $b maxrreg $r: $line"
 done

@@ -42,7 +42,7 @@ MM_MAX_SHIFT = 0.2   # the validation test's limit on the fitted release lag (te
 MM_FREE_SHIFT = 0.5  # the same fit without that limit, to show where the lag would go (never a criterion)
 RECOMMENDED_GAIN = 0.3  # from the sweep (README §4)  # max(KE + ΔPE)/(M g a) above this: the run created energy (unstable)
 # The equal-cost comparison (tools/paper/report_runs.sh cost_runs; data/cost/): methods and
-# substeps per frame, and the frame benchmark's verdict rules (samples/common/frame_run.h).
+# substeps per frame, and the frame benchmark's verdict rules (harness/frame_run.h).
 COST_METHODS = ["conv1", "conv2", "conv3", "conv4", "ldc1", "ldc2", "ldc3"]
 COST_SUBSTEPS = ["auto", "3", "5", "7", "10", "14"]
 COST_TARGETS = [0.02, 0.01, 0.005]  # mean compressive error targets of the cheapest-setting table
@@ -157,7 +157,7 @@ def tank_metrics(r):
 
 def frame_metrics(r, scene):
     """A cost run (one row per 1/60 s frame) judged by the frame benchmark's rules
-    (samples/common/frame_run.h): unstable if non-finite, max density error > 3 or KE + ΔPE >
+    (harness/frame_run.h): unstable if non-finite, max density error > 3 or KE + ΔPE >
     0.05 M g a; clamped if the speed limits cut > 0.1 % of particle-substeps; the tank must end
     at rest. ms per frame: the backend's step time (one pbf_world_step per frame), mean over the
     frames before the verdict. Compression as in §1: the dam's mean error over the collapse
@@ -1495,7 +1495,7 @@ class Report:
 
 
 def compare_mm(T, Z, max_shift=0.2, lo=0.5, hi=3.0):
-    """The test's comparison (samples/common/paper_scene.h compare_martin_moyce), in NumPy."""
+    """The test's comparison (harness/paper_scene.h compare_martin_moyce), in NumPy."""
     pts = [(t, z) for t, z in MM if lo <= t <= hi]
 
     def worst(d):

@@ -1,4 +1,4 @@
-// Small helpers of the command-line tools (samples/bench, tools/paper, tools/frames), public C
+// Small helpers of the command-line tools (tools/bench, tools/paper, tools/frames), public C
 // API only: comma-separated option lists, and the world's info read with struct_size filled.
 #pragma once
 #include <cstring>

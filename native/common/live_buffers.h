@@ -1,6 +1,8 @@
-// The live particles' buffers in backend memory, the one part of the solver's door the world
-// passes on to the layers above it (World::Mapping, World::live_buffers): which memory each
-// pbf_buffer names, its live count and its element size.
+// The live particles' buffers in backend memory: which memory each pbf_buffer names, its live
+// count and its element size. The solver fills it (Backend::live_buffers); the world passes it on
+// to the layers above (World::Mapping, World::live_buffers). It lives in common/ because both
+// sides use it and it names only the public header's types, so the layers above the world read
+// it without reaching into the solver.
 #pragma once
 #include <cstdint>
 
