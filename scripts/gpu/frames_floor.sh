@@ -18,7 +18,7 @@ mkdir -p "$OUT"
 cd "$(dirname "${BASH_SOURCE[0]}")/../.." || exit 1
 [ -f .gpu-debs/setup.sh ] && source .gpu-debs/setup.sh .gpu-debs > "$OUT/setup.log" 2>&1
 nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader | tee "$OUT/device.txt"
-bench() { LD_LIBRARY_PATH="$1/lib" "$1/samples/pbf_bench" --backend cuda "${@:2}"; }
+bench() { LD_LIBRARY_PATH="$1/lib" "$1/tools/bench/pbf_bench" --backend cuda "${@:2}"; }
 t0=$SECONDS
 bench "$B" --scene dam,tank --particles 262144,1000000 --iterations 2,4 --ldc 0,1 --stages \
   --csv "$OUT/bench_stages.csv" > "$OUT/bench_stages.md" 2>&1

@@ -19,7 +19,7 @@ t0=$SECONDS
 echo "gpu tests rc=$? ($((SECONDS - t0)) s)"; grep -E "FAILED|passed|failed|test cases" "$OUT/gpu_tests.log" | tail -12
 for rep in ${PBF_REPS:-1 2}; do
   for g in 0 1; do
-    PBF_CUDA_GRAPHS=$g "$B/samples/pbf_bench" --backend cuda --scene dam --particles ${PBF_BENCH_SIZES:-262144,1000000} \
+    PBF_CUDA_GRAPHS=$g "$B/tools/bench/pbf_bench" --backend cuda --scene dam --particles ${PBF_BENCH_SIZES:-262144,1000000} \
       --iterations 2,4 --ldc 1 --csv "$OUT/bench_graphs${g}_${rep}.csv" > "$OUT/bench_graphs${g}_${rep}.md" 2>&1
     echo "== bench graphs=$g rep $rep rc=$?"; grep -E "^\| dam " "$OUT/bench_graphs${g}_${rep}.md" | cut -c1-120
   done
