@@ -228,22 +228,17 @@ inline double carried_by_plate(pbf_backend backend, float viscosity, float speed
     pbf_world_desc d = box_world(backend, 0.8f, 0.8f, 0.8f, 0.0f);
     d.solver.scorr_k = 0.0f;
     pbf_world_id w = scene::create(d);
-    pbf_collider_desc c = pbf_collider_desc_default();
-    c.shape = PBF_SHAPE_BOX;
-    c.motion = PBF_MOTION_KINEMATIC;
-    set3(c.half_extents, 0.25f, 0.02f, 0.3f);
-    set3(c.position, 0.4f, 0.3f, 0.4f);
-    pbf_collider_id plate;
-    REQUIRE_PBF(pbf_world_create_collider(w, &c, &plate));
+    const pbf_collider_id plate = scene::kinematic_box(w, 0.4f, 0.3f, 0.4f, 0.25f, 0.02f, 0.3f);
     pbf_material_desc m = pbf_material_desc_default();
     m.viscosity = viscosity;
     const pbf_material_id fluid = add_material(w, m);
     const float lo[3] = {0.2f, 0.32f, 0.2f}, hi[3] = {0.6f, 0.44f, 0.6f};
     REQUIRE(fill(w, fluid, lo, hi) == 300);
     const int steps = int(std::lround(seconds * 60.0f));
+    const float identity[4] = {0, 0, 0, 1};
     for (int k = 1; k <= steps; ++k) {
         const float at[3] = {0.4f + speed * float(k) / 60.0f, 0.3f, 0.4f};
-        REQUIRE_PBF(pbf_collider_set_target_pose(w, plate, at, c.rotation));
+        REQUIRE_PBF(pbf_collider_set_target_pose(w, plate, at, identity));
         REQUIRE_PBF(pbf_world_step(w, 1.0f / 60.0f));
     }
     const scene::Particles p = scene::read(w);

@@ -247,6 +247,22 @@ inline pbf_world_id create(const pbf_world_desc& d) {
     return w;
 }
 
+// A kinematic box collider centred at (x, y, z) with half extents (hx, hy, hz), created in w: the
+// paddles and plates the scenes move by its target pose. dynamic: the fluid's force on it is
+// recorded.
+inline pbf_collider_id kinematic_box(pbf_world_id w, float x, float y, float z, float hx, float hy, float hz,
+                                     bool dynamic = false) {
+    pbf_collider_desc c = pbf_collider_desc_default();
+    c.shape = PBF_SHAPE_BOX;
+    c.motion = PBF_MOTION_KINEMATIC;
+    c.dynamic = dynamic ? 1u : 0u;
+    set3(c.half_extents, hx, hy, hz);
+    set3(c.position, x, y, z);
+    pbf_collider_id id{};
+    REQUIRE_PBF(pbf_world_create_collider(w, &c, &id));
+    return id;
+}
+
 // A nozzle at (x, y, z), pointing down (the default direction), with the given speed, disc
 // radius and rate.
 inline pbf_emitter_desc nozzle_at(float x, float y, float z, float speed, float radius, float particles_per_second) {

@@ -270,13 +270,7 @@ TEST_CASE("a thin paddle swept through the fluid faster than its thickness per s
     d.solver.substeps = 1;
     pbf_world_id w = create(d);
     const uint32_t n = fill(w, 0.2f, 0, 0, 1.0f, 0.3f, 0.1f);
-    pbf_collider_desc c = pbf_collider_desc_default();
-    c.shape = PBF_SHAPE_BOX;
-    c.motion = PBF_MOTION_KINEMATIC;
-    set3(c.half_extents, 0.01f, 0.5f, 0.5f);
-    set3(c.position, 0.1f, 0.3f, 0.05f);
-    pbf_collider_id paddle{};
-    REQUIRE_PBF(pbf_world_create_collider(w, &c, &paddle));
+    const pbf_collider_id paddle = kinematic_box(w, 0.1f, 0.3f, 0.05f, 0.01f, 0.5f, 0.5f);
     const float identity[4] = {0, 0, 0, 1};
     float x = 0.1f;
     for (int k = 0; k < 3; ++k) {

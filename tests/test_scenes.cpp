@@ -195,13 +195,7 @@ TEST_CASE("a kinematic box moving through a pool pushes the fluid", "[scene][col
     pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.0125f, 0.8f, 0.4f, 0.2f, 8000);
     d.solver.substeps = 2;
     pbf_world_id w = create(d);
-    pbf_collider_desc c = pbf_collider_desc_default();
-    c.shape = PBF_SHAPE_BOX;
-    c.motion = PBF_MOTION_KINEMATIC;
-    set3(c.position, 0.1f, 0.15f, 0.1f);
-    set3(c.half_extents, 0.04f, 0.15f, 0.2f);  // spans the tank's depth
-    pbf_collider_id paddle;
-    REQUIRE_PBF(pbf_world_create_collider(w, &c, &paddle));
+    const pbf_collider_id paddle = kinematic_box(w, 0.1f, 0.15f, 0.1f, 0.04f, 0.15f, 0.2f);  // z: the tank's depth
     fill(w, 0.15f, 0, 0, 0.8f, 0.1f, 0.2f);
     for (int step = 0; step < 20; ++step) REQUIRE_PBF(pbf_world_step(w, kDt));  // settle
     const Particles before = read(w);

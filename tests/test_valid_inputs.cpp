@@ -180,13 +180,7 @@ TEST_CASE("valid inputs: a thin plate swept at 20 m/s throws no particle faster 
     const float speed = 20.0f, depth = 0.3f;
     pbf_world_id w = create(tank(PBF_BACKEND_CPU, 0.0125f, 1.0f, 0.6f, 0.1f, 4096));
     const uint32_t n = fill(w, 0.2f, 0, 0, 1.0f, depth, 0.1f);
-    pbf_collider_desc c = pbf_collider_desc_default();
-    c.shape = PBF_SHAPE_BOX;
-    c.motion = PBF_MOTION_KINEMATIC;
-    set3(c.half_extents, 0.01f, 0.1f, 0.5f);
-    set3(c.position, 0.1f, 0.1f, 0.05f);
-    pbf_collider_id plate{};
-    REQUIRE_PBF(pbf_world_create_collider(w, &c, &plate));
+    const pbf_collider_id plate = kinematic_box(w, 0.1f, 0.1f, 0.05f, 0.01f, 0.1f, 0.5f);
     const float identity[4] = {0, 0, 0, 1};
     double top = 0.0;
     float x = 0.1f;
@@ -294,14 +288,7 @@ TEST_CASE("valid inputs: a box 6 particle diameters across feels rho g V within 
 // allowance, over the 0.25 s after.
 TEST_CASE("valid inputs: a box created fully inside a settled pool flings no water", "[valid][collide]") {
     pbf_world_id w = deep_pool();
-    pbf_collider_desc c = pbf_collider_desc_default();
-    c.shape = PBF_SHAPE_BOX;
-    c.motion = PBF_MOTION_KINEMATIC;
-    c.dynamic = 1;
-    set3(c.half_extents, 0.08f, 0.08f, 0.08f);
-    set3(c.position, 0.24f, 0.16f, 0.24f);
-    pbf_collider_id box{};
-    REQUIRE_PBF(pbf_world_create_collider(w, &c, &box));
+    const pbf_collider_id box = kinematic_box(w, 0.24f, 0.16f, 0.24f, 0.08f, 0.08f, 0.08f, true);
     const double rise = 0.16 * 0.16 * 0.16 / (0.48 * 0.48), bound = free_fall_front(rise) + kAtRest;
     const double top = run_top(w, 0.25);
     INFO("fastest particle over 0.25 s after the box appeared: " << top << " m/s (bound " << bound << " m/s)");
