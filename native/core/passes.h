@@ -256,12 +256,16 @@ struct PredictOp {
     WorldConstants s;
     StepContext ctx;
     const uint32_t* cell_begin;  // used only with LDC
-    const float* density;        // ρ at the current positions, used only with LDC
-    const Vec4* positions;
+    const float* density;        // ρ at the current positions
+    Vec4* positions;             // w := ρ/ρ0 here, the error C₀ the substep starts with
     Vec4* velocities;
     Vec4* predicted;
     NeighborMasks masks;  // the last substep's, while the particle order is unchanged; else null
     PBF_HD void operator()(uint32_t i) const {
+        // The λ pass's C₀ is the error at x exactly (the last substep's λ pass measured it before
+        // its last correction, which can compress some particles further: new error, which
+        // went into velocity in one substep, at 1e-5 s 24 m/s per 1 % of compression).
+        positions[i].w = density[i] * s.inv_rest_density;
         Vec3 accel = s.gravity;
         const uint32_t m = material_of(ctx, i);
         const float w_i = inverse_mass(s, ctx, i);
@@ -282,6 +286,31 @@ struct PredictOp {
 };
 
 // ---- density constraint (Macklin & Müller 2013, Eq. 1-11) --------------------------------------
+// The old error's share of a particle's λ. The λ pass's target c + γ (c - c₀) is
+// (1 + γ)(c - c₀), the compression this substep's motion added, plus c₀, the error the particle
+// started the substep with (the denominator carries the 1 + γ, so 1/(1 + γ) of the old error is
+// removed per substep). PBF turns a correction into velocity (÷Δt): for new compression that is
+// the impulse that stops the motion that made it, but an old error is no motion of this substep.
+// Converted, it gave c₀ h / (Δt + τ) per layer of a compressed column, so at Δt ≪ τ a single
+// step released c₀ · sound_speed, whatever its length (28 m/s from a step of 2.5e-7 s after a
+// splash, 12 m/s from 1e-5 s after a capped huge step). So at γ > 1 the old error is removed
+// mostly in the positions only, as pre-stabilization does (Macklin et al. 2014): the first λ pass
+// of the substep keeps each particle's share, (1 - 1/γ) min(c₀, target) / target (the new
+// compression counted first), the Δ passes sum the displacement those shares of λ give
+// (share_i λ_i + share_j λ_j along the same pair gradient, plus the boundary's share) and the
+// velocity update leaves it out. The part still converted, 1/γ of the old share, is Δt/τ of it: a
+// velocity change of about c₀ h Δt / τ² per substep, an acceleration, so a step changes the
+// velocities by what its length allows. At γ ≤ 1 (the default substeps, γ ≈ 0.3-0.6) nothing
+// changes: there the persistent error is how a resting fluid carries weight (its removal holds
+// up what lies on it; removed in the positions, one-site boxes in a pool were pushed down by
+// the water above them with nothing pushing back from below). Approximation: the share is fixed
+// over the substep's iterations (they are taken to remove both parts in proportion, exact for a
+// linear solve).
+PBF_HD float old_error_share(float target, float c0, float gamma) {
+    if (!(target > 0.0f) || !(gamma > 1.0f)) return 0.0f;
+    return fminf(c0, target) / target * (1.0f - 1.0f / gamma);
+}
+
 // λ_i = -C_i / (Σ_k |∇_k C_i|² + ε) with C_i = ρ_i/ρ0 - 1. The constraint is unilateral
 // (C clamped at 0): particles at the free surface are not pulled together, which with few
 // iterations otherwise causes clumping. λ is stored in predicted[i].w for the Δp pass.
@@ -307,6 +336,7 @@ struct LambdaPass {
     const IterationControl* control;     // null: fixed iteration count
     float* denominator = nullptr;        // null: every pass computes its own
     PackedVectors colliders_gradient{};  // written when the world has colliders
+    Vec4* old_push = nullptr;            // w: the old error's share (old_error_share); null: no split
     PBF_HD void operator()(uint32_t i) const {
         if (control && control->converged) return;
         const Vec3 xi = xyz(predicted[i]);
@@ -360,13 +390,29 @@ struct LambdaPass {
         // creates stays bounded (the step turns every correction into velocity).
         const float c = fmaxf(rho * s.inv_rest_density - 1.0f, 0.0f);
         const float c0 = fmaxf(positions[i].w - 1.0f, 0.0f);
-        const float lambda = -fmaxf(c + ctx.error_damping * (c - c0), 0.0f) / denom;
+        const float target = fmaxf(c + ctx.error_damping * (c - c0), 0.0f);
+        const float lambda = -target / denom;
         predicted[i].w = lambda;
+        // The old error's share of λ (old_error_share), fixed by the first pass of the substep,
+        // which also clears the displacement the Δ passes sum from it. That share moves x without
+        // velocity, so the colliders feel only the rest of the push (no impulse changes hands).
+        float lambda_moving = lambda;
+        if (old_push) {
+            float share;
+            if (record) {
+                share = old_error_share(target, c0, ctx.error_damping);
+                old_push[i] = make_vec4(Vec3{0.0f, 0.0f, 0.0f}, share);
+            } else {
+                share = old_push[i].w;
+            }
+            lambda_moving -= share * lambda;
+        }
         if (F::colliders(ctx).count == 0) return;
         // Packed, the Δ pass's push differs from the reaction below by at most 1e-4 of it.
         colliders_gradient.store(i, colliders.gradient);
         if (colliders.reacting < kStaticNear && ctx.colliders.impulses)
-            record_shares_push(s, colliders_for_mass(ctx.colliders, F::inv_mass(s, ctx, i)), xi, colliders, lambda);
+            record_shares_push(s, colliders_for_mass(ctx.colliders, F::inv_mass(s, ctx, i)), xi, colliders,
+                               lambda_moving);
     }
 };
 using LambdaOp = LambdaPass<false>;
@@ -410,13 +456,17 @@ struct DeltaPass {
     Vec4* finish_velocities = nullptr;
     const float* density = nullptr;      // ρ of the last λ pass, for x's w (ρ/ρ0)
     PackedVectors colliders_gradient{};  // the λ pass's, when the world has colliders
+    // The old error's share of λ (w) and the displacement it gave over the substep's iterations
+    // (xyz), which the velocity update leaves out (old_error_share); null: no split.
+    Vec4* old_push = nullptr;
     PBF_HD void operator()(uint32_t i) const {
         const Vec4 pi = predicted[i];
         const Vec3 xi = xyz(pi);
         const float lambda_i = pi.w;
         Vec3 c = xi;
+        Vec4 old = old_push ? old_push[i] : Vec4{0.0f, 0.0f, 0.0f, 0.0f};
         if (!(control && control->converged)) {  // converged: x* carries over unchanged
-            Vec3 dp{0.0f, 0.0f, 0.0f};
+            Vec3 dp{0.0f, 0.0f, 0.0f}, dp_old{0.0f, 0.0f, 0.0f};
             // s_corr's k relaxes with Δt (StepContext::scorr_k, solver/step_plan.cpp).
             const float scorr_k = ctx.scorr_k;
             for_each_listed_neighbor(s.grid, cell_begin, masks, i, [&](uint32_t j) {
@@ -427,7 +477,9 @@ struct DeltaPass {
                 if (r2 >= s.h2) return;
                 const float ratio = poly6(r2, s.h2, s.poly6_coef) * s.scorr_inv_w_dq;
                 const float scorr = -scorr_k * fminf(scorr_power(ratio, s.scorr_n), kScorrPowerCap);
-                dp += pair_gradient(d, r2, s.h, s.spiky_coef, i, j) * (lambda_i + pj.w + scorr);
+                const Vec3 grad = pair_gradient(d, r2, s.h, s.spiky_coef, i, j);
+                dp += grad * (lambda_i + pj.w + scorr);
+                if (old_push) dp_old += grad * (old.w * lambda_i + old_push[j].w * pj.w);
             });
             // The boundary's share of ∇C_i, weighted by λ_i alone (the boundary has no λ): the
             // walls', and the colliders' from the λ pass, which recorded their reaction
@@ -437,15 +489,32 @@ struct DeltaPass {
             Vec3 boundary_grad = walls_boundary(s, xi).gradient;
             if (cv.count > 0) boundary_grad += colliders_gradient.load(i);
             dp = dp * (s.mass * s.inv_rest_density) + boundary_grad * lambda_i;
-            if (F::multiphase(s)) dp = dp * w_i;
-            c = collide(s, cv, xi + dp, xyz(positions[i]));
+            dp_old = dp_old * (s.mass * s.inv_rest_density) + boundary_grad * (old.w * lambda_i);
+            if (F::multiphase(s)) {
+                dp = dp * w_i;
+                dp_old = dp_old * w_i;
+            }
+            const Vec3 x = xyz(positions[i]);
+            if (length_sq(dp_old) > 0.0f) {
+                // The moving share first, whose contacts push the colliders; then the old
+                // error's, as far as the walls and colliders let it go, with no reaction recorded
+                // (it gives no velocity). What it moved is kept out of v.
+                ColliderView quiet = cv;
+                quiet.impulses = nullptr;
+                const Vec3 moving = collide(s, cv, xi + (dp - dp_old), x);
+                c = collide(s, quiet, moving + dp_old, x);
+                old = make_vec4(xyz(old) + (c - moving), old.w);
+            } else {
+                c = collide(s, cv, xi + dp, x);
+            }
         }
         if (finish_positions) {
-            const Vec3 v = limit_speed(ctx, (c - xyz(positions[i])) * ctx.inv_dt);
+            const Vec3 v = limit_speed(ctx, (c - xyz(positions[i]) - xyz(old)) * ctx.inv_dt);
             finish_velocities[i] = make_vec4(v, 0.0f);
             finish_positions[i] = make_vec4(c, density[i] * s.inv_rest_density);
         } else {
             corrected[i] = make_vec4(c, lambda_i);
+            if (old_push) old_push[i] = old;
         }
     }
 };

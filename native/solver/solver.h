@@ -359,7 +359,6 @@ public:
         if (!density_valid_) {  // the grid is valid between API calls: one density pass suffices
             exec_.for_each(bound_, DensityOp{s, rest_colliders_, cell_begin_, pos_, density_, valid_masks()});
             density_valid_ = true;
-            emitted_since_density_ = false;
         }
         DeviceCounters c{};
         exec_.download(&c, counters_, sizeof c);
@@ -465,17 +464,17 @@ private:
         // emitted into one): settled in x, which gives no velocity.
         if (in.settle_overlaps) settle(s, ctx, in.iterations);
         // 1. ρ at the current positions (grid of x): LDC needs it, and so does the λ pass's error
-        // damping for particles emitted since the last density pass. Their positions.w, the error
-        // C₀ a particle starts the substep with, is still the emission's 1: the compression they
-        // were emitted into would count as new and go in one substep, at a tiny Δt a velocity
-        // of error · spacing / Δt (16 m/s for a block at 1e-5 s with LDC off).
-        if (s.ldc_enabled || emitted_since_density_) {
+        // damping, whose C₀ is the error a particle starts the substep with (the prediction
+        // writes it to positions.w). Usually the last substep's vorticity or density pass summed
+        // it already; after an emission, a drain or settling it is summed here. The emission's
+        // w of 1 taken as C₀ made the compression a block was emitted into new error, gone in
+        // one substep (16 m/s for a block at 1e-5 s with LDC off).
+        if (!density_valid_) {
             exec_.profile_mark(kStageGridX);
             if (!grid_valid_) build_grid(s, false);
             exec_.profile_mark(kStageDensityX);
-            if (!density_valid_)
-                exec_.for_each(bound_, DensityOp{s, ctx.colliders, cell_begin_, pos_, density_, valid_masks()});
-            emitted_since_density_ = false;
+            exec_.for_each(bound_, DensityOp{s, ctx.colliders, cell_begin_, pos_, density_, valid_masks()});
+            density_valid_ = true;
         }
         // 1b. surface tension, cohesion and adhesion (material_ops.h) at the current positions.
         if (s.materials.flags & kMaterialSurface) {
@@ -513,10 +512,15 @@ private:
         // The sort's value buffers are free until the next grid build: λ leaves the colliders'
         // boundary gradient there for Δ.
         const PackedVectors colliders_gradient{order_[0], reinterpret_cast<float*>(order_[1])};
+        // v is dead until the velocity update (the grid build of x* wrote over it): the
+        // iterations keep the old error's share of λ and its displacement there (passes.h,
+        // old_error_share), and the last Δ pass writes the velocities into spare_, the Jacobi
+        // buffer that pass does not use, as neighbours still read old_push.w in it.
+        Vec4* const old_push = vel_;
         for (uint32_t it = 0; it < in.iterations; ++it) {
             exec_.profile_mark(kStageLambda);
             for_each_pass<LambdaPass>(plain, bound_, s, ctx, cell_begin_, masks, it == 0 ? 1u : 0u, pos_, pred_,
-                                      density_, control, denominator_, colliders_gradient);
+                                      density_, control, denominator_, colliders_gradient, old_push);
             if (adaptive) {
                 exec_.sum_compressive_error(s, density_, &counters_->count, bound_, &control->error_sum);
                 exec_.for_each(1, ConvergenceOp{control, &counters_->count, s.adaptive_target, it == 0 ? 1u : 0u});
@@ -525,10 +529,12 @@ private:
             // The last iteration also updates v and x (no separate velocity pass).
             const bool last = it + 1 == in.iterations;
             for_each_pass<DeltaPass>(plain, bound_, s, ctx, cell_begin_, masks, pos_, pred_, spare_, control,
-                                     last ? pos_ : nullptr, last ? vel_ : nullptr, density_, colliders_gradient);
+                                     last ? pos_ : nullptr, last ? spare_ : nullptr, density_, colliders_gradient,
+                                     old_push);
             if (!last) std::swap(pred_, spare_);  // Jacobi: the corrected positions are the next input
         }
-        masks_valid_ = true;  // recorded by the first λ pass
+        std::swap(vel_, spare_);  // the last Δ pass wrote v into spare_; old_push is dead
+        masks_valid_ = true;      // recorded by the first λ pass
         // 5. vorticity confinement and XSPH.
         if (s.vorticity_epsilon > 0.0f || any_viscosity(ctx)) {
             // x* now lives in x: pred_ and spare_ are free until the next substep.
@@ -638,7 +644,6 @@ private:
         }
         exec_.for_each(bound_, AdoptSettledOp{pred_, pos_});
         grid_valid_ = density_valid_ = masks_valid_ = false;
-        emitted_since_density_ = true;
     }
 
     // Sorts particles by the cell of x (by_predicted false) or of x*, moves their data into
@@ -684,7 +689,6 @@ private:
         exec_.for_each(1, CommitEmissionOp{&counters_->count, &counters_->next_id, &counters_->emitted_total,
                                            config_.capacity, requested});
         grid_valid_ = density_valid_ = false;
-        emitted_since_density_ = true;
     }
 
     Status read_count(uint32_t* count) {
@@ -772,7 +776,6 @@ private:
     uint32_t bound_ = 0;  // upper bound of the live count known on the host (launch size)
     bool grid_valid_ = true;
     bool density_valid_ = false;
-    bool emitted_since_density_ = false;  // positions.w of some particles is the emission's 1, not ρ/ρ0
     bool masks_valid_ = false;
     bool surface_normals_valid_ = false;  // pred_ holds the normals at pos_ (VorticityForcePass<true>)
                                           // until the next grid build (emission and drains force one)
