@@ -111,7 +111,11 @@ typedef struct pbf_material_id { uint32_t index; uint32_t generation; } pbf_mate
 #define PBF_MAX_SUBSTEPS 64
 typedef struct pbf_solver_params {
     uint32_t struct_size;
-    uint32_t iterations;        /* density-constraint iterations per substep, 1..64 (default 4) */
+    uint32_t iterations;        /* density-constraint iterations per substep, 1..64 (default 4).
+                                   With fixed substeps, exactly this many. With automatic substeps
+                                   (substeps = 0) the cap: a substep runs two, more (up to this)
+                                   only where max_substeps cannot hold the depth rule below
+                                   (docs/physics.md, Iterations). */
     uint32_t substeps;          /* substeps per pbf_world_step. 0 (default): automatic, chosen per
                                    step (from the last finished step's fastest particle, read
                                    without waiting, the nozzles and the kinematic colliders) so that

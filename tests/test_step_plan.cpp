@@ -1,6 +1,7 @@
 // The step plan on its own (white-box): a frame step turned into substeps, emissions and drains
 // without a backend.
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <vector>
 
 #include "solver/step_plan.h"
@@ -84,4 +85,45 @@ TEST_CASE("step plan: automatic substeps follow the fastest motion, up to max_su
     CHECK(p.run().substeps.size() == p.desc.solver.max_substeps);
     p.desc.solver.max_substeps = kMaxSubsteps;
     CHECK(p.run().substeps.size() == kMaxSubsteps);
+}
+
+TEST_CASE("step plan: automatic substeps run two iterations, more only where the substep cap binds", "[plan]") {
+    Plan p;  // defaults: automatic substeps, iterations 4 (the cap), h = 0.1 m
+    auto iterations_of = [](const StepInput& in) {
+        REQUIRE(!in.substeps.empty());
+        for (const SubstepInput& s : in.substeps) CHECK(s.iterations == in.substeps[0].iterations);
+        return in.substeps[0].iterations;
+    };
+    // A shallow pool: every rule met by substeps, at two iterations.
+    p.frame.feedback.fluid_depth = 0.3f;
+    StepInput in = p.run();
+    CHECK(in.substeps.size() < p.desc.solver.max_substeps);
+    CHECK(iterations_of(in) == 2u);
+    // The depth rule is the two-iteration one: C = κ(2) g H Δt² / h² <= 0.1 at the substep chosen.
+    const double sub_dt = p.frame.frame_dt / double(in.substeps.size());
+    CHECK(4.0 / 2.5 * 9.81 * 0.3 * sub_dt * sub_dt / (0.1 * 0.1) <= 0.1 + 1e-6);
+    // A column far deeper than 4 substeps hold at two iterations: the cap's substeps, and
+    // iterations up to the user's cap.
+    p.desc.solver.max_substeps = 4;
+    p.frame.feedback.fluid_depth = 40.0f;
+    in = p.run();
+    CHECK(in.substeps.size() == p.desc.solver.max_substeps);
+    CHECK(iterations_of(in) == p.desc.solver.iterations);
+    // Somewhat deeper than the cap holds at two: three iterations meet the rule there.
+    p.desc.solver.iterations = 64;
+    const double cap_dt = p.frame.frame_dt / double(p.desc.solver.max_substeps);
+    const double kappa3 = 4.0 / 3.5, kappa2 = 4.0 / 2.5;
+    const double depth = 0.1 * 0.1 * 0.1 / (9.81 * cap_dt * cap_dt) / std::sqrt(kappa2 * kappa3);  // between
+    p.frame.feedback.fluid_depth = float(depth);
+    in = p.run();
+    CHECK(in.substeps.size() == p.desc.solver.max_substeps);
+    CHECK(iterations_of(in) == 3u);
+    // Fixed substeps run exactly `iterations`; a cap of one runs one.
+    p.desc.solver.iterations = 4;
+    p.desc.solver.substeps = 3;
+    CHECK(iterations_of(p.run()) == 4u);
+    p.desc.solver.substeps = 0;
+    p.desc.solver.iterations = 1;
+    p.frame.feedback.fluid_depth = 0.3f;
+    CHECK(iterations_of(p.run()) == 1u);
 }

@@ -61,10 +61,23 @@ MaterialConstants material_constants(float rest_density, const MaterialTable& ta
 // ΔPE up to 0.2-0.4 M g a, the frame benchmark's "energy gain" at 1M particles). The depth is the
 // particles' extent along gravity (the last finished step's, or a block emitted since): fluid in
 // the air counts as deep, which costs substeps, never stability.
-double depth_substep_rate(const pbf_solver_params& p, float h, double g, double depth) {
-    constexpr double kBottomCompression = 0.1;
-    const double kappa = 4.0 / (double(p.iterations) + 0.5);
-    return std::sqrt(kappa * g * depth / kBottomCompression) / h;
+constexpr double kBottomCompression = 0.1;
+double depth_kappa(uint32_t iterations) { return 4.0 / (double(iterations) + 0.5); }
+double depth_substep_rate(uint32_t iterations, float h, double g, double depth) {
+    return std::sqrt(depth_kappa(iterations) * g * depth / kBottomCompression) / h;
+}
+
+// With automatic substeps the iterations are chosen too, `iterations` being their cap. Below the
+// substep cap every rule above is met by substeps, and two iterations are the cheapest that
+// hold: one iteration leaves a Jacobi sweep's overshoot uncorrected (the frame benchmark's
+// one-iteration cells gained energy or did not come to rest), and a third or fourth buys a
+// substep rate the depth rule lowers only by sqrt(κ(2) / κ(k)) (1.16x, 1.34x) for a substep
+// that costs 1.3x, 1.6x as much (a substep's fixed passes cost about two iterations; the stage
+// profile in docs/perf.md). The frame benchmark's automatic cells at two iterations were stable
+// in every scene and cheaper than at three or four.
+constexpr uint32_t kAutoIterations = 2;
+uint32_t preferred_iterations(const pbf_solver_params& p) {
+    return p.substeps > 0 ? p.iterations : std::min(p.iterations, kAutoIterations);
 }
 
 // Substeps for a frame step: fixed, or from the fastest motion expected over it: the latest
@@ -93,10 +106,31 @@ uint32_t substep_count(const pbf_solver_params& p, const WorldConstants& c, cons
     // (measured on the frame benchmark's tank); deep fluid by the depth rule below.
     if (g > 0.0) n = std::max(n, std::ceil(dt * std::sqrt(64.0 * g / travel) - 1e-6));
     const double depth = std::fmax(frame.feedback.fluid_depth, frame.emitted_depth);
-    if (g > 0.0 && depth > 0.0) n = std::max(n, std::ceil(dt * depth_substep_rate(p, c.h, g, depth) - 1e-6));
+    if (g > 0.0 && depth > 0.0)
+        n = std::max(n, std::ceil(dt * depth_substep_rate(preferred_iterations(p), c.h, g, depth) - 1e-6));
     // Surface tension, cohesion and adhesion are explicit forces: Δt within their stability caps.
     n = std::max(n, std::ceil(double(dt) * surface_substep_rate(c.materials) - 1e-6));
     return static_cast<uint32_t>(std::clamp(n, 1.0, double(p.max_substeps)));
+}
+
+// Iterations per substep: fixed substeps run `iterations`. Automatic ones run two, unless the
+// substep cap left the depth rule unmet (a column deeper than max_substeps can hold at two
+// iterations, or a frame step long enough to be capped): then the fewest iterations, up to
+// `iterations`, whose κ meets it at the substeps the cap allows, since iterations are what still
+// stiffen a column when substeps cannot.
+uint32_t iteration_count(const pbf_solver_params& p, const WorldConstants& c, const FrameState& frame,
+                         uint32_t substeps) {
+    const uint32_t k = preferred_iterations(p);
+    if (p.substeps > 0 || k == p.iterations) return k;
+    const double g = length(c.gravity);
+    const double depth = std::fmax(frame.feedback.fluid_depth, frame.emitted_depth);
+    const double sub_dt = double(frame.frame_dt) / substeps;
+    if (!(g > 0.0 && depth > 0.0 && sub_dt > 0.0)) return k;
+    // C = κ(k) g H Δt² / h² <= kBottomCompression  <=>  κ(k) <= κ_max  <=>  k >= 4 / κ_max - 1/2.
+    const double kappa_max = kBottomCompression * double(c.h) * c.h / (g * depth * sub_dt * sub_dt);
+    if (depth_kappa(k) <= kappa_max) return k;
+    const double needed = std::ceil(4.0 / kappa_max - 0.5 - 1e-9);
+    return static_cast<uint32_t>(std::clamp(needed, double(k), double(p.iterations)));
 }
 
 // A nozzle's emission in one substep of sub_dt: whole particles from its accumulator, on its
@@ -319,6 +353,7 @@ StepContext substep_context(const pbf_solver_params& p, const WorldConstants& s,
 void plan_step(const pbf_solver_params& p, const WorldConstants& c, const MaterialTable& materials,
                const FrameState& frame, std::vector<EmitterState>* emitters, StepInput* input) {
     const uint32_t substeps = substep_count(p, c, frame, *emitters, *input);
+    const uint32_t iterations = iteration_count(p, c, frame, substeps);
     const float sub_dt = frame.frame_dt / static_cast<float>(substeps);
     input->frame_dt = frame.frame_dt;
     input->substeps.resize(substeps);
@@ -326,7 +361,7 @@ void plan_step(const pbf_solver_params& p, const WorldConstants& c, const Materi
     for (uint32_t k = 0; k < substeps; ++k) {
         SubstepInput& in = input->substeps[k];
         in.ctx = ctx;
-        in.iterations = p.iterations;
+        in.iterations = iterations;
         in.settle_overlaps = k == 0 && frame.overlaps_pending;
         for (EmitterState& e : *emitters) {
             if (!e.desc.enabled) continue;

@@ -117,7 +117,8 @@ Status World::step(float frame_dt) {
         const uint32_t substeps = static_cast<uint32_t>(input.substeps.size());
         ++step_index_;
         last_substeps_ = substeps;
-        last_iterations_ = desc_.solver.iterations * substeps;
+        last_iterations_ = 0;
+        for (const SubstepInput& sub : input.substeps) last_iterations_ += sub.iterations;
         emitted_speed_ = 0.0f;
         emitted_depth_ = 0.0f;
         overlaps_pending_ = false;

@@ -271,7 +271,13 @@ namespace Pbf.Interop
     public struct pbf_solver_params
     {
         public uint struct_size;
-        /// <summary>density-constraint iterations per substep, 1..64 (default 4)</summary>
+        /// <summary>
+        /// density-constraint iterations per substep, 1..64 (default 4).
+        /// With fixed substeps, exactly this many. With automatic substeps
+        /// (substeps = 0) the cap: a substep runs two, more (up to this)
+        /// only where max_substeps cannot hold the depth rule below
+        /// (docs/physics.md, Iterations).
+        /// </summary>
         public uint iterations;
         /// <summary>
         /// substeps per pbf_world_step. 0 (default): automatic, chosen per
