@@ -123,6 +123,9 @@ TEST_CASE("step plan: automatic substeps run two iterations, more only where the
     p.desc.solver.substeps = 3;
     CHECK(iterations_of(p.run()) == 4u);
     p.desc.solver.substeps = 0;
+    p.desc.solver.adaptive_error_target = 0.003f;  // adaptive: the device stops at the target
+    CHECK(iterations_of(p.run()) == 4u);
+    p.desc.solver.adaptive_error_target = 0.0f;
     p.desc.solver.iterations = 1;
     p.frame.feedback.fluid_depth = 0.3f;
     CHECK(iterations_of(p.run()) == 1u);

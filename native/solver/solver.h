@@ -515,8 +515,10 @@ private:
         // v is dead until the velocity update (the grid build of x* wrote over it): the
         // iterations keep the old error's share of λ and its displacement there (passes.h,
         // old_error_share), and the last Δ pass writes the velocities into spare_, the Jacobi
-        // buffer that pass does not use, as neighbours still read old_push.w in it.
-        Vec4* const old_push = vel_;
+        // buffer that pass does not use, as neighbours still read old_push.w in it. Substeps no
+        // shorter than τ (γ <= 1: every game frame's) split nothing (old_error_share is 0 there),
+        // so they run without the split's loads and stores.
+        Vec4* const old_push = ctx.error_damping > 1.0f ? vel_ : nullptr;
         for (uint32_t it = 0; it < in.iterations; ++it) {
             exec_.profile_mark(kStageLambda);
             for_each_pass<LambdaPass>(plain, bound_, s, ctx, cell_begin_, masks, it == 0 ? 1u : 0u, pos_, pred_,

@@ -75,9 +75,13 @@ double depth_substep_rate(uint32_t iterations, float h, double g, double depth) 
 // that costs 1.3x, 1.6x as much (a substep's fixed passes cost about two iterations; the stage
 // profile in docs/perf.md). The frame benchmark's automatic cells at two iterations were stable
 // in every scene and cheaper than at three or four.
+// With adaptive iterations (adaptive_error_target > 0) the device already stops each substep's
+// iterations at the user's error target: `iterations` stays their cap, as the target asks for
+// however many it takes.
 constexpr uint32_t kAutoIterations = 2;
 uint32_t preferred_iterations(const pbf_solver_params& p) {
-    return p.substeps > 0 ? p.iterations : std::min(p.iterations, kAutoIterations);
+    if (p.substeps > 0 || p.adaptive_error_target > 0.0f) return p.iterations;
+    return std::min(p.iterations, kAutoIterations);
 }
 
 // Substeps for a frame step: fixed, or from the fastest motion expected over it: the latest

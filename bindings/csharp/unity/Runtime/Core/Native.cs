@@ -276,7 +276,8 @@ namespace Pbf.Interop
         /// With fixed substeps, exactly this many. With automatic substeps
         /// (substeps = 0) the cap: a substep runs two, more (up to this)
         /// only where max_substeps cannot hold the depth rule below
-        /// (docs/physics.md, Iterations).
+        /// (docs/physics.md, Iterations); with adaptive_error_target &gt; 0,
+        /// up to this until the target is met.
         /// </summary>
         public uint iterations;
         /// <summary>
