@@ -251,21 +251,56 @@ PBF_HD Vec3 limit_speed(const StepContext& ctx, Vec3 v) {
     return clamp_speed(v, limit);
 }
 
+// The old error's share of a particle's λ. The λ pass's target c + γ (c - c₀) is
+// (1 + γ)(c - c₀), the compression this substep's motion added, plus c₀, the error the particle
+// started the substep with (the denominator carries the 1 + γ, so 1/(1 + γ) of the old error is
+// removed per substep). PBF turns a correction into velocity (÷Δt): for new compression that is
+// the impulse that stops the motion that made it, but an old error is no motion of this substep.
+// Converted, it gave c₀ h / (Δt + τ) per layer of a compressed column, so at Δt ≪ τ a single
+// step released c₀ · sound_speed, whatever its length (28 m/s from a step of 2.5e-7 s after a
+// splash, 12 m/s from 1e-5 s after a capped huge step). So at γ > 1 the old error is removed
+// mostly in the positions only, as pre-stabilization does (Macklin et al. 2014): the first λ pass
+// of the substep keeps each particle's share, u² min(c₀, target) / target with u = 1 - 1/γ (the
+// new compression counted first), the Δ passes sum the displacement those shares of λ give
+// (share_i λ_i + share_j λ_j along the same pair gradient, plus the boundary's share) and the
+// velocity update leaves it out. The part still converted, 1 - u² ≈ 2Δt/τ of the old share,
+// changes a velocity by about 2 c₀ h Δt / τ² per substep, an acceleration: a step changes the
+// velocities by what its length allows. At γ ≤ 1 (the default substeps, γ ≈ 0.3-0.6) nothing
+// changes, and the weight u² rises from there without a step: the persistent error is how a
+// resting fluid carries weight (its removal holds up what lies on it; removed in the positions
+// at every γ, one-site boxes in a pool were pushed down by the water above them with nothing
+// pushing back from below). Approximation: the share is fixed over the substep's iterations
+// (they are taken to remove both parts in proportion, exact for a linear solve).
+PBF_HD float old_error_weight(float gamma) {
+    const float u = gamma > 1.0f ? 1.0f - 1.0f / gamma : 0.0f;
+    return u * u;
+}
+PBF_HD float old_error_share(float target, float c0, float gamma) {
+    if (!(target > 0.0f)) return 0.0f;
+    return fminf(c0, target) / target * old_error_weight(gamma);
+}
+
 // v += (g + f_ldc) Δt ; x* = x + v Δt, projected out of colliders and walls.
 struct PredictOp {
     WorldConstants s;
     StepContext ctx;
     const uint32_t* cell_begin;  // used only with LDC
-    const float* density;        // ρ at the current positions
-    Vec4* positions;             // w := ρ/ρ0 here, the error C₀ the substep starts with
+    const float* density;        // ρ at the current positions, used with LDC and at γ > 1
+    Vec4* positions;             // w := ρ/ρ0 at γ > 1, the error C₀ the substep starts with
     Vec4* velocities;
     Vec4* predicted;
     NeighborMasks masks;  // the last substep's, while the particle order is unchanged; else null
     PBF_HD void operator()(uint32_t i) const {
-        // The λ pass's C₀ is the error at x exactly (the last substep's λ pass measured it before
-        // its last correction, which can compress some particles further: new error, which
-        // went into velocity in one substep, at 1e-5 s 24 m/s per 1 % of compression).
-        positions[i].w = density[i] * s.inv_rest_density;
+        // The λ pass's C₀ is ρ/ρ0 of the last substep's last λ pass, before its last correction
+        // (positions.w): usually a slight overestimate. But that correction can compress a
+        // particle further, and at Δt ≪ τ the rise counted as new error went into velocity in one
+        // substep (at 1e-5 s, 24 m/s per 1 % of compression). So C₀ moves toward the error at x
+        // itself where that is larger, by the weight old_error_share gives positions (0 at γ ≤ 1).
+        const float positional = old_error_weight(ctx.error_damping);
+        if (positional > 0.0f) {
+            const float w = positions[i].w;
+            positions[i].w = w + positional * fmaxf(density[i] * s.inv_rest_density - w, 0.0f);
+        }
         Vec3 accel = s.gravity;
         const uint32_t m = material_of(ctx, i);
         const float w_i = inverse_mass(s, ctx, i);
@@ -286,30 +321,6 @@ struct PredictOp {
 };
 
 // ---- density constraint (Macklin & Müller 2013, Eq. 1-11) --------------------------------------
-// The old error's share of a particle's λ. The λ pass's target c + γ (c - c₀) is
-// (1 + γ)(c - c₀), the compression this substep's motion added, plus c₀, the error the particle
-// started the substep with (the denominator carries the 1 + γ, so 1/(1 + γ) of the old error is
-// removed per substep). PBF turns a correction into velocity (÷Δt): for new compression that is
-// the impulse that stops the motion that made it, but an old error is no motion of this substep.
-// Converted, it gave c₀ h / (Δt + τ) per layer of a compressed column, so at Δt ≪ τ a single
-// step released c₀ · sound_speed, whatever its length (28 m/s from a step of 2.5e-7 s after a
-// splash, 12 m/s from 1e-5 s after a capped huge step). So at γ > 1 the old error is removed
-// mostly in the positions only, as pre-stabilization does (Macklin et al. 2014): the first λ pass
-// of the substep keeps each particle's share, (1 - 1/γ) min(c₀, target) / target (the new
-// compression counted first), the Δ passes sum the displacement those shares of λ give
-// (share_i λ_i + share_j λ_j along the same pair gradient, plus the boundary's share) and the
-// velocity update leaves it out. The part still converted, 1/γ of the old share, is Δt/τ of it: a
-// velocity change of about c₀ h Δt / τ² per substep, an acceleration, so a step changes the
-// velocities by what its length allows. At γ ≤ 1 (the default substeps, γ ≈ 0.3-0.6) nothing
-// changes: there the persistent error is how a resting fluid carries weight (its removal holds
-// up what lies on it; removed in the positions, one-site boxes in a pool were pushed down by
-// the water above them with nothing pushing back from below). Approximation: the share is fixed
-// over the substep's iterations (they are taken to remove both parts in proportion, exact for a
-// linear solve).
-PBF_HD float old_error_share(float target, float c0, float gamma) {
-    if (!(target > 0.0f) || !(gamma > 1.0f)) return 0.0f;
-    return fminf(c0, target) / target * (1.0f - 1.0f / gamma);
-}
 
 // λ_i = -C_i / (Σ_k |∇_k C_i|² + ε) with C_i = ρ_i/ρ0 - 1. The constraint is unilateral
 // (C clamped at 0): particles at the free surface are not pulled together, which with few

@@ -359,6 +359,7 @@ public:
         if (!density_valid_) {  // the grid is valid between API calls: one density pass suffices
             exec_.for_each(bound_, DensityOp{s, rest_colliders_, cell_begin_, pos_, density_, valid_masks()});
             density_valid_ = true;
+            emitted_since_density_ = false;
         }
         DeviceCounters c{};
         exec_.download(&c, counters_, sizeof c);
@@ -464,17 +465,18 @@ private:
         // emitted into one): settled in x, which gives no velocity.
         if (in.settle_overlaps) settle(s, ctx, in.iterations);
         // 1. ρ at the current positions (grid of x): LDC needs it, and so does the λ pass's error
-        // damping, whose C₀ is the error a particle starts the substep with (the prediction
-        // writes it to positions.w). Usually the last substep's vorticity or density pass summed
-        // it already; after an emission, a drain or settling it is summed here. The emission's
-        // w of 1 taken as C₀ made the compression a block was emitted into new error, gone in
-        // one substep (16 m/s for a block at 1e-5 s with LDC off).
-        if (!density_valid_) {
+        // damping for particles emitted since the last density pass, and for all at γ > 1 (the
+        // prediction writes it to positions.w there: old_error_share). Emitted particles'
+        // positions.w, the error C₀ a particle starts the substep with, is still the emission's
+        // 1: the compression they were emitted into would count as new and go in one substep, at
+        // a tiny Δt a velocity of error · spacing / Δt (16 m/s for a block at 1e-5 s with LDC off).
+        if (s.ldc_enabled || emitted_since_density_ || ctx.error_damping > 1.0f) {
             exec_.profile_mark(kStageGridX);
             if (!grid_valid_) build_grid(s, false);
             exec_.profile_mark(kStageDensityX);
-            exec_.for_each(bound_, DensityOp{s, ctx.colliders, cell_begin_, pos_, density_, valid_masks()});
-            density_valid_ = true;
+            if (!density_valid_)
+                exec_.for_each(bound_, DensityOp{s, ctx.colliders, cell_begin_, pos_, density_, valid_masks()});
+            emitted_since_density_ = false;
         }
         // 1b. surface tension, cohesion and adhesion (material_ops.h) at the current positions.
         if (s.materials.flags & kMaterialSurface) {
@@ -646,6 +648,7 @@ private:
         }
         exec_.for_each(bound_, AdoptSettledOp{pred_, pos_});
         grid_valid_ = density_valid_ = masks_valid_ = false;
+        emitted_since_density_ = true;
     }
 
     // Sorts particles by the cell of x (by_predicted false) or of x*, moves their data into
@@ -691,6 +694,7 @@ private:
         exec_.for_each(1, CommitEmissionOp{&counters_->count, &counters_->next_id, &counters_->emitted_total,
                                            config_.capacity, requested});
         grid_valid_ = density_valid_ = false;
+        emitted_since_density_ = true;
     }
 
     Status read_count(uint32_t* count) {
@@ -778,6 +782,7 @@ private:
     uint32_t bound_ = 0;  // upper bound of the live count known on the host (launch size)
     bool grid_valid_ = true;
     bool density_valid_ = false;
+    bool emitted_since_density_ = false;  // positions.w of some particles is the emission's 1, not ρ/ρ0
     bool masks_valid_ = false;
     bool surface_normals_valid_ = false;  // pred_ holds the normals at pos_ (VorticityForcePass<true>)
                                           // until the next grid build (emission and drains force one)
