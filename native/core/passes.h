@@ -452,7 +452,7 @@ constexpr float kScorrPowerCap = 2.0f;
 // reads predicted, writes the corrected, collided position to corrected. The substep's last
 // iteration does the velocity update in the same pass (finish_positions set): v = (x* - x)/Δt
 // and x = x*, each particle writing only its own x and v, which no other thread reads here.
-template <bool kPlain>
+template <bool kPlain, bool kSplit = true>
 struct DeltaPass {
     using F = Features<kPlain>;
     WorldConstants s;
@@ -469,13 +469,16 @@ struct DeltaPass {
     PackedVectors colliders_gradient{};  // the λ pass's, when the world has colliders
     // The old error's share of λ (w) and the displacement it gave over the substep's iterations
     // (xyz), which the velocity update leaves out (old_error_share); null: no split.
+    // Compiled without the split (kSplit false: substeps no shorter than τ, where it is 0) the
+    // pass carries none of its loads or its second contact.
     Vec4* old_push = nullptr;
     PBF_HD void operator()(uint32_t i) const {
+        const bool split = kSplit && old_push != nullptr;
         const Vec4 pi = predicted[i];
         const Vec3 xi = xyz(pi);
         const float lambda_i = pi.w;
         Vec3 c = xi;
-        Vec4 old = old_push ? old_push[i] : Vec4{0.0f, 0.0f, 0.0f, 0.0f};
+        Vec4 old = split ? old_push[i] : Vec4{0.0f, 0.0f, 0.0f, 0.0f};
         if (!(control && control->converged)) {  // converged: x* carries over unchanged
             Vec3 dp{0.0f, 0.0f, 0.0f}, dp_old{0.0f, 0.0f, 0.0f};
             // s_corr's k relaxes with Δt (StepContext::scorr_k, solver/step_plan.cpp).
@@ -490,7 +493,7 @@ struct DeltaPass {
                 const float scorr = -scorr_k * fminf(scorr_power(ratio, s.scorr_n), kScorrPowerCap);
                 const Vec3 grad = pair_gradient(d, r2, s.h, s.spiky_coef, i, j);
                 dp += grad * (lambda_i + pj.w + scorr);
-                if (old_push) dp_old += grad * (old.w * lambda_i + old_push[j].w * pj.w);
+                if (split) dp_old += grad * (old.w * lambda_i + old_push[j].w * pj.w);
             });
             // The boundary's share of ∇C_i, weighted by λ_i alone (the boundary has no λ): the
             // walls', and the colliders' from the λ pass, which recorded their reaction
@@ -506,7 +509,7 @@ struct DeltaPass {
                 dp_old = dp_old * w_i;
             }
             const Vec3 x = xyz(positions[i]);
-            if (length_sq(dp_old) > 0.0f) {
+            if (split && length_sq(dp_old) > 0.0f) {
                 // The moving share first, whose contacts push the colliders; then the old
                 // error's, as far as the walls and colliders let it go, with no reaction recorded
                 // (it gives no velocity). What it moved is kept out of v.
@@ -525,12 +528,15 @@ struct DeltaPass {
             finish_positions[i] = make_vec4(c, density[i] * s.inv_rest_density);
         } else {
             corrected[i] = make_vec4(c, lambda_i);
-            if (old_push) old_push[i] = old;
+            if (split) old_push[i] = old;
         }
     }
 };
 
 using DeltaOp = DeltaPass<false>;
+// The Δ pass without the old-error split, compiled with or without the features.
+template <bool kPlain>
+using DeltaNoSplit = DeltaPass<kPlain, false>;
 
 // ---- velocity update, vorticity confinement, XSPH ---------------------------------------------
 // Pass 1 after the iterations: ω_i = Σ_j (m/ρ_j) v_ij × ∇_j W_ij (Macklin & Müller Eq. 15) and

@@ -42,8 +42,8 @@ template <>
 struct MinBlocksPerSm<PredictOp> {
     static constexpr int value = blocks_that_fit(4);  // 64
 };
-template <bool kPlain>
-struct MinBlocksPerSm<DeltaPass<kPlain>> {
+template <bool kPlain, bool kSplit>
+struct MinBlocksPerSm<DeltaPass<kPlain, kSplit>> {
     static constexpr int value = blocks_that_fit(4);  // 64
 };
 template <bool kPlain>

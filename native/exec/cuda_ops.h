@@ -45,7 +45,8 @@ namespace pbf {
     X(VorticityForce, VorticityForcePass<false>)            \
     X(VorticityForceNormals, VorticityForcePass<true>)      \
     X(LambdaPlain, LambdaPass<true>)                        \
-    X(DeltaPlain, DeltaPass<true>)                          \
+    X(DeltaPlain, DeltaPass<true, false>)                   \
+    X(DeltaNoSplit, DeltaPass<false, false>)                \
     X(VorticityXsphPlain, VorticityXsphPass<true>)          \
     X(VorticityForcePlain, VorticityForcePass<false, true>) \
     X(EmitBlock, EmitBlockOp)                               \

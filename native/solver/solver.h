@@ -532,9 +532,14 @@ private:
             exec_.profile_mark(kStageDeltaCollide);
             // The last iteration also updates v and x (no separate velocity pass).
             const bool last = it + 1 == in.iterations;
-            for_each_pass<DeltaPass>(plain, bound_, s, ctx, cell_begin_, masks, pos_, pred_, spare_, control,
-                                     last ? pos_ : nullptr, last ? spare_ : nullptr, density_, colliders_gradient,
-                                     old_push);
+            if (old_push)
+                exec_.for_each(bound_,
+                               DeltaOp{s, ctx, cell_begin_, masks, pos_, pred_, spare_, control, last ? pos_ : nullptr,
+                                       last ? spare_ : nullptr, density_, colliders_gradient, old_push});
+            else
+                for_each_pass<DeltaNoSplit>(plain, bound_, s, ctx, cell_begin_, masks, pos_, pred_, spare_, control,
+                                            last ? pos_ : nullptr, last ? spare_ : nullptr, density_,
+                                            colliders_gradient);
             if (!last) std::swap(pred_, spare_);  // Jacobi: the corrected positions are the next input
         }
         std::swap(vel_, spare_);  // the last Δ pass wrote v into spare_; old_push is dead
