@@ -118,6 +118,18 @@ TEST_CASE("step plan: automatic substeps run two iterations, more only where the
     in = p.run();
     CHECK(in.substeps.size() == p.desc.solver.max_substeps);
     CHECK(iterations_of(in) == 3u);
+    // A collider that moves over the step: the cap, whatever the depth.
+    p.desc.solver.max_substeps = 16;
+    p.frame.feedback.fluid_depth = 0.3f;
+    ColliderKey moving{};
+    moving.from_rotation = moving.to_rotation = Quat{0.0f, 0.0f, 0.0f, 1.0f};
+    moving.to_position = Vec3{0.01f, 0.0f, 0.0f};
+    p.desc.solver.iterations = 4;
+    StepInput with_collider;
+    with_collider.collider_keys.push_back(moving);
+    with_collider.collider_shapes.push_back(Collider{});
+    plan_step(p.desc.solver, derive_constants(p.desc, p.materials), p.materials, p.frame, &p.emitters, &with_collider);
+    CHECK(iterations_of(with_collider) == 4u);
     // Fixed substeps run exactly `iterations`; a cap of one runs one.
     p.desc.solver.iterations = 4;
     p.desc.solver.substeps = 3;
