@@ -460,11 +460,12 @@ private:
         // emitted into one): settled in x, which gives no velocity.
         if (in.settle_overlaps) settle(s, ctx, in.iterations);
         // 1. ρ at the current positions (grid of x): LDC needs it, and so does the λ pass's error
-        // damping for particles emitted since the last density pass, and for all at γ > 1 (the
-        // prediction writes it to positions.w there: old_error_share). Emitted particles'
-        // positions.w, the error C₀ a particle starts the substep with, is still the emission's
-        // 1: the compression they were emitted into would count as new and go in one substep, at
-        // a tiny Δt a velocity of error · spacing / Δt (16 m/s for a block at 1e-5 s with LDC off).
+        // damping for particles emitted since the last density pass, and at γ > 1 for all, where
+        // the prediction may move C₀ toward it (passes.h, old_error_weight: from γ = 2; a density
+        // pass run here also writes ρ/ρ0 to positions.w itself). Emitted particles' positions.w,
+        // the error C₀ a particle starts the substep with, is still the emission's 1: the
+        // compression they were emitted into would count as new and go in one substep, at a tiny
+        // Δt a velocity of error · spacing / Δt (16 m/s for a block at 1e-5 s with LDC off).
         if (s.ldc_enabled || emitted_since_density_ || ctx.error_damping > 1.0f) {
             exec_.profile_mark(kStageGridX);
             if (!grid_valid_) build_grid(s, false);
