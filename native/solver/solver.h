@@ -507,11 +507,12 @@ private:
         // The sort's value buffers are free until the next grid build: λ leaves the colliders'
         // boundary gradient there for Δ.
         const PackedVectors colliders_gradient{order_[0], reinterpret_cast<float*>(order_[1])};
-        // v is dead until the velocity update (the grid build of x* wrote over it): the
-        // iterations keep the old error's share of λ and its displacement there (passes.h,
-        // old_error_share), and the last Δ pass writes the velocities into spare_, the Jacobi
-        // buffer that pass does not use, as neighbours still read old_push.w in it.
-        Vec4* const old_push = vel_;
+        // v is dead until the velocity update (the grid build of x* wrote over it): where old
+        // errors move positions (γ > 2: passes.h, old_error_weight) the iterations keep the old
+        // error's share of λ and its displacement there, and the last Δ pass writes the
+        // velocities into spare_, the Jacobi buffer that pass does not use, as neighbours still
+        // read old_push.w in it. Elsewhere the split is skipped (its shares would all be 0).
+        Vec4* const old_push = old_error_weight(ctx.error_damping) > 0.0f ? vel_ : nullptr;
         for (uint32_t it = 0; it < in.iterations; ++it) {
             exec_.profile_mark(kStageLambda);
             exec_.for_each(bound_, LambdaOp{s, ctx, cell_begin_, masks, it == 0 ? 1u : 0u, pos_, pred_, density_,
