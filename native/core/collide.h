@@ -132,23 +132,6 @@ PBF_HD Vec3 contact(const WorldConstants& s, const Collider& c, const ColliderPo
     return p;
 }
 
-// A coordinate brought back into [lo, hi] (the walls, or an open level's limit box): a point past
-// a wall by d ends kWallRebound · d inside it rather than on it. Clamped onto the plane, every
-// point beyond a corner of the box became the corner itself, and two particles pushed into one
-// corner in the same substep ended on one position (no direction between them, a zero spiky
-// gradient); the rebound keeps the map one to one, with a restitution too small to matter
-// (a normal velocity of kWallRebound times the overshoot's). NaN comes back as lo.
-constexpr float kWallRebound = 1.0f / 256.0f;
-PBF_HD float into_range(float x, float lo, float hi) {
-    if (x < lo) return fminf(lo + fminf(lo - x, hi - lo) * kWallRebound, hi);
-    if (x > hi) return fmaxf(hi - fminf(x - hi, hi - lo) * kWallRebound, lo);
-    return fminf(fmaxf(x, lo), hi);
-}
-PBF_HD Vec3 into_walls(const WorldConstants& s, Vec3 p) {
-    return Vec3{into_range(p.x, s.wall_min.x, s.wall_max.x), into_range(p.y, s.wall_min.y, s.wall_max.y),
-                into_range(p.z, s.wall_min.z, s.wall_max.z)};
-}
-
 // Projects predicted position p (the particle was at x_old at the start of the substep) out of
 // every collider whose step bounds its path's box (grown by the radius) meets, then into the
 // walls. A dynamic collider's push is recorded as its reaction (record_push).
@@ -165,7 +148,7 @@ PBF_HD Vec3 collide(const WorldConstants& s, const ColliderView& cv, Vec3 p, Vec
             record_push(cv, c, cv.cur[k], moved, push);
         p = moved;
     });
-    return into_walls(s, p);
+    return min3(max3(p, s.wall_min), s.wall_max);
 }
 
 // Moves p out of every collider it overlaps at the substep's start poses, to `radius` outside
@@ -183,7 +166,7 @@ PBF_HD Vec3 project_out_at_start(const WorldConstants& s, const ColliderView& cv
         const float d = collider_distance(c, start.cur[k], p, n, start.meshes);
         if (d < s.radius) p += n * (s.radius - d);
     });
-    return into_walls(s, p);
+    return min3(max3(p, s.wall_min), s.wall_max);
 }
 
 // ---- boundary density ------------------------------------------------------------------------

@@ -258,21 +258,23 @@ PBF_HD Vec3 limit_speed(const StepContext& ctx, Vec3 v) {
 // the impulse that stops the motion that made it, but an old error is no motion of this substep.
 // Converted, it gave c₀ h / (Δt + τ) per layer of a compressed column, so at Δt ≪ τ a single
 // step released c₀ · sound_speed, whatever its length (28 m/s from a step of 2.5e-7 s after a
-// splash, 12 m/s from 1e-5 s after a capped huge step). So at γ > 1 the old error is removed
+// splash, 12 m/s from 1e-5 s after a capped huge step). So at γ > 2 the old error is removed
 // mostly in the positions only, as pre-stabilization does (Macklin et al. 2014): the first λ pass
-// of the substep keeps each particle's share, u² min(c₀, target) / target with u = 1 - 1/γ (the
+// of the substep keeps each particle's share, u² min(c₀, target) / target with u = 1 - 2/γ (the
 // new compression counted first), the Δ passes sum the displacement those shares of λ give
 // (share_i λ_i + share_j λ_j along the same pair gradient, plus the boundary's share) and the
-// velocity update leaves it out. The part still converted, 1 - u² ≈ 2Δt/τ of the old share,
-// changes a velocity by about 2 c₀ h Δt / τ² per substep, an acceleration: a step changes the
-// velocities by what its length allows. At γ ≤ 1 (the default substeps, γ ≈ 0.3-0.6) nothing
-// changes, and the weight u² rises from there without a step: the persistent error is how a
-// resting fluid carries weight (its removal holds up what lies on it; removed in the positions
-// at every γ, one-site boxes in a pool were pushed down by the water above them with nothing
-// pushing back from below). Approximation: the share is fixed over the substep's iterations
+// velocity update leaves it out. The part still converted, 1 - u² ≈ 4Δt/τ of the old share,
+// changes a velocity by about 4 c₀ h Δt / τ² per substep, an acceleration: a step changes the
+// velocities by what its length allows. At γ ≤ 2 nothing changes (the default substeps, γ ≈
+// 0.3-0.6, and 16 fixed substeps of a 1/60 s frame at h = 8 cm), and the weight u² rises from
+// there without a step: the persistent error is how a resting fluid carries weight (its removal
+// holds up what lies on it; removed in the positions at every γ, one-site boxes in a pool were
+// pushed down by the water above them with nothing pushing back from below; from γ = 1, a
+// resting pool at 16 fixed substeps, γ = 1.9, rose a particle 3 mm higher, over its test's
+// bound). Approximation: the share is fixed over the substep's iterations
 // (they are taken to remove both parts in proportion, exact for a linear solve).
 PBF_HD float old_error_weight(float gamma) {
-    const float u = gamma > 1.0f ? 1.0f - 1.0f / gamma : 0.0f;
+    const float u = gamma > 2.0f ? 1.0f - 2.0f / gamma : 0.0f;
     return u * u;
 }
 PBF_HD float old_error_share(float target, float c0, float gamma) {
@@ -285,8 +287,8 @@ struct PredictOp {
     WorldConstants s;
     StepContext ctx;
     const uint32_t* cell_begin;  // used only with LDC
-    const float* density;        // ρ at the current positions, used with LDC and at γ > 1
-    Vec4* positions;             // w := ρ/ρ0 at γ > 1, the error C₀ the substep starts with
+    const float* density;        // ρ at the current positions, used with LDC and at γ > 2
+    Vec4* positions;             // w: C₀, moved toward ρ/ρ0 at γ > 2 (old_error_weight)
     Vec4* velocities;
     Vec4* predicted;
     NeighborMasks masks;  // the last substep's, while the particle order is unchanged; else null
@@ -295,7 +297,7 @@ struct PredictOp {
         // (positions.w): usually a slight overestimate. But that correction can compress a
         // particle further, and at Δt ≪ τ the rise counted as new error went into velocity in one
         // substep (at 1e-5 s, 24 m/s per 1 % of compression). So C₀ moves toward the error at x
-        // itself where that is larger, by the weight old_error_share gives positions (0 at γ ≤ 1).
+        // itself where that is larger, by the weight old_error_share gives positions (0 at γ ≤ 2).
         const float positional = old_error_weight(ctx.error_damping);
         if (positional > 0.0f) {
             const float w = positions[i].w;

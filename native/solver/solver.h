@@ -465,11 +465,12 @@ private:
         // emitted into one): settled in x, which gives no velocity.
         if (in.settle_overlaps) settle(s, ctx, in.iterations);
         // 1. ρ at the current positions (grid of x): LDC needs it, and so does the λ pass's error
-        // damping for particles emitted since the last density pass, and for all at γ > 1 (the
-        // prediction writes it to positions.w there: old_error_share). Emitted particles'
-        // positions.w, the error C₀ a particle starts the substep with, is still the emission's
-        // 1: the compression they were emitted into would count as new and go in one substep, at
-        // a tiny Δt a velocity of error · spacing / Δt (16 m/s for a block at 1e-5 s with LDC off).
+        // damping for particles emitted since the last density pass, and at γ > 1 for all, where
+        // the prediction may move C₀ toward it (passes.h, old_error_weight: from γ = 2; a density
+        // pass run here also writes ρ/ρ0 to positions.w itself). Emitted particles' positions.w,
+        // the error C₀ a particle starts the substep with, is still the emission's 1: the
+        // compression they were emitted into would count as new and go in one substep, at a tiny
+        // Δt a velocity of error · spacing / Δt (16 m/s for a block at 1e-5 s with LDC off).
         if (s.ldc_enabled || emitted_since_density_ || ctx.error_damping > 1.0f) {
             exec_.profile_mark(kStageGridX);
             if (!grid_valid_) build_grid(s, false);
@@ -514,13 +515,13 @@ private:
         // The sort's value buffers are free until the next grid build: λ leaves the colliders'
         // boundary gradient there for Δ.
         const PackedVectors colliders_gradient{order_[0], reinterpret_cast<float*>(order_[1])};
-        // v is dead until the velocity update (the grid build of x* wrote over it): the
-        // iterations keep the old error's share of λ and its displacement there (passes.h,
-        // old_error_share), and the last Δ pass writes the velocities into spare_, the Jacobi
-        // buffer that pass does not use, as neighbours still read old_push.w in it. Substeps no
-        // shorter than τ (γ <= 1: every game frame's) split nothing (old_error_share is 0 there),
-        // so they run without the split's loads and stores.
-        Vec4* const old_push = ctx.error_damping > 1.0f ? vel_ : nullptr;
+        // v is dead until the velocity update (the grid build of x* wrote over it): where old
+        // errors move positions (γ > 2: passes.h, old_error_weight) the iterations keep the old
+        // error's share of λ and its displacement there, and the last Δ pass writes the
+        // velocities into spare_, the Jacobi buffer that pass does not use, as neighbours still
+        // read old_push.w in it. Elsewhere (every game frame's substeps) the split is skipped, its
+        // shares all 0, and Δp runs its kernel compiled without it (DeltaNoSplit).
+        Vec4* const old_push = old_error_weight(ctx.error_damping) > 0.0f ? vel_ : nullptr;
         for (uint32_t it = 0; it < in.iterations; ++it) {
             exec_.profile_mark(kStageLambda);
             for_each_pass<LambdaPass>(plain, bound_, s, ctx, cell_begin_, masks, it == 0 ? 1u : 0u, pos_, pred_,
