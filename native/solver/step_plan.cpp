@@ -79,8 +79,9 @@ double depth_substep_rate(uint32_t iterations, float h, double g, double depth) 
 // iterations at the user's error target: `iterations` stays their cap, as the target asks for
 // however many it takes.
 constexpr uint32_t kAutoIterations = 2;
-uint32_t preferred_iterations(const pbf_solver_params& p) {
-    if (p.substeps > 0 || p.adaptive_error_target > 0.0f) return p.iterations;
+// With colliders the cap too (iteration_count says why).
+uint32_t preferred_iterations(const pbf_solver_params& p, const StepInput& input) {
+    if (p.substeps > 0 || p.adaptive_error_target > 0.0f || !input.collider_shapes.empty()) return p.iterations;
     return std::min(p.iterations, kAutoIterations);
 }
 
@@ -111,37 +112,26 @@ uint32_t substep_count(const pbf_solver_params& p, const WorldConstants& c, cons
     if (g > 0.0) n = std::max(n, std::ceil(dt * std::sqrt(64.0 * g / travel) - 1e-6));
     const double depth = std::fmax(frame.feedback.fluid_depth, frame.emitted_depth);
     if (g > 0.0 && depth > 0.0)
-        n = std::max(n, std::ceil(dt * depth_substep_rate(preferred_iterations(p), c.h, g, depth) - 1e-6));
+        n = std::max(n, std::ceil(dt * depth_substep_rate(preferred_iterations(p, input), c.h, g, depth) - 1e-6));
     // Surface tension, cohesion and adhesion are explicit forces: Δt within their stability caps.
     n = std::max(n, std::ceil(double(dt) * surface_substep_rate(c.materials) - 1e-6));
     return static_cast<uint32_t>(std::clamp(n, 1.0, double(p.max_substeps)));
 }
 
-// Whether a collider moves over the step (a kinematic one's target pose differs from its pose).
-bool colliders_move(const StepInput& input) {
-    for (const ColliderKey& key : input.collider_keys) {
-        const Quat &a = key.from_rotation, &b = key.to_rotation;
-        if (length_sq(key.to_position - key.from_position) > 0.0f || a.x != b.x || a.y != b.y || a.z != b.z ||
-            a.w != b.w)
-            return true;
-    }
-    return false;
-}
-
 // Iterations per substep: fixed substeps run `iterations`. Automatic ones run two, unless
-// - a collider moves: each substep it sweeps fluid aside, compression that two iterations leave
-//   half resolved and the next substep releases as speed (a plate swept through water at 20 m/s
-//   threw spray at 2.4 times its speed at two iterations, at most twice it at four, as a rigid
-//   wall can): `iterations`, as before automatic iterations;
+// - the world has colliders: their contacts are resolved by the iterations (each Δp pass
+//   projects the particles out of them), and two left them half resolved: a plate swept through
+//   water at 20 m/s threw spray at 2.4 times its speed (at most twice it at four, as a rigid wall
+//   can), and a block dropped onto a mesh box ended partly inside it: `iterations`, as before
+//   automatic iterations;
 // - the substep cap left the depth rule unmet (a column deeper than max_substeps can hold at two
 //   iterations, or a frame step long enough to be capped): then the fewest iterations, up to
 //   `iterations`, whose κ meets it at the substeps the cap allows, since iterations are what
 //   still stiffen a column when substeps cannot.
 uint32_t iteration_count(const pbf_solver_params& p, const WorldConstants& c, const FrameState& frame,
                          const StepInput& input, uint32_t substeps) {
-    const uint32_t k = preferred_iterations(p);
+    const uint32_t k = preferred_iterations(p, input);
     if (p.substeps > 0 || k == p.iterations) return k;
-    if (colliders_move(input)) return p.iterations;
     const double g = length(c.gravity);
     const double depth = std::fmax(frame.feedback.fluid_depth, frame.emitted_depth);
     const double sub_dt = double(frame.frame_dt) / substeps;
