@@ -41,10 +41,12 @@ PBF_HD uint32_t material_of(const StepContext& ctx, uint32_t i) {
     return kMaterialsBuilt && ctx.materials ? ctx.materials[i] : 0u;
 }
 
+// Whether some material's rest density differs from slot 0's.
+PBF_HD bool multiphase(const WorldConstants& s) { return kMaterialsBuilt && (s.materials.flags & kMaterialMultiphase); }
+
 // w_i = ρ0_slot0 / ρ0_i in a multiphase world, else exactly 1.
 PBF_HD float inverse_mass(const WorldConstants& s, const StepContext& ctx, uint32_t i) {
-    return kMaterialsBuilt && (s.materials.flags & kMaterialMultiphase) ? s.materials.inv_mass[material_of(ctx, i)]
-                                                                        : 1.0f;
+    return multiphase(s) ? s.materials.inv_mass[material_of(ctx, i)] : 1.0f;
 }
 
 // What the hot passes read of the world's colliders and materials. A pass is compiled twice:
@@ -61,9 +63,7 @@ struct Features<false> {
     PBF_HD static float inv_mass(const WorldConstants& s, const StepContext& ctx, uint32_t i) {
         return inverse_mass(s, ctx, i);
     }
-    PBF_HD static bool multiphase(const WorldConstants& s) {
-        return kMaterialsBuilt && (s.materials.flags & kMaterialMultiphase);
-    }
+    PBF_HD static bool multiphase(const WorldConstants& s) { return pbf::multiphase(s); }
 };
 template <>
 struct Features<true> {

@@ -265,7 +265,7 @@ void CudaExec::sort_pairs(uint32_t* keys[2], uint32_t* values[2], uint32_t n, ui
 // ---- reductions -------------------------------------------------------------------------------
 void CudaExec::reduce_stats(const WorldConstants& s, const float* density, const Vec4* velocities, uint32_t n,
                             StatsReadback* out) {
-    record(cu_->cuMemsetD8Async(dptr(reduce_out_), 0, 3 * sizeof(double), stream_));
+    zero(reduce_out_, 3 * sizeof(double));
     if (n > 0) {
         const uint32_t blocks = std::min<uint32_t>((n + kCudaReduceBlock - 1) / kCudaReduceBlock, 1024);
         launch(k_->reduce_stats, blocks, kCudaReduceBlock, s, density, velocities, n, reduce_out_);

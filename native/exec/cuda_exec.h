@@ -77,7 +77,6 @@ public:
     void record_end() {
         if (graph_.open()) record(graph_.end(stream_));
     }
-    const cuda::StepGraph::Counters& graph_counters() const { return graph_.counters(); }
     // Runs on stream from now on (null: the world's own); work queued before is ordered first.
     Status use_stream(void* stream);
 

@@ -147,7 +147,6 @@ CUresult StepGraph::build(Kept* k) {
 }
 
 CUresult StepGraph::direct(CUstream stream) {
-    ++counters_.direct;
     CUresult first = CUDA_SUCCESS;
     for (const Command& c : recording_.commands) {
         CUresult e;
@@ -184,37 +183,26 @@ CUresult StepGraph::end(CUstream stream) {
         const size_t d = differences(kept_[i].recording, recording_);
         if (d < fewest) best = i, fewest = d;
     }
-    if (best < kept_.size()) {
-        if (fewest == 0) {
-            ++counters_.replayed;
-        } else if (update(&kept_[best]) == CUDA_SUCCESS) {
-            ++counters_.updated;
-        } else {
-            release(&kept_[best]);  // partly updated: built again below, in the same slot
-            best = kept_.size() + 1;
-        }
+    bool rebuild = best == kept_.size();  // no kept graph of this shape
+    if (!rebuild && fewest > 0 && update(&kept_[best]) != CUDA_SUCCESS) {
+        release(&kept_[best]);  // partly updated: built again, in the same slot
+        rebuild = true;
     }
-    if (best >= kept_.size()) {
-        if (best == kept_.size() + 1) {
-            for (size_t i = 0; i < kept_.size(); ++i)
-                if (!kept_[i].exec) best = i;
-        } else if (kept_.size() < kKeptGraphs) {
+    if (rebuild) {
+        if (best == kept_.size() && kept_.size() < kKeptGraphs) {
             kept_.emplace_back();
-            best = kept_.size() - 1;
-        } else {
-            best = 0;
+        } else if (best == kept_.size()) {
+            best = 0;  // the graph that ran longest ago makes room
             for (size_t i = 1; i < kept_.size(); ++i)
                 if (kept_[i].used < kept_[best].used) best = i;
             release(&kept_[best]);
         }
         if (build(&kept_[best]) != CUDA_SUCCESS) {
             // No graph for this world from now on: the launches go on the stream one by one.
-            for (Kept& k : kept_) release(&k);
-            kept_.clear();
+            clear();
             enabled_ = false;
             return direct(stream);
         }
-        ++counters_.built;
     }
     kept_[best].used = recordings_;
     return cu_->cuGraphLaunch(kept_[best].exec, stream);

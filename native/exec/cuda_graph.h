@@ -45,15 +45,6 @@ public:
     // Closes the recording and queues it on stream (see above); the driver's first error.
     CUresult end(CUstream stream);
 
-    // What the graphs have done so far (for tests and the benchmark's notes).
-    struct Counters {
-        uint64_t replayed = 0;  // recordings that matched a kept graph exactly
-        uint64_t updated = 0;   // recordings that updated a kept graph's nodes
-        uint64_t built = 0;     // graphs built and instantiated
-        uint64_t direct = 0;    // recordings queued launch by launch
-    };
-    const Counters& counters() const { return counters_; }
-
 private:
     struct Command {
         CUfunction f = nullptr;  // null: a memset of `bytes` zero bytes at dst
@@ -101,7 +92,6 @@ private:
     std::vector<Kept> kept_;
     std::vector<void*> pointers_;  // kernel argument pointers for one node
     uint64_t recordings_ = 0;
-    Counters counters_;
 };
 
 }  // namespace pbf::cuda
