@@ -62,26 +62,34 @@ MaterialConstants material_constants(float rest_density, const MaterialTable& ta
 // particles' extent along gravity (the last finished step's, or a block emitted since): fluid in
 // the air counts as deep, which costs substeps, never stability.
 constexpr double kBottomCompression = 0.1;
+double frame_depth(const FrameState& frame) { return std::fmax(frame.feedback.fluid_depth, frame.emitted_depth); }
 double depth_kappa(uint32_t iterations) { return 4.0 / (double(iterations) + 0.5); }
 double depth_substep_rate(uint32_t iterations, float h, double g, double depth) {
     return std::sqrt(depth_kappa(iterations) * g * depth / kBottomCompression) / h;
 }
 
-// With automatic substeps the iterations are chosen too, `iterations` being their cap. Below the
-// substep cap every rule above is met by substeps, and two iterations are the cheapest that
-// hold: one iteration leaves a Jacobi sweep's overshoot uncorrected (the frame benchmark's
-// one-iteration cells gained energy or did not come to rest), and a third or fourth buys a
-// substep rate the depth rule lowers only by sqrt(κ(2) / κ(k)) (1.16x, 1.34x) for a substep
-// that costs 1.3x, 1.6x as much (a substep's fixed passes cost about two iterations; the stage
-// profile in docs/perf.md). The frame benchmark's automatic cells at two iterations were stable
-// in every scene and cheaper than at three or four.
-// With adaptive iterations (adaptive_error_target > 0) the device already stops each substep's
-// iterations at the user's error target: `iterations` stays their cap, as the target asks for
-// however many it takes.
+// The iterations automatic substeps are planned for (docs/physics.md, Iterations): two, the
+// cheapest that hold (one leaves a Jacobi sweep's overshoot uncorrected; a third or fourth lowers
+// the depth rule's substep rate by sqrt(κ(2) / κ(k)) for a substep that costs more than that,
+// its fixed passes costing about two iterations). `iterations` itself with fixed substeps; with
+// adaptive iterations, whose target asks for however many it takes; and with a collider that
+// moves or a mesh collider, whose contacts two iterations left half resolved (spray thrown
+// faster than a rigid wall can throw it, water sunk into a mesh box's approximate field). Walls
+// and resting analytic shapes hold at two, and alike: a puddle held by planes settles as in a
+// walled box.
 constexpr uint32_t kAutoIterations = 2;
-// With colliders the cap too (iteration_count says why).
+bool contacts_need_iterations(const StepInput& input) {
+    for (size_t k = 0; k < input.collider_keys.size(); ++k) {
+        const ColliderKey& key = input.collider_keys[k];
+        const Quat &a = key.from_rotation, &b = key.to_rotation;
+        if (input.collider_shapes[k].shape == kShapeMesh || length_sq(key.to_position - key.from_position) > 0.0f ||
+            a.x != b.x || a.y != b.y || a.z != b.z || a.w != b.w)
+            return true;
+    }
+    return false;
+}
 uint32_t preferred_iterations(const pbf_solver_params& p, const StepInput& input) {
-    if (p.substeps > 0 || p.adaptive_error_target > 0.0f || !input.collider_shapes.empty()) return p.iterations;
+    if (p.substeps > 0 || p.adaptive_error_target > 0.0f || contacts_need_iterations(input)) return p.iterations;
     return std::min(p.iterations, kAutoIterations);
 }
 
@@ -110,7 +118,7 @@ uint32_t substep_count(const pbf_solver_params& p, const WorldConstants& c, cons
     // carry that to the floor. Shallow fluid compressed unless g·Δt² stays under travel / 64
     // (measured on the frame benchmark's tank); deep fluid by the depth rule below.
     if (g > 0.0) n = std::max(n, std::ceil(dt * std::sqrt(64.0 * g / travel) - 1e-6));
-    const double depth = std::fmax(frame.feedback.fluid_depth, frame.emitted_depth);
+    const double depth = frame_depth(frame);
     if (g > 0.0 && depth > 0.0)
         n = std::max(n, std::ceil(dt * depth_substep_rate(preferred_iterations(p, input), c.h, g, depth) - 1e-6));
     // Surface tension, cohesion and adhesion are explicit forces: Δt within their stability caps.
@@ -118,22 +126,16 @@ uint32_t substep_count(const pbf_solver_params& p, const WorldConstants& c, cons
     return static_cast<uint32_t>(std::clamp(n, 1.0, double(p.max_substeps)));
 }
 
-// Iterations per substep: fixed substeps run `iterations`. Automatic ones run two, unless
-// - the world has colliders: their contacts are resolved by the iterations (each Δp pass
-//   projects the particles out of them), and two left them half resolved: a plate swept through
-//   water at 20 m/s threw spray at 2.4 times its speed (at most twice it at four, as a rigid wall
-//   can), and a block dropped onto a mesh box ended partly inside it: `iterations`, as before
-//   automatic iterations;
-// - the substep cap left the depth rule unmet (a column deeper than max_substeps can hold at two
-//   iterations, or a frame step long enough to be capped): then the fewest iterations, up to
-//   `iterations`, whose κ meets it at the substeps the cap allows, since iterations are what
-//   still stiffen a column when substeps cannot.
+// Iterations per substep: preferred_iterations, unless the substep cap left the depth rule unmet
+// (a column deeper than max_substeps can hold at two iterations, or a frame step long enough to
+// be capped): then the fewest iterations, up to `iterations`, whose κ meets it at the substeps
+// the cap allows, since iterations are what still stiffen a column when substeps cannot.
 uint32_t iteration_count(const pbf_solver_params& p, const WorldConstants& c, const FrameState& frame,
                          const StepInput& input, uint32_t substeps) {
     const uint32_t k = preferred_iterations(p, input);
     if (p.substeps > 0 || k == p.iterations) return k;
     const double g = length(c.gravity);
-    const double depth = std::fmax(frame.feedback.fluid_depth, frame.emitted_depth);
+    const double depth = frame_depth(frame);
     const double sub_dt = double(frame.frame_dt) / substeps;
     if (!(g > 0.0 && depth > 0.0 && sub_dt > 0.0)) return k;
     // C = κ(k) g H Δt² / h² <= kBottomCompression  <=>  κ(k) <= κ_max  <=>  k >= 4 / κ_max - 1/2.

@@ -274,10 +274,10 @@ namespace Pbf.Interop
         /// <summary>
         /// density-constraint iterations per substep, 1..64 (default 4).
         /// With fixed substeps, exactly this many. With automatic substeps
-        /// (substeps = 0) the cap: a substep of a world without colliders
-        /// runs two, more only where max_substeps cannot hold the depth
-        /// rule below; with colliders, or with adaptive_error_target &gt; 0
-        /// (up to this until the target is met), this many
+        /// (substeps = 0) the cap: a substep runs two, more only where
+        /// max_substeps cannot hold the depth rule below; with a collider
+        /// that moves or a mesh collider, or with adaptive_error_target
+        /// &gt; 0 (up to this until the target is met), this many
         /// (docs/physics.md, Iterations).
         /// </summary>
         public uint iterations;
