@@ -76,6 +76,31 @@ if [ ! -f "$WINEPREFIX/system.reg" ]; then
   wineserver -w 2>/dev/null || true
 fi
 
+# A suite that does not exit within this many seconds (they take under a minute) has hung: it is
+# stopped and reported, and its cases are run one process each to name the one that hangs,
+# instead of the hang holding the whole check until an outer time limit.
+suite_limit="${PBF_WINE_SUITE_TIMEOUT:-600}"
+case_limit=$(( suite_limit / 4 ))
+hung() {  # EXE LOG SUMMARY: what is known of a suite that did not exit
+  local exe=$1 log=$2 summary=$3 name rc
+  echo "HUNG: $exe did not exit within $suite_limit s"
+  if [ -n "$summary" ]; then
+    echo "  its cases all finished ($summary): it hung on the way out of the process"
+  fi
+  echo "  each case in its own process (at most $case_limit s each):"
+  tr -d '\r' < <(wine "$exe" --list-test-names-only 2>/dev/null) | while IFS= read -r name; do
+    [ -n "$name" ] || continue
+    # A name as a Catch2 test spec: its commas and brackets escaped.
+    timeout -k 15 "$case_limit" wine "$exe" "$(sed 's/[],[\\]/\\&/g' <<<"$name")" >"$log.case" 2>&1
+    rc=$?
+    case "$rc" in
+      0) echo "    ok    $name" ;;
+      124 | 137) echo "    HUNG  $name" ;;
+      *) echo "    FAIL  $name (exit $rc)" ;;
+    esac
+  done
+}
+
 declare -a results=()
 failed=0
 for suite in "${suites[@]}"; do
@@ -85,12 +110,16 @@ for suite in "${suites[@]}"; do
   log="$build/check_windows.$suite.log"
   start=$(date +%s)
   # shellcheck disable=SC2086  # the spec is one word or none
-  wine "$exe" ${spec[$suite]} >"$log" 2>&1
+  timeout -k 15 "$suite_limit" wine "$exe" ${spec[$suite]} >"$log" 2>&1
   rc=$?
   secs=$(( $(date +%s) - start ))
   tr -d '\r' <"$log" | tail -n 3
   line="$(tr -d '\r' <"$log" | grep -E '^(All tests passed|test cases:)' | tail -n 1)"
-  if [ "$rc" -ne 0 ] || [ -z "$line" ]; then
+  if [ "$rc" -eq 124 ] || [ "$rc" -eq 137 ]; then
+    hung "$exe" "$log" "$line"
+    results+=("$suite FAILED: no exit within $suite_limit s (${line:-no Catch2 summary}; $log)")
+    failed=1
+  elif [ "$rc" -ne 0 ] || [ -z "$line" ]; then
     tr -d '\r' <"$log" | grep -E -B3 -A12 'FAILED|failed' | head -60
     results+=("$suite FAILED: ${line:-no Catch2 summary} (exit $rc, $log)")
     failed=1
