@@ -5,7 +5,8 @@
 #         -DPBF_WITH_CUDA=OFF -DEigen3_DIR=/usr/share/eigen3/cmake
 #
 # scripts/build_windows_dll.sh does exactly this. The posix-thread variant of the compilers is
-# the one with std::thread and OpenMP (libgomp on winpthreads); the win32-thread variant has neither.
+# the one with std::thread (on winpthreads); the win32-thread variant has none. libpbf's CPU loops
+# use no OpenMP on Windows (native/exec/cpu_pool.h).
 set(CMAKE_SYSTEM_NAME Windows)
 set(CMAKE_SYSTEM_PROCESSOR x86_64)
 
@@ -22,18 +23,11 @@ set(CMAKE_FIND_ROOT_PATH_MODE_LIBRARY ONLY)
 set(CMAKE_FIND_ROOT_PATH_MODE_INCLUDE ONLY)
 set(CMAKE_FIND_ROOT_PATH_MODE_PACKAGE ONLY)
 
-# Link libgcc, libstdc++, libgomp and winpthreads statically into pbf.dll and the test programs,
-# so that they need no MinGW runtime DLLs (libgcc_s_seh-1, libstdc++-6, libgomp-1,
-# libwinpthread-1): only Windows' own DLLs.
+# Link libgcc, libstdc++ and winpthreads statically into pbf.dll and the test programs, so that
+# they need no MinGW runtime DLLs (libgcc_s_seh-1, libstdc++-6, libwinpthread-1): only Windows'
+# own DLLs.
 set(CMAKE_SHARED_LINKER_FLAGS_INIT "-static")
 set(CMAKE_EXE_LINKER_FLAGS_INIT "-static")
-# FindOpenMP would name the import library libgomp.dll.a (a libgomp-1.dll dependency) even with
-# -static: point it at the static libgomp.a instead.
-execute_process(COMMAND ${CMAKE_CXX_COMPILER} -print-file-name=libgomp.a
-  OUTPUT_VARIABLE PBF_MINGW_LIBGOMP OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
-if(PBF_MINGW_LIBGOMP AND EXISTS "${PBF_MINGW_LIBGOMP}")
-  set(OpenMP_gomp_LIBRARY "${PBF_MINGW_LIBGOMP}" CACHE FILEPATH "libgomp, linked statically")
-endif()
 
 # Cross-built programs run under Wine where it is installed (ctest, add_test).
 find_program(PBF_WINE NAMES wine wine64)

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Cross-builds pbf.dll for 64-bit Windows with MinGW-w64: one DLL with both backends, the CPU
-# (OpenMP) and CUDA, whose kernels (a fatbin) are embedded in it:
+# (on the Windows thread pool) and CUDA, whose kernels (a fatbin) are embedded in it:
 #
 #   bash scripts/build_windows_dll.sh [BUILD_DIR=build-mingw] [TARGET...]
 #
@@ -14,7 +14,7 @@
 #
 # The script checks the DLL and fails otherwise (scripts/pbf_packages.py check-native): it exports
 # exactly the header's pbf_* functions (__cdecl, PBF_API); it imports only Windows' own DLLs
-# (libgcc, libstdc++, libgomp and winpthreads are linked in; no nvcuda.dll, no cudart); it
+# (libgcc, libstdc++ and winpthreads are linked in; no nvcuda.dll, no cudart); it
 # carries the fatbin. The last line gives its size. TARGETs (default: pbf) are built as well,
 # e.g. pbf_api_tests.
 #

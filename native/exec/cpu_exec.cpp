@@ -38,7 +38,9 @@ Status CpuExec::init(uint32_t, uint32_t) {
 std::string CpuExec::device_name() const { return cpu_device_name(); }
 
 std::string cpu_device_name() {
-#ifdef _OPENMP
+#if defined(_WIN32)
+    return "CPU (" + std::to_string(cpu_pool::worker_count()) + " threads)";
+#elif defined(_OPENMP)
     return "CPU (" + std::to_string(omp_get_max_threads()) + " threads)";
 #else
     return "CPU (1 thread)";
@@ -123,9 +125,39 @@ void CpuExec::reduce_stats(const WorldConstants& s, const float* density, const 
     double error_sum = 0.0, ke = 0.0;
     float error_max = 0.0f;
     const int64_t count = n;
+#if defined(_WIN32)
+    // One partial per chunk, summed in chunk order.
+    struct Part {
+        const WorldConstants* s;
+        const float* density;
+        const Vec4* velocities;
+        double error_sum, ke;
+        float error_max;
+    };
+    Part parts[cpu_pool::kMaxChunks];
+    const int chunks = cpu_pool::chunks_for(count);
+    for (int k = 0; k < chunks; ++k) parts[k] = Part{&s, density, velocities, 0.0, 0.0, 0.0f};
+    cpu_pool::run(
+        count, chunks,
+        [](void* ctx, int64_t begin, int64_t end, int k) {
+            Part& p = static_cast<Part*>(ctx)[k];
+            for (int64_t i = begin; i < end; ++i) {
+                const ParticleStats ps = particle_stats(*p.s, p.density[i], p.velocities[i]);
+                p.error_sum += ps.compressive_error;
+                p.ke += ps.kinetic_energy;
+                p.error_max = fmaxf(p.error_max, ps.compressive_error);
+            }
+        },
+        parts);
+    for (int k = 0; k < chunks; ++k) {
+        error_sum += parts[k].error_sum;
+        ke += parts[k].ke;
+        error_max = fmaxf(error_max, parts[k].error_max);
+    }
+#else
     // The maximum is taken per thread and merged in a critical section rather than with
     // reduction(max:), which needs OpenMP 3.1 (MSVC's /openmp is 2.0); the result is the same.
-#pragma omp parallel if (count > 2048)
+#pragma omp parallel if (count > cpu_pool::kParallelMin)
     {
         float thread_max = 0.0f;
 #pragma omp for reduction(+ : error_sum, ke)
@@ -138,6 +170,7 @@ void CpuExec::reduce_stats(const WorldConstants& s, const float* density, const 
 #pragma omp critical(pbf_reduce_stats_max)
         error_max = fmaxf(error_max, thread_max);
     }
+#endif
     out->error_sum = error_sum;
     out->kinetic_energy = ke;
     out->error_max = error_max;
@@ -147,8 +180,27 @@ void CpuExec::sum_compressive_error(const WorldConstants& s, const float* densit
                                     float* out) {
     const int64_t live = std::min(n, *count);
     double sum = 0.0;
-#pragma omp parallel for reduction(+ : sum) if (live > 2048)
+#if defined(_WIN32)
+    struct Part {
+        const float* density;
+        float inv_rest_density;
+        double sum;
+    };
+    Part parts[cpu_pool::kMaxChunks];
+    const int chunks = cpu_pool::chunks_for(live);
+    for (int k = 0; k < chunks; ++k) parts[k] = Part{density, s.inv_rest_density, 0.0};
+    cpu_pool::run(
+        live, chunks,
+        [](void* ctx, int64_t begin, int64_t end, int k) {
+            Part& p = static_cast<Part*>(ctx)[k];
+            for (int64_t i = begin; i < end; ++i) p.sum += fmaxf(p.density[i] * p.inv_rest_density - 1.0f, 0.0f);
+        },
+        parts);
+    for (int k = 0; k < chunks; ++k) sum += parts[k].sum;
+#else
+#pragma omp parallel for reduction(+ : sum) if (live > cpu_pool::kParallelMin)
     for (int64_t i = 0; i < live; ++i) sum += fmaxf(density[i] * s.inv_rest_density - 1.0f, 0.0f);
+#endif
     *out += static_cast<float>(sum);
 }
 

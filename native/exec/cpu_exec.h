@@ -1,4 +1,5 @@
-// CPU executor: the same ops as the GPU, run by an OpenMP parallel loop over particles.
+// CPU executor: the same ops as the GPU, run by a parallel loop over particles (OpenMP; on
+// Windows the OS's thread pool, cpu_pool.h).
 #pragma once
 #include <chrono>
 #include <cstddef>
@@ -6,6 +7,7 @@
 #include <vector>
 
 #include "../core/passes.h"
+#include "cpu_pool.h"
 #include "exec_common.h"
 
 namespace pbf {
@@ -57,8 +59,12 @@ public:
     template <class Op>
     void for_each(uint32_t n, const Op& op) {
         const int64_t count = n;
-#pragma omp parallel for schedule(static) if (count > 2048)
+#if defined(_WIN32)
+        cpu_pool::for_each(count, op);
+#else
+#pragma omp parallel for schedule(static) if (count > cpu_pool::kParallelMin)
         for (int64_t i = 0; i < count; ++i) op(static_cast<uint32_t>(i));
+#endif
     }
 
     // The grid's sort: (cell, slot) pairs by cell, cells in 0..num_cells, a stable counting sort
