@@ -27,11 +27,12 @@ inline pbf_result fail(const char* fn, const Status& s) {
     return s.ok() ? PBF_OK : fail(s.code, std::string(fn) + ": " + s.message);
 }
 
-// Runs body, mapping exceptions to result codes so nothing unwinds into the caller's C code.
+// Runs body(fn), mapping exceptions to result codes so nothing unwinds into the caller's C code.
+// fn is the C function's name (its __func__), which the messages of its failures start with.
 template <class F>
 pbf_result guarded(const char* fn, F&& body) {
     try {
-        return body();
+        return body(fn);
     } catch (const std::bad_alloc&) {
         return fail(PBF_ERROR_OUT_OF_MEMORY, std::string(fn) + ": host allocation failed");
     } catch (const std::exception& e) {

@@ -10,8 +10,7 @@ using pbf::api::guarded;
 extern "C" {
 
 PBF_API pbf_result PBF_CALL pbf_world_get_diffuse_params(pbf_world_id id, pbf_diffuse_params* out) {
-    const char* fn = "pbf_world_get_diffuse_params";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_CHECK_STRUCT(pbf_diffuse_params, out);
         PBF_LOCK_WORLD(w, id);
         *out = w->diffuse_params();
@@ -20,8 +19,7 @@ PBF_API pbf_result PBF_CALL pbf_world_get_diffuse_params(pbf_world_id id, pbf_di
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_set_diffuse_params(pbf_world_id id, const pbf_diffuse_params* p) {
-    const char* fn = "pbf_world_set_diffuse_params";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_CHECK_STRUCT(pbf_diffuse_params, p);
         PBF_VALIDATE(pbf::api::validate_diffuse_params(*p));
         PBF_LOCK_WORLD(w, id);
@@ -38,8 +36,7 @@ PBF_API pbf_result PBF_CALL pbf_world_set_diffuse_params(pbf_world_id id, const 
 
 PBF_API pbf_result PBF_CALL pbf_world_add_diffuse(pbf_world_id id, const float* positions, const float* velocities,
                                                   uint32_t count, uint32_t* out_added) {
-    const char* fn = "pbf_world_add_diffuse";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         if (out_added) *out_added = 0;
         PBF_REQUIRE_ARG((positions && velocities) || count == 0, "positions or velocities is NULL");
         PBF_VALIDATE(pbf::api::validate_diffuse_rows(positions, velocities, count));
