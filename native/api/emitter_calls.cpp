@@ -31,9 +31,7 @@ PBF_API pbf_result PBF_CALL pbf_world_emit_block(pbf_world_id id, const pbf_bloc
 
 PBF_API pbf_result PBF_CALL pbf_world_create_emitter(pbf_world_id id, const pbf_emitter_desc* d, pbf_emitter_id* out) {
     return guarded(__func__, [&](const char* fn) -> pbf_result {
-        PBF_REQUIRE_ARG(out != nullptr, "out_emitter is NULL");
-        *out = pbf_emitter_id{0, 0};
-        PBF_CHECK_STRUCT(pbf_emitter_desc, d);
+        PBF_START_CREATE(pbf_emitter_desc, d, out, "out_emitter");
         PBF_VALIDATE(pbf::api::validate_emitter_desc(*d));
         PBF_LOCK_WORLD(w, id);
         PBF_VALIDATE(material_verdict(*w, d->material));

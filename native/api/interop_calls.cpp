@@ -43,6 +43,12 @@ pbf_result require_support(const char* fn, uint32_t flag) {
     return fail(PBF_ERROR_BACKEND_UNAVAILABLE, std::string(fn) + ": " + why);
 }
 
+// Refuses an external handle this build cannot import: a file descriptor (fd_type) outside Linux
+// builds, a win32 handle outside Windows builds.
+pbf_result require_handle_support(const char* fn, bool fd_type) {
+    return require_support(fn, fd_type ? PBF_INTEROP_SUPPORT_EXTERNAL_FD : PBF_INTEROP_SUPPORT_EXTERNAL_WIN32);
+}
+
 // The world must run on CUDA (PBF_ERROR_INVALID_STATE otherwise).
 pbf_result require_cuda_world(const char* fn, World& w) {
     if (w.backend_kind() == PBF_BACKEND_CUDA) return PBF_OK;
@@ -282,10 +288,7 @@ PBF_API pbf_result PBF_CALL pbf_world_register_gl_buffer(pbf_world_id id, const 
 PBF_API pbf_result PBF_CALL pbf_world_unregister_gl_buffer(pbf_world_id id, pbf_gl_buffer_id buffer) {
     const char* fn = __func__;
     return on_handle(fn, id, PBF_INTEROP_SUPPORT_OPENGL, &Interop::has_gl_buffer, buffer, "GL buffer",
-                     [&](Interop* io) -> pbf_result {
-                         const Status st = io->unregister_gl_buffer(buffer);
-                         return fail(fn, st);
-                     });
+                     [&](Interop* io) { return fail(fn, io->unregister_gl_buffer(buffer)); });
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_copy_to_gl_buffer(pbf_world_id id, pbf_gl_buffer_id buffer) {
@@ -311,25 +314,17 @@ PBF_API pbf_result PBF_CALL pbf_world_register_d3d11_buffer(pbf_world_id id, con
 PBF_API pbf_result PBF_CALL pbf_world_unregister_d3d11_buffer(pbf_world_id id, pbf_d3d11_buffer_id buffer) {
     const char* fn = __func__;
     return on_handle(fn, id, PBF_INTEROP_SUPPORT_D3D11, &Interop::has_d3d11_buffer, buffer, "D3D11 buffer",
-                     [&](Interop* io) -> pbf_result {
-                         const Status st = io->unregister_d3d11_buffer(buffer);
-                         return fail(fn, st);
-                     });
+                     [&](Interop* io) { return fail(fn, io->unregister_d3d11_buffer(buffer)); });
 }
 
 // ---- external memory and semaphores ----------------------------------------------------------
 PBF_API pbf_result PBF_CALL pbf_world_import_external_buffer(pbf_world_id id, const pbf_external_buffer_desc* d,
                                                              pbf_external_buffer_id* out) {
     return guarded(__func__, [&](const char* fn) -> pbf_result {
-        PBF_REQUIRE_ARG(out != nullptr, "out_buffer is NULL");
-        *out = pbf_external_buffer_id{0, 0};
-        PBF_CHECK_STRUCT(pbf_external_buffer_desc, d);
+        PBF_START_CREATE(pbf_external_buffer_desc, d, out, "out_buffer");
         PBF_VALIDATE(pbf::api::validate_external_buffer_desc(*d));
         const bool fd_type = raw(d->type) == PBF_EXTERNAL_MEMORY_OPAQUE_FD;
-        if (pbf_result r =
-                require_support(fn, fd_type ? PBF_INTEROP_SUPPORT_EXTERNAL_FD : PBF_INTEROP_SUPPORT_EXTERNAL_WIN32);
-            r != PBF_OK)
-            return r;
+        if (pbf_result r = require_handle_support(fn, fd_type); r != PBF_OK) return r;
         PBF_LOCK_WORLD(w, id);
         if (pbf_result r = pbf::api::require_buffer(fn, *w, d->source); r != PBF_OK) return r;
         PBF_INTEROP_OF(io, w);
@@ -343,25 +338,17 @@ PBF_API pbf_result PBF_CALL pbf_world_import_external_buffer(pbf_world_id id, co
 PBF_API pbf_result PBF_CALL pbf_world_release_external_buffer(pbf_world_id id, pbf_external_buffer_id buffer) {
     const char* fn = __func__;
     return on_handle(fn, id, PBF_INTEROP_SUPPORT_CUDA, &Interop::has_external_buffer, buffer, "external buffer",
-                     [&](Interop* io) -> pbf_result {
-                         const Status st = io->release_external_buffer(buffer);
-                         return fail(fn, st);
-                     });
+                     [&](Interop* io) { return fail(fn, io->release_external_buffer(buffer)); });
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_import_semaphore(pbf_world_id id, const pbf_semaphore_desc* d,
                                                        pbf_semaphore_id* out) {
     return guarded(__func__, [&](const char* fn) -> pbf_result {
-        PBF_REQUIRE_ARG(out != nullptr, "out_semaphore is NULL");
-        *out = pbf_semaphore_id{0, 0};
-        PBF_CHECK_STRUCT(pbf_semaphore_desc, d);
+        PBF_START_CREATE(pbf_semaphore_desc, d, out, "out_semaphore");
         PBF_VALIDATE(pbf::api::validate_semaphore_desc(*d));
         const bool fd_type =
             raw(d->type) == PBF_SEMAPHORE_VULKAN_BINARY_FD || raw(d->type) == PBF_SEMAPHORE_VULKAN_TIMELINE_FD;
-        if (pbf_result r =
-                require_support(fn, fd_type ? PBF_INTEROP_SUPPORT_EXTERNAL_FD : PBF_INTEROP_SUPPORT_EXTERNAL_WIN32);
-            r != PBF_OK)
-            return r;
+        if (pbf_result r = require_handle_support(fn, fd_type); r != PBF_OK) return r;
         PBF_LOCK_WORLD(w, id);
         PBF_INTEROP_OF(io, w);
         const Status st = io->import_semaphore(*d, out);
@@ -372,10 +359,7 @@ PBF_API pbf_result PBF_CALL pbf_world_import_semaphore(pbf_world_id id, const pb
 PBF_API pbf_result PBF_CALL pbf_world_release_semaphore(pbf_world_id id, pbf_semaphore_id semaphore) {
     const char* fn = __func__;
     return on_handle(fn, id, PBF_INTEROP_SUPPORT_CUDA, &Interop::has_semaphore, semaphore, "semaphore",
-                     [&](Interop* io) -> pbf_result {
-                         const Status st = io->release_semaphore(semaphore);
-                         return fail(fn, st);
-                     });
+                     [&](Interop* io) { return fail(fn, io->release_semaphore(semaphore)); });
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_copy_to_external_buffer(pbf_world_id id, pbf_external_buffer_id buffer,

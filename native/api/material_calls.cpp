@@ -20,9 +20,7 @@ extern "C" {
 PBF_API pbf_result PBF_CALL pbf_world_create_material(pbf_world_id id, const pbf_material_desc* d,
                                                       pbf_material_id* out) {
     return guarded(__func__, [&](const char* fn) -> pbf_result {
-        PBF_REQUIRE_ARG(out != nullptr, "out_material is NULL");
-        *out = pbf_material_id{0, 0};
-        PBF_CHECK_STRUCT(pbf_material_desc, d);
+        PBF_START_CREATE(pbf_material_desc, d, out, "out_material");
         PBF_LOCK_WORLD(w, id);
         PBF_VALIDATE(pbf::api::validate_material_desc(*d, w->rest_density(), false));
         return fail(fn, w->create_material(*d, out));

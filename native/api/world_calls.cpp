@@ -34,9 +34,7 @@ extern "C" {
 
 PBF_API pbf_result PBF_CALL pbf_world_create(const pbf_world_desc* d, pbf_world_id* out) {
     return guarded(__func__, [&](const char* fn) -> pbf_result {
-        PBF_REQUIRE_ARG(out != nullptr, "out_world is NULL");
-        *out = pbf_world_id{0, 0};
-        PBF_CHECK_STRUCT(pbf_world_desc, d);
+        PBF_START_CREATE(pbf_world_desc, d, out, "out_world");
         PBF_VALIDATE(pbf::api::validate_world_desc(*d));
         PBF_CHECK_STRUCT(pbf_solver_params, &d->solver);
         PBF_VALIDATE(pbf::api::validate_solver_params(d->solver));
@@ -86,12 +84,7 @@ PBF_API pbf_result PBF_CALL pbf_world_step(pbf_world_id id, float dt) {
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_get_solver_params(pbf_world_id id, pbf_solver_params* out) {
-    return guarded(__func__, [&](const char* fn) -> pbf_result {
-        PBF_CHECK_STRUCT(pbf_solver_params, out);
-        PBF_LOCK_WORLD(w, id);
-        *out = w->solver_params();
-        return PBF_OK;
-    });
+    return pbf::api::get_params(__func__, "pbf_solver_params", id, out, &pbf::World::solver_params);
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_set_solver_params(pbf_world_id id, const pbf_solver_params* p) {
@@ -114,12 +107,7 @@ PBF_API pbf_result PBF_CALL pbf_world_set_gravity(pbf_world_id id, const float g
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_get_render_params(pbf_world_id id, pbf_render_params* out) {
-    return guarded(__func__, [&](const char* fn) -> pbf_result {
-        PBF_CHECK_STRUCT(pbf_render_params, out);
-        PBF_LOCK_WORLD(w, id);
-        *out = w->render_params();
-        return PBF_OK;
-    });
+    return pbf::api::get_params(__func__, "pbf_render_params", id, out, &pbf::World::render_params);
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_set_render_params(pbf_world_id id, const pbf_render_params* p) {
@@ -127,11 +115,8 @@ PBF_API pbf_result PBF_CALL pbf_world_set_render_params(pbf_world_id id, const p
         PBF_CHECK_STRUCT(pbf_render_params, p);
         PBF_VALIDATE(pbf::api::validate_render_params(*p));
         PBF_LOCK_WORLD(w, id);
-        PBF_REQUIRE(p->flags == w->render_flags(), PBF_ERROR_INVALID_STATE,
-                    std::string(fn) +
-                        ": render.flags are fixed at world creation (its buffers are allocated then): "
-                        "this world has " +
-                        std::to_string(w->render_flags()) + ", got " + std::to_string(p->flags));
+        if (pbf_result r = pbf::api::require_fixed(fn, "render.flags are", w->render_flags(), p->flags); r != PBF_OK)
+            return r;
         w->set_render_params(*p);
         return PBF_OK;
     });
