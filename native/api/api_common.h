@@ -27,11 +27,12 @@ inline pbf_result fail(const char* fn, const Status& s) {
     return s.ok() ? PBF_OK : fail(s.code, std::string(fn) + ": " + s.message);
 }
 
-// Runs body, mapping exceptions to result codes so nothing unwinds into the caller's C code.
+// Runs body(fn), mapping exceptions to result codes so nothing unwinds into the caller's C code.
+// fn is the C function's name (its __func__), which the messages of its failures start with.
 template <class F>
 pbf_result guarded(const char* fn, F&& body) {
     try {
-        return body();
+        return body(fn);
     } catch (const std::bad_alloc&) {
         return fail(PBF_ERROR_OUT_OF_MEMORY, std::string(fn) + ": host allocation failed");
     } catch (const std::exception& e) {
@@ -54,6 +55,14 @@ pbf_result check_struct(const char* fn, const char* type, const void* p, uint32_
             r_ != PBF_OK)                                                                                        \
             return r_;                                                                                           \
     } while (0)
+
+// The start of a call that creates an object from a desc: out must be non-NULL (out_name is its
+// parameter's name in the message) and holds the null handle until the call succeeds; d must be
+// a `type` of its struct_size.
+#define PBF_START_CREATE(type, d, out, out_name)            \
+    PBF_REQUIRE_ARG((out) != nullptr, out_name " is NULL"); \
+    *(out) = {};                                            \
+    PBF_CHECK_STRUCT(type, d)
 
 // The world computes source (a render buffer is only there when desc.render.flags asked for it):
 // PBF_ERROR_INVALID_STATE with the flag to set otherwise. source is a valid pbf_buffer.
@@ -102,5 +111,27 @@ private:
 #define PBF_LOCK_WORLD(w, id)        \
     ::pbf::api::WorldLock w(fn, id); \
     if (!w) return w.result()
+
+// The shape of a call that reads a world's parameters: out is a `type` of its struct_size; then
+// *out = (world.*read)().
+template <class P>
+pbf_result get_params(const char* fn, const char* type, pbf_world_id id, P* out, const P& (World::*read)() const) {
+    return guarded(fn, [&](const char*) -> pbf_result {
+        if (pbf_result r = check_struct(fn, type, out, out ? out->struct_size : 0u, sizeof(P)); r != PBF_OK) return r;
+        PBF_LOCK_WORLD(w, id);
+        *out = ((*w).*read)();
+        return PBF_OK;
+    });
+}
+
+// A parameter fixed at world creation (the world's buffers were sized by it): `what` ("render.flags
+// are") keeps the value `have`, or the call is refused.
+inline pbf_result require_fixed(const char* fn, const char* what, uint32_t have, uint32_t got) {
+    if (got == have) return PBF_OK;
+    return fail(PBF_ERROR_INVALID_STATE, std::string(fn) + ": " + what +
+                                             " fixed at world creation (its buffers are allocated then): this world "
+                                             "has " +
+                                             std::to_string(have) + ", got " + std::to_string(got));
+}
 
 }  // namespace pbf::api

@@ -20,7 +20,7 @@ pbf_result start(const char* fn, const char* type, T* d, uint32_t struct_size) {
 extern "C" {
 
 PBF_API pbf_result PBF_CALL pbf_solver_params_init(pbf_solver_params* p, uint32_t struct_size) {
-    const char* fn = "pbf_solver_params_init";
+    const char* fn = __func__;
     if (pbf_result r = check_struct(fn, "pbf_solver_params", p, struct_size, sizeof(pbf_solver_params)); r != PBF_OK)
         return r;
     std::memset(p, 0, sizeof *p);
@@ -43,7 +43,7 @@ PBF_API pbf_result PBF_CALL pbf_solver_params_init(pbf_solver_params* p, uint32_
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_desc_init(pbf_world_desc* d, uint32_t struct_size, uint32_t header_version) {
-    const char* fn = "pbf_world_desc_init";
+    const char* fn = __func__;
     if (pbf_result r = check_struct(fn, "pbf_world_desc", d, struct_size, sizeof(pbf_world_desc)); r != PBF_OK)
         return r;
     std::memset(d, 0, sizeof *d);
@@ -72,7 +72,7 @@ PBF_API pbf_result PBF_CALL pbf_world_desc_init(pbf_world_desc* d, uint32_t stru
 // speeds 2-3 m/s) so that its front sprays and foams and a resting tank makes nothing; Ihmsen et
 // al. tune theirs per scene. Classification at 6 and 20 neighbours is theirs.
 PBF_API pbf_result PBF_CALL pbf_diffuse_params_init(pbf_diffuse_params* p, uint32_t struct_size) {
-    if (pbf_result r = start("pbf_diffuse_params_init", "pbf_diffuse_params", p, struct_size); r != PBF_OK) return r;
+    if (pbf_result r = start(__func__, "pbf_diffuse_params", p, struct_size); r != PBF_OK) return r;
     p->max_diffuse = 0;
     p->trapped_air_min = 2.0f;
     p->trapped_air_max = 8.0f;
@@ -92,7 +92,7 @@ PBF_API pbf_result PBF_CALL pbf_diffuse_params_init(pbf_diffuse_params* p, uint3
 }
 
 PBF_API pbf_result PBF_CALL pbf_render_params_init(pbf_render_params* p, uint32_t struct_size) {
-    if (pbf_result r = start("pbf_render_params_init", "pbf_render_params", p, struct_size); r != PBF_OK) return r;
+    if (pbf_result r = start(__func__, "pbf_render_params", p, struct_size); r != PBF_OK) return r;
     p->flags = 0;
     p->smoothing = 0.9f;
     p->max_stretch = 4.0f;     // Yu & Turk's k_r
@@ -103,26 +103,26 @@ PBF_API pbf_result PBF_CALL pbf_render_params_init(pbf_render_params* p, uint32_
 }
 
 PBF_API pbf_result PBF_CALL pbf_block_desc_init(pbf_block_desc* d, uint32_t struct_size) {
-    if (pbf_result r = start("pbf_block_desc_init", "pbf_block_desc", d, struct_size); r != PBF_OK) return r;
+    if (pbf_result r = start(__func__, "pbf_block_desc", d, struct_size); r != PBF_OK) return r;
     return PBF_OK;
 }
 
 PBF_API pbf_result PBF_CALL pbf_emitter_desc_init(pbf_emitter_desc* d, uint32_t struct_size) {
-    if (pbf_result r = start("pbf_emitter_desc_init", "pbf_emitter_desc", d, struct_size); r != PBF_OK) return r;
+    if (pbf_result r = start(__func__, "pbf_emitter_desc", d, struct_size); r != PBF_OK) return r;
     d->enabled = 1;
     d->direction[1] = -1.0f;
     return PBF_OK;
 }
 
 PBF_API pbf_result PBF_CALL pbf_collider_desc_init(pbf_collider_desc* d, uint32_t struct_size) {
-    if (pbf_result r = start("pbf_collider_desc_init", "pbf_collider_desc", d, struct_size); r != PBF_OK) return r;
+    if (pbf_result r = start(__func__, "pbf_collider_desc", d, struct_size); r != PBF_OK) return r;
     d->motion = PBF_MOTION_STATIC;
     d->rotation[3] = 1.0f;
     return PBF_OK;
 }
 
 PBF_API pbf_result PBF_CALL pbf_material_desc_init(pbf_material_desc* d, uint32_t struct_size) {
-    if (pbf_result r = start("pbf_material_desc_init", "pbf_material_desc", d, struct_size); r != PBF_OK) return r;
+    if (pbf_result r = start(__func__, "pbf_material_desc", d, struct_size); r != PBF_OK) return r;
     d->rest_density = 1000.0f;
     d->viscosity = 0.01f;  // solver.xsph_c's default
     d->ldc_gain = 0.3f;    // solver.ldc_gain's default
@@ -134,30 +134,28 @@ PBF_API pbf_result PBF_CALL pbf_material_desc_init(pbf_material_desc* d, uint32_
 }
 
 PBF_API pbf_result PBF_CALL pbf_mesh_desc_init(pbf_mesh_desc* d, uint32_t struct_size) {
-    if (pbf_result r = start("pbf_mesh_desc_init", "pbf_mesh_desc", d, struct_size); r != PBF_OK) return r;
+    if (pbf_result r = start(__func__, "pbf_mesh_desc", d, struct_size); r != PBF_OK) return r;
     d->closed = 1;
     return PBF_OK;
 }
 
 // ---- interop descs ----------------------------------------------------------------------------
 PBF_API pbf_result PBF_CALL pbf_gl_buffer_desc_init(pbf_gl_buffer_desc* d, uint32_t struct_size) {
-    if (pbf_result r = start("pbf_gl_buffer_desc_init", "pbf_gl_buffer_desc", d, struct_size); r != PBF_OK) return r;
+    if (pbf_result r = start(__func__, "pbf_gl_buffer_desc", d, struct_size); r != PBF_OK) return r;
     d->source = PBF_BUFFER_POSITIONS;
     d->mode = PBF_COPY_ON_STEP;
     return PBF_OK;
 }
 
 PBF_API pbf_result PBF_CALL pbf_d3d11_buffer_desc_init(pbf_d3d11_buffer_desc* d, uint32_t struct_size) {
-    if (pbf_result r = start("pbf_d3d11_buffer_desc_init", "pbf_d3d11_buffer_desc", d, struct_size); r != PBF_OK)
-        return r;
+    if (pbf_result r = start(__func__, "pbf_d3d11_buffer_desc", d, struct_size); r != PBF_OK) return r;
     d->source = PBF_BUFFER_POSITIONS;
     d->mode = PBF_COPY_ON_RENDER_EVENT;  // the D3D11 device context is the render thread's
     return PBF_OK;
 }
 
 PBF_API pbf_result PBF_CALL pbf_external_buffer_desc_init(pbf_external_buffer_desc* d, uint32_t struct_size) {
-    if (pbf_result r = start("pbf_external_buffer_desc_init", "pbf_external_buffer_desc", d, struct_size); r != PBF_OK)
-        return r;
+    if (pbf_result r = start(__func__, "pbf_external_buffer_desc", d, struct_size); r != PBF_OK) return r;
     d->fd = -1;
     d->source = PBF_BUFFER_POSITIONS;
     d->mode = PBF_COPY_MANUAL;
@@ -165,13 +163,13 @@ PBF_API pbf_result PBF_CALL pbf_external_buffer_desc_init(pbf_external_buffer_de
 }
 
 PBF_API pbf_result PBF_CALL pbf_semaphore_desc_init(pbf_semaphore_desc* d, uint32_t struct_size) {
-    if (pbf_result r = start("pbf_semaphore_desc_init", "pbf_semaphore_desc", d, struct_size); r != PBF_OK) return r;
+    if (pbf_result r = start(__func__, "pbf_semaphore_desc", d, struct_size); r != PBF_OK) return r;
     d->fd = -1;
     return PBF_OK;
 }
 
 PBF_API pbf_result PBF_CALL pbf_external_sync_init(pbf_external_sync* s, uint32_t struct_size) {
-    if (pbf_result r = start("pbf_external_sync_init", "pbf_external_sync", s, struct_size); r != PBF_OK) return r;
+    if (pbf_result r = start(__func__, "pbf_external_sync", s, struct_size); r != PBF_OK) return r;
     return PBF_OK;
 }
 

@@ -10,27 +10,17 @@ using pbf::api::guarded;
 extern "C" {
 
 PBF_API pbf_result PBF_CALL pbf_world_get_diffuse_params(pbf_world_id id, pbf_diffuse_params* out) {
-    const char* fn = "pbf_world_get_diffuse_params";
-    return guarded(fn, [&]() -> pbf_result {
-        PBF_CHECK_STRUCT(pbf_diffuse_params, out);
-        PBF_LOCK_WORLD(w, id);
-        *out = w->diffuse_params();
-        return PBF_OK;
-    });
+    return pbf::api::get_params(__func__, "pbf_diffuse_params", id, out, &pbf::World::diffuse_params);
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_set_diffuse_params(pbf_world_id id, const pbf_diffuse_params* p) {
-    const char* fn = "pbf_world_set_diffuse_params";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_CHECK_STRUCT(pbf_diffuse_params, p);
         PBF_VALIDATE(pbf::api::validate_diffuse_params(*p));
         PBF_LOCK_WORLD(w, id);
         const uint32_t capacity = w->diffuse_params().max_diffuse;
-        PBF_REQUIRE(p->max_diffuse == capacity, PBF_ERROR_INVALID_STATE,
-                    std::string(fn) +
-                        ": diffuse.max_diffuse is fixed at world creation (its buffers are allocated "
-                        "then): this world has " +
-                        std::to_string(capacity) + ", got " + std::to_string(p->max_diffuse));
+        if (pbf_result r = pbf::api::require_fixed(fn, "diffuse.max_diffuse is", capacity, p->max_diffuse); r != PBF_OK)
+            return r;
         w->set_diffuse_params(*p);
         return PBF_OK;
     });
@@ -38,8 +28,7 @@ PBF_API pbf_result PBF_CALL pbf_world_set_diffuse_params(pbf_world_id id, const 
 
 PBF_API pbf_result PBF_CALL pbf_world_add_diffuse(pbf_world_id id, const float* positions, const float* velocities,
                                                   uint32_t count, uint32_t* out_added) {
-    const char* fn = "pbf_world_add_diffuse";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         if (out_added) *out_added = 0;
         PBF_REQUIRE_ARG((positions && velocities) || count == 0, "positions or velocities is NULL");
         PBF_VALIDATE(pbf::api::validate_diffuse_rows(positions, velocities, count));

@@ -43,6 +43,12 @@ pbf_result require_support(const char* fn, uint32_t flag) {
     return fail(PBF_ERROR_BACKEND_UNAVAILABLE, std::string(fn) + ": " + why);
 }
 
+// Refuses an external handle this build cannot import: a file descriptor (fd_type) outside Linux
+// builds, a win32 handle outside Windows builds.
+pbf_result require_handle_support(const char* fn, bool fd_type) {
+    return require_support(fn, fd_type ? PBF_INTEROP_SUPPORT_EXTERNAL_FD : PBF_INTEROP_SUPPORT_EXTERNAL_WIN32);
+}
+
 // The world must run on CUDA (PBF_ERROR_INVALID_STATE otherwise).
 pbf_result require_cuda_world(const char* fn, World& w) {
     if (w.backend_kind() == PBF_BACKEND_CUDA) return PBF_OK;
@@ -69,7 +75,7 @@ std::string handle_text(uint32_t index, uint32_t generation) {
 template <class Id, class Body>
 pbf_result on_handle(const char* fn, pbf_world_id id, uint32_t support, bool (Interop::*has)(Id), Id handle,
                      const char* what, Body&& body) {
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(fn, [&](const char*) -> pbf_result {
         if (pbf_result r = require_support(fn, support); r != PBF_OK) return r;
         PBF_LOCK_WORLD(w, id);
         Interop* io = existing_interop(*w);
@@ -147,7 +153,7 @@ template <class Desc, class Id>
 pbf_result register_graphics(const char* fn, const char* desc_type, pbf_world_id id, const Desc* d, Id* out,
                              uint32_t support, pbf::api::Verdict (*validate)(const Desc&),
                              Status (Interop::*register_buffer)(const Desc&, Id*)) {
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(fn, [&](const char*) -> pbf_result {
         PBF_REQUIRE_ARG(out != nullptr, "out_buffer is NULL");
         *out = Id{0, 0};
         if (pbf_result r = pbf::api::check_struct(fn, desc_type, d, d ? d->struct_size : 0u, sizeof(Desc)); r != PBF_OK)
@@ -180,8 +186,7 @@ pbf_result check_sync(const char* fn, Interop* io, const pbf_external_sync* sync
 extern "C" {
 
 PBF_API pbf_result PBF_CALL pbf_get_interop_support(uint32_t* out_flags) {
-    const char* fn = "pbf_get_interop_support";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_REQUIRE_ARG(out_flags != nullptr, "out_flags is NULL");
         *out_flags = pbf::interop_support();
         return PBF_OK;
@@ -190,8 +195,7 @@ PBF_API pbf_result PBF_CALL pbf_get_interop_support(uint32_t* out_flags) {
 
 // ---- streams and events ----------------------------------------------------------------------
 PBF_API pbf_result PBF_CALL pbf_world_get_cuda_stream(pbf_world_id id, void** out_stream) {
-    const char* fn = "pbf_world_get_cuda_stream";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_REQUIRE_ARG(out_stream != nullptr, "out_stream is NULL");
         *out_stream = nullptr;
         if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_CUDA); r != PBF_OK) return r;
@@ -203,8 +207,7 @@ PBF_API pbf_result PBF_CALL pbf_world_get_cuda_stream(pbf_world_id id, void** ou
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_set_cuda_stream(pbf_world_id id, void* stream) {
-    const char* fn = "pbf_world_set_cuda_stream";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_CUDA); r != PBF_OK) return r;
         PBF_LOCK_WORLD(w, id);
         if (pbf_result r = require_cuda_world(fn, *w); r != PBF_OK) return r;
@@ -214,8 +217,7 @@ PBF_API pbf_result PBF_CALL pbf_world_set_cuda_stream(pbf_world_id id, void* str
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_record_cuda_event(pbf_world_id id, void** out_event) {
-    const char* fn = "pbf_world_record_cuda_event";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_REQUIRE_ARG(out_event != nullptr, "out_event is NULL");
         *out_event = nullptr;
         if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_CUDA); r != PBF_OK) return r;
@@ -227,8 +229,7 @@ PBF_API pbf_result PBF_CALL pbf_world_record_cuda_event(pbf_world_id id, void** 
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_wait_cuda_event(pbf_world_id id, void* event) {
-    const char* fn = "pbf_world_wait_cuda_event";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_REQUIRE_ARG(event != nullptr, "event is NULL");
         if (pbf_result r = require_support(fn, PBF_INTEROP_SUPPORT_CUDA); r != PBF_OK) return r;
         PBF_LOCK_WORLD(w, id);
@@ -240,8 +241,7 @@ PBF_API pbf_result PBF_CALL pbf_world_wait_cuda_event(pbf_world_id id, void* eve
 
 // ---- device buffers ----------------------------------------------------------------------------
 PBF_API pbf_result PBF_CALL pbf_world_map_device_buffers(pbf_world_id id, uint32_t flags, pbf_device_buffers* out) {
-    const char* fn = "pbf_world_map_device_buffers";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_CHECK_STRUCT(pbf_device_buffers, out);
         PBF_REQUIRE_ARG((flags & ~PBF_MAP_NO_WAIT) == 0, "flags must be 0 or PBF_MAP_NO_WAIT");
         PBF_LOCK_WORLD(w, id);
@@ -281,22 +281,18 @@ PBF_API pbf_result PBF_CALL pbf_world_map_device_buffers(pbf_world_id id, uint32
 // ---- OpenGL ----------------------------------------------------------------------------------
 PBF_API pbf_result PBF_CALL pbf_world_register_gl_buffer(pbf_world_id id, const pbf_gl_buffer_desc* d,
                                                          pbf_gl_buffer_id* out) {
-    return register_graphics("pbf_world_register_gl_buffer", "pbf_gl_buffer_desc", id, d, out,
-                             PBF_INTEROP_SUPPORT_OPENGL, &pbf::api::validate_gl_buffer_desc,
-                             &Interop::register_gl_buffer);
+    return register_graphics(__func__, "pbf_gl_buffer_desc", id, d, out, PBF_INTEROP_SUPPORT_OPENGL,
+                             &pbf::api::validate_gl_buffer_desc, &Interop::register_gl_buffer);
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_unregister_gl_buffer(pbf_world_id id, pbf_gl_buffer_id buffer) {
-    const char* fn = "pbf_world_unregister_gl_buffer";
+    const char* fn = __func__;
     return on_handle(fn, id, PBF_INTEROP_SUPPORT_OPENGL, &Interop::has_gl_buffer, buffer, "GL buffer",
-                     [&](Interop* io) -> pbf_result {
-                         const Status st = io->unregister_gl_buffer(buffer);
-                         return fail(fn, st);
-                     });
+                     [&](Interop* io) { return fail(fn, io->unregister_gl_buffer(buffer)); });
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_copy_to_gl_buffer(pbf_world_id id, pbf_gl_buffer_id buffer) {
-    const char* fn = "pbf_world_copy_to_gl_buffer";
+    const char* fn = __func__;
     return on_handle(fn, id, PBF_INTEROP_SUPPORT_OPENGL, &Interop::has_gl_buffer, buffer, "GL buffer",
                      [&](Interop* io) -> pbf_result {
                          PBF_REQUIRE(
@@ -311,34 +307,24 @@ PBF_API pbf_result PBF_CALL pbf_world_copy_to_gl_buffer(pbf_world_id id, pbf_gl_
 // ---- Direct3D 11 -----------------------------------------------------------------------------
 PBF_API pbf_result PBF_CALL pbf_world_register_d3d11_buffer(pbf_world_id id, const pbf_d3d11_buffer_desc* d,
                                                             pbf_d3d11_buffer_id* out) {
-    return register_graphics("pbf_world_register_d3d11_buffer", "pbf_d3d11_buffer_desc", id, d, out,
-                             PBF_INTEROP_SUPPORT_D3D11, &pbf::api::validate_d3d11_buffer_desc,
-                             &Interop::register_d3d11_buffer);
+    return register_graphics(__func__, "pbf_d3d11_buffer_desc", id, d, out, PBF_INTEROP_SUPPORT_D3D11,
+                             &pbf::api::validate_d3d11_buffer_desc, &Interop::register_d3d11_buffer);
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_unregister_d3d11_buffer(pbf_world_id id, pbf_d3d11_buffer_id buffer) {
-    const char* fn = "pbf_world_unregister_d3d11_buffer";
+    const char* fn = __func__;
     return on_handle(fn, id, PBF_INTEROP_SUPPORT_D3D11, &Interop::has_d3d11_buffer, buffer, "D3D11 buffer",
-                     [&](Interop* io) -> pbf_result {
-                         const Status st = io->unregister_d3d11_buffer(buffer);
-                         return fail(fn, st);
-                     });
+                     [&](Interop* io) { return fail(fn, io->unregister_d3d11_buffer(buffer)); });
 }
 
 // ---- external memory and semaphores ----------------------------------------------------------
 PBF_API pbf_result PBF_CALL pbf_world_import_external_buffer(pbf_world_id id, const pbf_external_buffer_desc* d,
                                                              pbf_external_buffer_id* out) {
-    const char* fn = "pbf_world_import_external_buffer";
-    return guarded(fn, [&]() -> pbf_result {
-        PBF_REQUIRE_ARG(out != nullptr, "out_buffer is NULL");
-        *out = pbf_external_buffer_id{0, 0};
-        PBF_CHECK_STRUCT(pbf_external_buffer_desc, d);
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
+        PBF_START_CREATE(pbf_external_buffer_desc, d, out, "out_buffer");
         PBF_VALIDATE(pbf::api::validate_external_buffer_desc(*d));
         const bool fd_type = raw(d->type) == PBF_EXTERNAL_MEMORY_OPAQUE_FD;
-        if (pbf_result r =
-                require_support(fn, fd_type ? PBF_INTEROP_SUPPORT_EXTERNAL_FD : PBF_INTEROP_SUPPORT_EXTERNAL_WIN32);
-            r != PBF_OK)
-            return r;
+        if (pbf_result r = require_handle_support(fn, fd_type); r != PBF_OK) return r;
         PBF_LOCK_WORLD(w, id);
         if (pbf_result r = pbf::api::require_buffer(fn, *w, d->source); r != PBF_OK) return r;
         PBF_INTEROP_OF(io, w);
@@ -350,28 +336,19 @@ PBF_API pbf_result PBF_CALL pbf_world_import_external_buffer(pbf_world_id id, co
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_release_external_buffer(pbf_world_id id, pbf_external_buffer_id buffer) {
-    const char* fn = "pbf_world_release_external_buffer";
+    const char* fn = __func__;
     return on_handle(fn, id, PBF_INTEROP_SUPPORT_CUDA, &Interop::has_external_buffer, buffer, "external buffer",
-                     [&](Interop* io) -> pbf_result {
-                         const Status st = io->release_external_buffer(buffer);
-                         return fail(fn, st);
-                     });
+                     [&](Interop* io) { return fail(fn, io->release_external_buffer(buffer)); });
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_import_semaphore(pbf_world_id id, const pbf_semaphore_desc* d,
                                                        pbf_semaphore_id* out) {
-    const char* fn = "pbf_world_import_semaphore";
-    return guarded(fn, [&]() -> pbf_result {
-        PBF_REQUIRE_ARG(out != nullptr, "out_semaphore is NULL");
-        *out = pbf_semaphore_id{0, 0};
-        PBF_CHECK_STRUCT(pbf_semaphore_desc, d);
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
+        PBF_START_CREATE(pbf_semaphore_desc, d, out, "out_semaphore");
         PBF_VALIDATE(pbf::api::validate_semaphore_desc(*d));
         const bool fd_type =
             raw(d->type) == PBF_SEMAPHORE_VULKAN_BINARY_FD || raw(d->type) == PBF_SEMAPHORE_VULKAN_TIMELINE_FD;
-        if (pbf_result r =
-                require_support(fn, fd_type ? PBF_INTEROP_SUPPORT_EXTERNAL_FD : PBF_INTEROP_SUPPORT_EXTERNAL_WIN32);
-            r != PBF_OK)
-            return r;
+        if (pbf_result r = require_handle_support(fn, fd_type); r != PBF_OK) return r;
         PBF_LOCK_WORLD(w, id);
         PBF_INTEROP_OF(io, w);
         const Status st = io->import_semaphore(*d, out);
@@ -380,17 +357,14 @@ PBF_API pbf_result PBF_CALL pbf_world_import_semaphore(pbf_world_id id, const pb
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_release_semaphore(pbf_world_id id, pbf_semaphore_id semaphore) {
-    const char* fn = "pbf_world_release_semaphore";
+    const char* fn = __func__;
     return on_handle(fn, id, PBF_INTEROP_SUPPORT_CUDA, &Interop::has_semaphore, semaphore, "semaphore",
-                     [&](Interop* io) -> pbf_result {
-                         const Status st = io->release_semaphore(semaphore);
-                         return fail(fn, st);
-                     });
+                     [&](Interop* io) { return fail(fn, io->release_semaphore(semaphore)); });
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_copy_to_external_buffer(pbf_world_id id, pbf_external_buffer_id buffer,
                                                               const pbf_external_sync* sync) {
-    const char* fn = "pbf_world_copy_to_external_buffer";
+    const char* fn = __func__;
     return on_handle(
         fn, id, PBF_INTEROP_SUPPORT_CUDA, &Interop::has_external_buffer, buffer, "external buffer",
         [&](Interop* io) -> pbf_result {
@@ -406,7 +380,7 @@ PBF_API pbf_result PBF_CALL pbf_world_copy_to_external_buffer(pbf_world_id id, p
 
 PBF_API pbf_result PBF_CALL pbf_world_set_external_sync(pbf_world_id id, pbf_external_buffer_id buffer,
                                                         const pbf_external_sync* sync) {
-    const char* fn = "pbf_world_set_external_sync";
+    const char* fn = __func__;
     return on_handle(fn, id, PBF_INTEROP_SUPPORT_CUDA, &Interop::has_external_buffer, buffer, "external buffer",
                      [&](Interop* io) -> pbf_result {
                          if (sync)
@@ -424,8 +398,7 @@ PBF_API pbf_result PBF_CALL pbf_world_set_external_sync(pbf_world_id id, pbf_ext
 PBF_API pbf_render_event_fn PBF_CALL pbf_get_render_event_func(void) { return &render_event; }
 
 PBF_API pbf_result PBF_CALL pbf_world_get_render_event_id(pbf_world_id id, int32_t* out_event_id) {
-    const char* fn = "pbf_world_get_render_event_id";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_REQUIRE_ARG(out_event_id != nullptr, "out_event_id is NULL");
         *out_event_id = 0;
         PBF_LOCK_WORLD(w, id);
@@ -438,8 +411,7 @@ PBF_API pbf_result PBF_CALL pbf_world_get_render_event_id(pbf_world_id id, int32
 
 // ---- info and debug ----------------------------------------------------------------------------
 PBF_API pbf_result PBF_CALL pbf_world_get_interop_info(pbf_world_id id, pbf_interop_info* out) {
-    const char* fn = "pbf_world_get_interop_info";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_CHECK_STRUCT(pbf_interop_info, out);
         PBF_LOCK_WORLD(w, id);
         pbf_interop_info info;
@@ -457,8 +429,7 @@ PBF_API pbf_result PBF_CALL pbf_world_get_interop_info(pbf_world_id id, pbf_inte
 }
 
 PBF_API pbf_result PBF_CALL pbf_debug_get_transfer_count(uint64_t* out_transfers, uint64_t* out_bytes) {
-    const char* fn = "pbf_debug_get_transfer_count";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char*) -> pbf_result {
         uint64_t transfers = 0, bytes = 0;
         pbf::host_device_transfers(&transfers, &bytes);
         if (out_transfers) *out_transfers = transfers;

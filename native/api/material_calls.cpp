@@ -19,11 +19,8 @@ extern "C" {
 
 PBF_API pbf_result PBF_CALL pbf_world_create_material(pbf_world_id id, const pbf_material_desc* d,
                                                       pbf_material_id* out) {
-    const char* fn = "pbf_world_create_material";
-    return guarded(fn, [&]() -> pbf_result {
-        PBF_REQUIRE_ARG(out != nullptr, "out_material is NULL");
-        *out = pbf_material_id{0, 0};
-        PBF_CHECK_STRUCT(pbf_material_desc, d);
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
+        PBF_START_CREATE(pbf_material_desc, d, out, "out_material");
         PBF_LOCK_WORLD(w, id);
         PBF_VALIDATE(pbf::api::validate_material_desc(*d, w->rest_density(), false));
         return fail(fn, w->create_material(*d, out));
@@ -31,8 +28,7 @@ PBF_API pbf_result PBF_CALL pbf_world_create_material(pbf_world_id id, const pbf
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_destroy_material(pbf_world_id id, pbf_material_id m) {
-    const char* fn = "pbf_world_destroy_material";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_LOCK_WORLD(w, id);
         if (!live(*w, m)) return refuse(fn, Verdict{Check::MATERIAL_HANDLE});
         if (w->material_slot(m) == 0) return refuse(fn, Verdict{Check::MATERIAL_DEFAULT_DESTROY});
@@ -44,8 +40,7 @@ PBF_API pbf_result PBF_CALL pbf_world_destroy_material(pbf_world_id id, pbf_mate
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_get_material(pbf_world_id id, pbf_material_id m, pbf_material_desc* out) {
-    const char* fn = "pbf_world_get_material";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_CHECK_STRUCT(pbf_material_desc, out);
         PBF_LOCK_WORLD(w, id);
         if (!live(*w, m)) return refuse(fn, Verdict{Check::MATERIAL_HANDLE});
@@ -54,8 +49,7 @@ PBF_API pbf_result PBF_CALL pbf_world_get_material(pbf_world_id id, pbf_material
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_set_material(pbf_world_id id, pbf_material_id m, const pbf_material_desc* d) {
-    const char* fn = "pbf_world_set_material";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_CHECK_STRUCT(pbf_material_desc, d);
         PBF_LOCK_WORLD(w, id);
         if (!live(*w, m)) return refuse(fn, Verdict{Check::MATERIAL_HANDLE});
@@ -65,8 +59,7 @@ PBF_API pbf_result PBF_CALL pbf_world_set_material(pbf_world_id id, pbf_material
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_get_materials(pbf_world_id id, pbf_material_id out[PBF_MAX_MATERIALS]) {
-    const char* fn = "pbf_world_get_materials";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_REQUIRE_ARG(out != nullptr, "out_materials is NULL");
         PBF_LOCK_WORLD(w, id);
         w->material_handles(out);

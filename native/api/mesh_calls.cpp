@@ -10,11 +10,8 @@ using pbf::api::guarded;
 extern "C" {
 
 PBF_API pbf_result PBF_CALL pbf_world_create_mesh(pbf_world_id id, const pbf_mesh_desc* d, pbf_mesh_id* out) {
-    const char* fn = "pbf_world_create_mesh";
-    return guarded(fn, [&]() -> pbf_result {
-        PBF_REQUIRE_ARG(out != nullptr, "out_mesh is NULL");
-        *out = pbf_mesh_id{0, 0};
-        PBF_CHECK_STRUCT(pbf_mesh_desc, d);
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
+        PBF_START_CREATE(pbf_mesh_desc, d, out, "out_mesh");
         PBF_VALIDATE(pbf::api::validate_mesh_desc(*d));
         PBF_LOCK_WORLD(w, id);
         PBF_VALIDATE(pbf::api::validate_mesh_voxels(w->mesh_layout(*d).voxels));
@@ -23,8 +20,7 @@ PBF_API pbf_result PBF_CALL pbf_world_create_mesh(pbf_world_id id, const pbf_mes
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_destroy_mesh(pbf_world_id id, pbf_mesh_id m) {
-    const char* fn = "pbf_world_destroy_mesh";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_LOCK_WORLD(w, id);
         return fail(fn, w->destroy_mesh(m));
     });

@@ -17,7 +17,7 @@ namespace {
 
 template <class T, class Copy>
 pbf_result copy_out(const char* fn, pbf_world_id id, T* out, uint32_t max_count, uint32_t* written, Copy copy) {
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(fn, [&](const char*) -> pbf_result {
         if (written) *written = 0;
         PBF_REQUIRE_ARG(out != nullptr || max_count == 0, "output array is NULL");
         PBF_LOCK_WORLD(w, id);
@@ -33,11 +33,8 @@ pbf_result copy_out(const char* fn, pbf_world_id id, T* out, uint32_t max_count,
 extern "C" {
 
 PBF_API pbf_result PBF_CALL pbf_world_create(const pbf_world_desc* d, pbf_world_id* out) {
-    const char* fn = "pbf_world_create";
-    return guarded(fn, [&]() -> pbf_result {
-        PBF_REQUIRE_ARG(out != nullptr, "out_world is NULL");
-        *out = pbf_world_id{0, 0};
-        PBF_CHECK_STRUCT(pbf_world_desc, d);
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
+        PBF_START_CREATE(pbf_world_desc, d, out, "out_world");
         PBF_VALIDATE(pbf::api::validate_world_desc(*d));
         PBF_CHECK_STRUCT(pbf_solver_params, &d->solver);
         PBF_VALIDATE(pbf::api::validate_solver_params(d->solver));
@@ -68,8 +65,7 @@ PBF_API pbf_result PBF_CALL pbf_world_create(const pbf_world_desc* d, pbf_world_
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_destroy(pbf_world_id id) {
-    const char* fn = "pbf_world_destroy";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         std::shared_ptr<pbf::api::WorldEntry> entry = pbf::api::remove_world(id);
         if (!entry) return fail(PBF_ERROR_INVALID_HANDLE, std::string(fn) + ": world is not live (destroyed twice?)");
         std::lock_guard<std::mutex> lock(entry->mutex);  // waits for a call in flight
@@ -79,8 +75,7 @@ PBF_API pbf_result PBF_CALL pbf_world_destroy(pbf_world_id id) {
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_step(pbf_world_id id, float dt) {
-    const char* fn = "pbf_world_step";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_REQUIRE_ARG(std::isfinite(dt) && dt > 0.0f && dt <= 1.0f,
                         "dt must be finite and in (0, 1] seconds, got " + std::to_string(dt));
         PBF_LOCK_WORLD(w, id);
@@ -89,18 +84,11 @@ PBF_API pbf_result PBF_CALL pbf_world_step(pbf_world_id id, float dt) {
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_get_solver_params(pbf_world_id id, pbf_solver_params* out) {
-    const char* fn = "pbf_world_get_solver_params";
-    return guarded(fn, [&]() -> pbf_result {
-        PBF_CHECK_STRUCT(pbf_solver_params, out);
-        PBF_LOCK_WORLD(w, id);
-        *out = w->solver_params();
-        return PBF_OK;
-    });
+    return pbf::api::get_params(__func__, "pbf_solver_params", id, out, &pbf::World::solver_params);
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_set_solver_params(pbf_world_id id, const pbf_solver_params* p) {
-    const char* fn = "pbf_world_set_solver_params";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_CHECK_STRUCT(pbf_solver_params, p);
         PBF_VALIDATE(pbf::api::validate_solver_params(*p));
         PBF_LOCK_WORLD(w, id);
@@ -110,8 +98,7 @@ PBF_API pbf_result PBF_CALL pbf_world_set_solver_params(pbf_world_id id, const p
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_set_gravity(pbf_world_id id, const float g[3]) {
-    const char* fn = "pbf_world_set_gravity";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_VALIDATE(pbf::api::validate_gravity(g));
         PBF_LOCK_WORLD(w, id);
         w->set_gravity(g);
@@ -120,34 +107,23 @@ PBF_API pbf_result PBF_CALL pbf_world_set_gravity(pbf_world_id id, const float g
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_get_render_params(pbf_world_id id, pbf_render_params* out) {
-    const char* fn = "pbf_world_get_render_params";
-    return guarded(fn, [&]() -> pbf_result {
-        PBF_CHECK_STRUCT(pbf_render_params, out);
-        PBF_LOCK_WORLD(w, id);
-        *out = w->render_params();
-        return PBF_OK;
-    });
+    return pbf::api::get_params(__func__, "pbf_render_params", id, out, &pbf::World::render_params);
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_set_render_params(pbf_world_id id, const pbf_render_params* p) {
-    const char* fn = "pbf_world_set_render_params";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_CHECK_STRUCT(pbf_render_params, p);
         PBF_VALIDATE(pbf::api::validate_render_params(*p));
         PBF_LOCK_WORLD(w, id);
-        PBF_REQUIRE(p->flags == w->render_flags(), PBF_ERROR_INVALID_STATE,
-                    std::string(fn) +
-                        ": render.flags are fixed at world creation (its buffers are allocated then): "
-                        "this world has " +
-                        std::to_string(w->render_flags()) + ", got " + std::to_string(p->flags));
+        if (pbf_result r = pbf::api::require_fixed(fn, "render.flags are", w->render_flags(), p->flags); r != PBF_OK)
+            return r;
         w->set_render_params(*p);
         return PBF_OK;
     });
 }
 
 PBF_API pbf_result PBF_CALL pbf_get_backend_info(pbf_backend backend, int32_t cuda_device, pbf_backend_info* out) {
-    const char* fn = "pbf_get_backend_info";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_CHECK_STRUCT(pbf_backend_info, out);
         const int32_t b = raw(backend);
         PBF_REQUIRE_ARG(b == PBF_BACKEND_AUTO || b == PBF_BACKEND_CPU || b == PBF_BACKEND_CUDA,
@@ -159,8 +135,7 @@ PBF_API pbf_result PBF_CALL pbf_get_backend_info(pbf_backend backend, int32_t cu
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_get_info(pbf_world_id id, pbf_world_info* out) {
-    const char* fn = "pbf_world_get_info";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_CHECK_STRUCT(pbf_world_info, out);
         PBF_LOCK_WORLD(w, id);
         w->get_info(out);
@@ -169,8 +144,7 @@ PBF_API pbf_result PBF_CALL pbf_world_get_info(pbf_world_id id, pbf_world_info* 
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_get_stats(pbf_world_id id, pbf_step_stats* out) {
-    const char* fn = "pbf_world_get_stats";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_CHECK_STRUCT(pbf_step_stats, out);
         PBF_LOCK_WORLD(w, id);
         return fail(w->get_stats(out));
@@ -179,8 +153,7 @@ PBF_API pbf_result PBF_CALL pbf_world_get_stats(pbf_world_id id, pbf_step_stats*
 
 // ---- profiling -------------------------------------------------------------------------------
 PBF_API pbf_result PBF_CALL pbf_world_set_profiling(pbf_world_id id, uint32_t enabled) {
-    const char* fn = "pbf_world_set_profiling";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_REQUIRE_ARG(enabled <= 1, "enabled must be 0 or 1");
         PBF_LOCK_WORLD(w, id);
         w->set_profiling(enabled != 0);
@@ -189,8 +162,7 @@ PBF_API pbf_result PBF_CALL pbf_world_set_profiling(pbf_world_id id, uint32_t en
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_get_profile(pbf_world_id id, pbf_step_profile* out) {
-    const char* fn = "pbf_world_get_profile";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_CHECK_STRUCT(pbf_step_profile, out);
         PBF_LOCK_WORLD(w, id);
         return fail(w->get_profile(out));
@@ -201,8 +173,7 @@ PBF_API const char* PBF_CALL pbf_profile_stage_name(uint32_t stage) { return pbf
 
 // ---- particles -------------------------------------------------------------------------------
 PBF_API pbf_result PBF_CALL pbf_world_get_particle_count(pbf_world_id id, uint32_t* out) {
-    const char* fn = "pbf_world_get_particle_count";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_REQUIRE_ARG(out != nullptr, "out_count is NULL");
         PBF_LOCK_WORLD(w, id);
         return fail(w->particle_count(out));
@@ -211,23 +182,22 @@ PBF_API pbf_result PBF_CALL pbf_world_get_particle_count(pbf_world_id id, uint32
 
 PBF_API pbf_result PBF_CALL pbf_world_copy_positions(pbf_world_id id, float* out, uint32_t max_count,
                                                      uint32_t* written) {
-    return copy_out("pbf_world_copy_positions", id, out, max_count, written,
+    return copy_out(__func__, id, out, max_count, written,
                     [](World& w, float* o, uint32_t m, uint32_t* n) { return w.copy_positions(o, m, n); });
 }
 PBF_API pbf_result PBF_CALL pbf_world_copy_velocities(pbf_world_id id, float* out, uint32_t max_count,
                                                       uint32_t* written) {
-    return copy_out("pbf_world_copy_velocities", id, out, max_count, written,
+    return copy_out(__func__, id, out, max_count, written,
                     [](World& w, float* o, uint32_t m, uint32_t* n) { return w.copy_velocities(o, m, n); });
 }
 PBF_API pbf_result PBF_CALL pbf_world_copy_ids(pbf_world_id id, uint32_t* out, uint32_t max_count, uint32_t* written) {
-    return copy_out("pbf_world_copy_ids", id, out, max_count, written,
+    return copy_out(__func__, id, out, max_count, written,
                     [](World& w, uint32_t* o, uint32_t m, uint32_t* n) { return w.copy_ids(o, m, n); });
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_copy_buffer(pbf_world_id id, pbf_buffer source, void* out, uint64_t out_bytes,
                                                   uint32_t* written) {
-    const char* fn = "pbf_world_copy_buffer";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         if (written) *written = 0;
         PBF_VALIDATE(pbf::api::validate_copy_out(source, out_bytes));
         PBF_REQUIRE_ARG(out != nullptr || out_bytes == 0, "out is NULL");
@@ -242,8 +212,7 @@ PBF_API pbf_result PBF_CALL pbf_world_copy_buffer(pbf_world_id id, pbf_buffer so
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_map_positions(pbf_world_id id, pbf_mapped_buffer* out) {
-    const char* fn = "pbf_world_map_positions";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_CHECK_STRUCT(pbf_mapped_buffer, out);
         PBF_LOCK_WORLD(w, id);
         World::Mapping m;
@@ -258,8 +227,7 @@ PBF_API pbf_result PBF_CALL pbf_world_map_positions(pbf_world_id id, pbf_mapped_
 }
 
 PBF_API pbf_result PBF_CALL pbf_world_unmap(pbf_world_id id) {
-    const char* fn = "pbf_world_unmap";
-    return guarded(fn, [&]() -> pbf_result {
+    return guarded(__func__, [&](const char* fn) -> pbf_result {
         PBF_LOCK_WORLD(w, id);
         PBF_REQUIRE(w->mapped(), PBF_ERROR_INVALID_STATE, std::string(fn) + ": no buffer is mapped");
         w->unmap();

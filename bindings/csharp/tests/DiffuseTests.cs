@@ -2,7 +2,6 @@ using System;
 using System.Numerics;
 using System.Runtime.InteropServices;
 using NUnit.Framework;
-using Pbf.Interop;
 
 namespace Pbf.Tests
 {
@@ -105,11 +104,7 @@ namespace Pbf.Tests
                 d.Diffuse.MaxDiffuse = 1000;
                 using (World on = World.Create(d))
                 {
-                    foreach (var w in new[] { off, on })
-                    {
-                        w.EmitBlock(new Vector3(-0.15f, 0, -0.15f), new Vector3(0.15f, 0.3f, 0.15f), Vector3.Zero);
-                        Scene.Steps(w, 2);
-                    }
+                    Scene.BlockSteps(2, off, on);
                     WorldInfo a = off.Info, b = on.Info;
                     Assert.AreEqual(0, a.DiffuseBytes);
                     Assert.AreEqual(0, a.DiffuseUpdates);

@@ -1,7 +1,6 @@
 using System;
 using System.Numerics;
 using NUnit.Framework;
-using Pbf.Interop;
 
 namespace Pbf.Tests
 {

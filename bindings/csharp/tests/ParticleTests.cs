@@ -3,7 +3,6 @@ using System.Collections.Generic;
 using System.Linq;
 using System.Numerics;
 using NUnit.Framework;
-using Pbf.Interop;
 
 namespace Pbf.Tests
 {

@@ -93,11 +93,7 @@ namespace Pbf.Tests
             using (var off = RenderWorld(RenderFlags.None))
             using (var on = RenderWorld(Both))
             {
-                foreach (var w in new[] { off, on })
-                {
-                    w.EmitBlock(new Vector3(-0.15f, 0, -0.15f), new Vector3(0.15f, 0.3f, 0.15f), Vector3.Zero);
-                    Scene.Steps(w, 2);
-                }
+                Scene.BlockSteps(2, off, on);
                 WorldInfo a = off.Info, b = on.Info;
                 Assert.AreEqual(0, a.RenderBytes);
                 Assert.AreEqual(0, a.RenderUpdates);

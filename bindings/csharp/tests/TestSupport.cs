@@ -1,7 +1,5 @@
-using System;
 using System.Numerics;
 using NUnit.Framework;
-using Pbf;
 
 namespace Pbf.Tests
 {
@@ -51,6 +49,16 @@ namespace Pbf.Tests
         public static void Steps(World world, int n)
         {
             for (int i = 0; i < n; ++i) world.Step(Dt);
+        }
+
+        /// <summary>The same 0.3 m block of water on the floor of each world, then n steps.</summary>
+        public static void BlockSteps(int n, params World[] worlds)
+        {
+            foreach (var w in worlds)
+            {
+                w.EmitBlock(new Vector3(-0.15f, 0, -0.15f), new Vector3(0.15f, 0.3f, 0.15f), Vector3.Zero);
+                Steps(w, n);
+            }
         }
 
         /// <summary>Runs action, expects a PbfException with code, and a native message that
