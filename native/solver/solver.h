@@ -169,7 +169,7 @@ public:
         const HeightFrame frame = height_frame(s);
         exec_.reduce_feedback(frame, pos_, vel_, &counters_->count, bound_, &counters_->feedback);
         exec_.for_each(1, PublishFeedbackOp{counters_, frame, feedback_});
-        update_diffuse(s, in.frame_dt);
+        update_diffuse(s, in.simulated_dt);
         update_render_data(s);  // last, so its stage time is the pass alone
         exec_.record_end();
         exec_.feedback_published();
