@@ -153,8 +153,7 @@ TEST_CASE("valid inputs: one step of 1e-7 s on a stirred pool changes nothing", 
 // A settled pool stepped for 1 s (valid: dt <= 1) is a settled pool; the next step, of any dt,
 // must leave it one: no particle above the at-rest allowance after it or over the 0.25 s of
 // 1/60 s steps that follow.
-TEST_CASE("valid inputs: one 1 s step, then a step of 1e-7, 1e-3 or 1/60 s, leaves a settled pool at rest",
-          "[valid]") {
+TEST_CASE("valid inputs: one 1 s step, then a step of 1e-7, 1e-3 or 1/60 s, leaves a settled pool at rest", "[valid]") {
     for (float next : {1e-7f, 1e-3f, 1.0f / 60.0f}) {
         pbf_world_id w = settled_pool();
         REQUIRE_PBF(pbf_world_step(w, 1.0f));
