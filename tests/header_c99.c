@@ -122,7 +122,7 @@ OFFSET_IS(pbf_step_stats, step_time_ms, 44);
 OFFSET_IS(pbf_step_stats, iterations, 48);
 OFFSET_IS(pbf_step_stats, substeps, 52);
 OFFSET_IS(pbf_step_stats, speed_clamps, 56);
-OFFSET_IS(pbf_step_stats, reserved0, 60);
+OFFSET_IS(pbf_step_stats, simulated_dt, 60);
 OFFSET_IS(pbf_step_stats, diffuse_count, 64);
 OFFSET_IS(pbf_step_stats, diffuse_dropped, 68);
 OFFSET_IS(pbf_step_stats, diffuse_generated_total, 72);

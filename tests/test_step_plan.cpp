@@ -142,3 +142,48 @@ TEST_CASE("step plan: automatic substeps run two iterations, more only where the
     p.frame.feedback.fluid_depth = 0.3f;
     CHECK(iterations_of(p.run()) == 1u);
 }
+
+TEST_CASE("step plan: a frame step longer than the substep cap holds simulates what the substeps hold", "[plan]") {
+    Plan p;  // defaults: automatic substeps, at most 16, iterations 4 (the cap), h = 0.1 m
+    p.frame.feedback.fluid_depth = 0.3f;
+    // A frame the count holds is simulated whole.
+    StepInput in = p.run();
+    CHECK(in.simulated_dt == p.frame.frame_dt);
+    CHECK_FALSE(in.colliders_cut);
+    // One of 1 s: sixteen substeps of 1/16 s would compress the column past the depth rule at
+    // any iteration count up to the cap; each is held to the rule at the cap instead.
+    p.frame.frame_dt = 1.0f;
+    in = p.run();
+    REQUIRE(in.substeps.size() == p.desc.solver.max_substeps);
+    const uint32_t k = in.substeps[0].iterations;
+    CHECK(k == p.desc.solver.iterations);
+    const double sub_dt = in.substeps[0].ctx.dt;
+    CHECK(4.0 / (k + 0.5) * 9.81 * 0.3 * sub_dt * sub_dt / (0.1 * 0.1) <= 0.1 * (1.0 + 1e-4));
+    CHECK(in.simulated_dt == Approx(sub_dt * in.substeps.size()).epsilon(1e-6));
+    CHECK(in.simulated_dt < 0.5f);
+    CHECK(in.frame_dt == 1.0f);  // a dynamic collider's force stays its impulse over the frame
+    // Zero gravity, a drop at 5 m/s: fixed substeps too are held to 0.75 h of travel each.
+    p.desc.gravity[1] = 0.0f;
+    p.desc.solver.substeps = 4;
+    p.frame.feedback.max_speed = 5.0f;
+    in = p.run();
+    REQUIRE(in.substeps.size() == 4u);
+    CHECK(in.substeps[0].ctx.dt * 5.0f == Approx(0.75f * 0.1f).epsilon(1e-5));
+    CHECK(in.substeps[0].ctx.speed_limit > 5.0f);
+    // A collider moving over a held-back frame moves at its own speed over the simulated time,
+    // to where the engine put it, and the rest of its way is a teleport settled at the start.
+    ColliderKey moving{};
+    moving.from_rotation = moving.to_rotation = Quat{0.0f, 0.0f, 0.0f, 1.0f};
+    moving.to_position = Vec3{1.0f, 0.0f, 0.0f};
+    StepInput with_collider;
+    with_collider.collider_keys.push_back(moving);
+    with_collider.collider_shapes.push_back(Collider{});
+    plan_step(p.desc.solver, derive_constants(p.desc, p.materials), p.materials, p.frame, &p.emitters, &with_collider);
+    REQUIRE(with_collider.simulated_dt < 1.0f);
+    CHECK(with_collider.colliders_cut);
+    const ColliderKey& cut = with_collider.collider_keys[0];
+    CHECK(cut.to_position.x == 1.0f);
+    CHECK(1.0f - cut.from_position.x == Approx(with_collider.simulated_dt).epsilon(1e-5));  // 1 m/s over it
+    CHECK(with_collider.substeps[0].settle_overlaps);
+    CHECK_FALSE(with_collider.substeps[1].settle_overlaps);
+}

@@ -133,14 +133,17 @@ struct DensityOp {
 // before the prediction resolve initial overlaps without adding energy) ------------------------
 // For overlaps no motion made: a collider created or teleported into the fluid, a block emitted
 // into one. The solver runs these on the first substep after such a change (Solver::settle).
-// x moves out of the colliders it overlaps at the start poses.
+// x moves out of the colliders it overlaps at the start poses: all the way, or by `weight` of
+// it (the substeps' contact pre-stabilization, Solver::substep).
 struct SettleOverlapOp {
     WorldConstants s;
     ColliderView colliders;
     Vec4* positions;
+    float weight = 1.0f;
     PBF_HD void operator()(uint32_t i) const {
         const Vec4 x = positions[i];
-        positions[i] = make_vec4(project_out_at_start(s, colliders, xyz(x)), x.w);
+        const Vec3 out = project_out_at_start(s, colliders, xyz(x));
+        positions[i] = make_vec4(weight == 1.0f ? out : xyz(x) + (out - xyz(x)) * weight, x.w);
     }
 };
 

@@ -46,13 +46,17 @@ struct SubstepInput {
 
 // One pbf_world_step: its substeps and the colliders they see. Each collider moves from its
 // key's start to its end over the step; the solver interpolates the substeps' poses on the
-// backend. dynamic_count: colliders flagged kColliderDynamic; frame_dt: the frame step's length.
+// backend. dynamic_count: colliders flagged kColliderDynamic; frame_dt: the frame step's length
+// (a dynamic collider's force is its impulse over it); simulated_dt: the time the substeps
+// advance, frame_dt unless the frame was longer than they hold (step_plan.cpp, held_substep).
 struct StepInput {
     std::vector<SubstepInput> substeps;
     std::vector<Collider> collider_shapes;
     std::vector<ColliderKey> collider_keys;
     uint32_t dynamic_count = 0;
     float frame_dt = 0.0f;
+    float simulated_dt = 0.0f;
+    bool colliders_cut = false;  // a moving collider's path was cut to simulated_dt: the rest, a teleport
 };
 
 // Colliders standing still (between steps): keys whose start is their end.

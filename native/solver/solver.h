@@ -85,7 +85,7 @@ public:
         }
         colliders_.end_step(in.frame_dt);
         stats_.publish(s, particles(), bound_);
-        diffuse_.update(s, in.frame_dt, particles(), bound_, valid_masks(), colliders_.at_rest());
+        diffuse_.update(s, in.simulated_dt, particles(), bound_, valid_masks(), colliders_.at_rest());
         render_.update(s, particles(), bound_, valid_masks());  // last, so its stage time is the pass alone
         exec_.record_end();
         exec_.feedback_published();
@@ -133,6 +133,17 @@ private:
         // 0. Overlaps no motion made (a collider created or teleported into the fluid, a block
         // emitted into one): settled in x, which gives no velocity.
         if (in.settle_overlaps) settle(s, ctx, in.iterations);
+        // 0b. Contact penetration a particle starts the substep with (a wall or a second
+        // collider pushed it back in, or a mesh field's approximate projection left it short) is
+        // no motion of the substep: projected out in the prediction it became velocity, depth /
+        // Δt (100 m/s from a step of 1e-7 s). So where old errors move positions (γ > 2,
+        // passes.h old_error_weight) it is removed in x by the same weight, as pre-stabilization
+        // removes contacts (Macklin et al. 2014), with no reaction recorded.
+        const float contact_weight = old_error_weight(ctx.error_damping);
+        if (contact_weight > 0.0f && ctx.colliders.count > 0 && !in.settle_overlaps) {
+            exec_.for_each(bound_, SettleOverlapOp{s, ctx.colliders, pos_, contact_weight});
+            grid_valid_ = density_valid_ = masks_valid_ = false;
+        }
         // 1. ρ at the current positions (grid of x): LDC needs it, and so does the λ pass's error
         // damping for particles emitted since the last density pass, and at γ > 1 for all, where
         // the prediction may move C₀ toward it (passes.h, old_error_weight: from γ = 2; a density

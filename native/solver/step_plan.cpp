@@ -93,13 +93,10 @@ uint32_t preferred_iterations(const pbf_solver_params& p, const StepInput& input
     return std::min(p.iterations, kAutoIterations);
 }
 
-// Substeps for a frame step: fixed, or from the fastest motion expected over it: the latest
-// finished step's fastest particle (read without waiting), particles emitted since, the
-// nozzles, and the kinematic colliders' surface speed; plus what gravity adds over the frame;
-// and at least enough that gravity alone moves a resting particle little per substep.
-uint32_t substep_count(const pbf_solver_params& p, const WorldConstants& c, const FrameState& frame,
-                       const std::vector<EmitterState>& emitters, const StepInput& input) {
-    if (p.substeps > 0) return p.substeps;
+// The fastest motion expected over a frame step, before gravity adds to it: the latest finished
+// step's fastest particle (read without waiting), particles emitted since, the nozzles, and the
+// kinematic colliders' surface speed.
+float expected_speed(const FrameState& frame, const std::vector<EmitterState>& emitters, const StepInput& input) {
     const float dt = frame.frame_dt;
     float v = std::fmax(frame.feedback.max_speed, frame.emitted_speed);
     for (const EmitterState& e : emitters)
@@ -110,8 +107,18 @@ uint32_t substep_count(const pbf_solver_params& p, const WorldConstants& c, cons
         const float angle = to_quat(key.from_rotation).angularDistance(to_quat(key.to_rotation));
         v = std::fmax(v, (length(key.to_position - key.from_position) + angle * reach) / dt);
     }
+    return v;
+}
+
+// Substeps for a frame step: fixed, or from the fastest motion expected over it plus what
+// gravity adds over the frame, and at least enough that gravity alone moves a resting particle
+// little per substep.
+uint32_t substep_count(const pbf_solver_params& p, const WorldConstants& c, const FrameState& frame,
+                       const std::vector<EmitterState>& emitters, const StepInput& input) {
+    if (p.substeps > 0) return p.substeps;
+    const float dt = frame.frame_dt;
     const double g = length(c.gravity);
-    v += float(g) * dt;
+    const float v = expected_speed(frame, emitters, input) + float(g) * dt;
     const double travel = double(p.substep_travel) * c.h;
     double n = std::ceil(double(v) * dt / travel);
     // Fluid at rest: gravity moves every particle g·Δt² per substep and the iterations must
@@ -143,6 +150,59 @@ uint32_t iteration_count(const pbf_solver_params& p, const WorldConstants& c, co
     if (depth_kappa(k) <= kappa_max) return k;
     const double needed = std::ceil(4.0 / kappa_max - 0.5 - 1e-9);
     return static_cast<uint32_t>(std::clamp(needed, double(k), double(p.iterations)));
+}
+
+// No particle may move more than h in a substep: beyond that a few iterations cannot resolve
+// the compression it creates (the substep's speed limit, h/Δt, holds every particle to it).
+constexpr float kTravelCap = 1.0f;
+
+// The longest substep the physics holds (docs/physics.md, Capped frames). Automatic substeps
+// meet their rules by their count, up to max_substeps; a frame step longer than the cap's
+// substeps hold would run substeps that break rules the solver cannot trade for cost, and its
+// harm outlasts the frame: a pool crushed by gravity over long substeps (the depth rule's C
+// grows as Δt²) was in equilibrium only at that Δt, and the next frame's short substeps released
+// the compression as a fling; free flight faster than h/Δt was cut by the speed limit (momentum
+// lost). So the substep is held to:
+// - travel: the fastest expected particle, gaining g·t, crosses at most kHeldTravel h per
+//   substep over the S substeps, (v + g S Δt) Δt <= kHeldTravel h: within the speed limit's reach
+//   (h/Δt) with a third of its speed to spare for what the step adds (a drop's own pressure
+//   pushes its surface outward). Not substep_travel, which asks for accuracy, not for the
+//   physics to hold: a fast dam break that wants more substeps than the cap loses no momentum;
+// - with automatic substeps, the depth rule at the step's iterations (raised first, up to the
+//   cap, by iteration_count). Fixed substeps keep the compression the user's count gives, which
+//   the depth rule documents.
+// The surface forces' cap is no such rule: past it their coefficients are capped per substep
+// (material_ops.h), weaker, not unstable.
+constexpr double kHeldTravel = 0.75 * kTravelCap;
+double held_substep(const pbf_solver_params& p, const WorldConstants& c, const FrameState& frame, float speed,
+                    uint32_t substeps, uint32_t iterations) {
+    const double g = length(c.gravity), v = speed, s = substeps;
+    const double reach = std::fmax(kHeldTravel, double(p.substep_travel)) * c.h;  // never below what the count asks
+    double held = HUGE_VAL;
+    if (g > 0.0)
+        held = 2.0 * reach / (v + std::sqrt(v * v + 4.0 * g * s * reach));  // the root of g S Δt² + v Δt = reach
+    else if (v > 0.0)
+        held = reach / v;
+    const double depth = frame_depth(frame);
+    if (p.substeps == 0 && g > 0.0 && depth > 0.0)
+        held = std::fmin(held, 1.0 / depth_substep_rate(iterations, c.h, g, depth));
+    return held;
+}
+
+// A collider's path over the simulated part of a frame step: the last `fraction` of the way to
+// its end pose (rotation by slerp), at the speed the whole step gives it.
+ColliderKey path_end(const ColliderKey& key, float fraction) {
+    ColliderKey cut = key;
+    cut.from_position = key.to_position + (key.from_position - key.to_position) * fraction;
+    const Eigen::Quaternionf q = to_quat(key.to_rotation).slerp(fraction, to_quat(key.from_rotation));
+    cut.from_rotation = Quat{q.x(), q.y(), q.z(), q.w()};
+    return cut;
+}
+
+bool moves(const ColliderKey& key) {
+    const Quat &a = key.from_rotation, &b = key.to_rotation;
+    return length_sq(key.to_position - key.from_position) > 0.0f || a.x != b.x || a.y != b.y || a.z != b.z ||
+           a.w != b.w;
 }
 
 // A nozzle's emission in one substep of sub_dt: whole particles from its accumulator, on its
@@ -348,9 +408,7 @@ StepContext substep_context(const pbf_solver_params& p, const WorldConstants& s,
     // XSPH's c is per 1/60 s: a substep of Δt applies 1 - (1 - c)^(60 Δt), so the smoothing per
     // second does not depend on the substep count.
     c.xsph_c = xsph_factor(p.xsph_c, sub_dt);
-    // No particle may move more than h in a substep (kTravelCap): beyond that a few iterations
-    // cannot resolve the compression it creates.
-    constexpr float kTravelCap = 1.0f;
+    // No particle may move more than h in a substep (kTravelCap).
     c.speed_limit = std::fmin(p.max_speed, kTravelCap * s.h / sub_dt);
     // Each material's XSPH factor and LDC K (slot 0's are the solver parameters').
     for (uint32_t k = 0; k < kMaxMaterials; ++k) {
@@ -366,15 +424,38 @@ void plan_step(const pbf_solver_params& p, const WorldConstants& c, const Materi
                const FrameState& frame, std::vector<EmitterState>* emitters, StepInput* input) {
     const uint32_t substeps = substep_count(p, c, frame, *emitters, *input);
     const uint32_t iterations = iteration_count(p, c, frame, *input, substeps);
-    const float sub_dt = frame.frame_dt / static_cast<float>(substeps);
+    float sub_dt = frame.frame_dt / static_cast<float>(substeps);
+    // A frame step longer than its substeps hold simulates what they hold and drops the rest
+    // (held_substep): the world advances less than the frame, as a game engine's physics does
+    // past its substep cap, and says so (pbf_step_stats.simulated_dt).
+    const double held = held_substep(p, c, frame, expected_speed(frame, *emitters, *input), substeps, iterations);
+    // (The rules the count met hold at its substep up to rounding: no clamp for that.)
+    const bool held_back = double(sub_dt) > held * (1.0 + 1e-5);
+    if (held_back) sub_dt = static_cast<float>(held);
+    const float simulated = held_back ? sub_dt * static_cast<float>(substeps) : frame.frame_dt;
     input->frame_dt = frame.frame_dt;
+    input->simulated_dt = simulated;
+    input->colliders_cut = false;
+    if (held_back) {
+        // The colliders move at their own speed over the simulated time, and end where the
+        // engine put them: the part of their way the dropped time would have carried is a
+        // teleport at the step's start, whose overlap the first substep settles (as after
+        // pbf_collider_teleport). At the end instead, the fluid would lie inside them until the
+        // next step.
+        const float fraction = simulated / frame.frame_dt;
+        for (ColliderKey& key : input->collider_keys) {
+            if (!moves(key)) continue;
+            key = path_end(key, fraction);
+            input->colliders_cut = true;
+        }
+    }
     input->substeps.resize(substeps);
     const StepContext ctx = substep_context(p, c, materials, sub_dt);
     for (uint32_t k = 0; k < substeps; ++k) {
         SubstepInput& in = input->substeps[k];
         in.ctx = ctx;
         in.iterations = iterations;
-        in.settle_overlaps = k == 0 && frame.overlaps_pending;
+        in.settle_overlaps = k == 0 && (frame.overlaps_pending || input->colliders_cut);
         for (EmitterState& e : *emitters) {
             if (!e.desc.enabled) continue;
             if (e.desc.type == PBF_EMITTER_DRAIN)

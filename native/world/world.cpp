@@ -95,7 +95,7 @@ Status World::step(float frame_dt) {
     });
     FrameState frame;
     frame.frame_dt = frame_dt;
-    if (desc_.solver.substeps == 0) frame.feedback = backend_->feedback();  // only the automatic count reads it
+    frame.feedback = backend_->feedback();  // the substep count and the substep's length read it
     frame.emitted_speed = emitted_speed_;
     frame.emitted_depth = emitted_depth_;
     frame.overlaps_pending = overlaps_pending_;
@@ -119,6 +119,7 @@ Status World::step(float frame_dt) {
         last_substeps_ = substeps;
         last_iterations_ = 0;
         for (const SubstepInput& sub : input.substeps) last_iterations_ += sub.iterations;
+        last_simulated_dt_ = input.simulated_dt;
         emitted_speed_ = 0.0f;
         emitted_depth_ = 0.0f;
         overlaps_pending_ = false;
@@ -169,7 +170,7 @@ Status World::get_stats(pbf_step_stats* out) {
     out->iterations = desc_.solver.adaptive_error_target > 0.0f ? r.iterations_used : last_iterations_;
     out->substeps = step_index_ ? last_substeps_ : 0u;
     out->speed_clamps = step_index_ ? r.speed_clamps : 0u;
-    out->reserved0 = 0;
+    out->simulated_dt = step_index_ ? last_simulated_dt_ : 0.0f;
     out->diffuse_count = r.diffuse_count;
     out->diffuse_dropped = step_index_ ? r.diffuse_dropped_step : 0u;
     out->diffuse_generated_total = r.diffuse_generated_total;

@@ -217,6 +217,7 @@ private:
     uint64_t step_index_ = 0;
     uint32_t last_iterations_ = 0;
     uint32_t last_substeps_ = 0;
+    float last_simulated_dt_ = 0.0f;  // the time the last step advanced (its dt unless capped)
     bool mapped_ = false;
     std::unique_ptr<WorldAttachment> attachment_;  // declared after backend_: destroyed before it
 };

@@ -401,7 +401,7 @@ void check_world(const WorldModel& w, bool deep) {
     FUZZ_ASSERT(st.emitted_total >= st.drained_total);
     FUZZ_ASSERT(st.emitted_total - st.drained_total == n);  // exact accounting
     FUZZ_ASSERT(!std::isnan(st.density_error_mean) && !std::isnan(st.density_error_max));
-    FUZZ_ASSERT(st.reserved0 == 0);
+    FUZZ_ASSERT(std::isfinite(st.simulated_dt) && st.simulated_dt >= 0.0f && (st.simulated_dt > 0.0f) == (w.steps > 0));
     if (!deep) return;
     const Snapshot s = snapshot(w);
     FUZZ_ASSERT(s.count == n);

@@ -271,7 +271,7 @@ int main(void) {
     FIELD(pbf_step_stats, iterations);
     FIELD(pbf_step_stats, substeps);
     FIELD(pbf_step_stats, speed_clamps);
-    FIELD(pbf_step_stats, reserved0);
+    FIELD(pbf_step_stats, simulated_dt);
     FIELD(pbf_step_stats, diffuse_count);
     FIELD(pbf_step_stats, diffuse_dropped);
     FIELD(pbf_step_stats, diffuse_generated_total);

@@ -536,6 +536,9 @@ namespace Pbf
         /// <summary>Particle-substeps of the last step whose speed a limit cut (max_speed, or the
         /// h-per-substep cap); 0 in a healthy run.</summary>
         public long SpeedClamps { get { return _raw.speed_clamps; } }
+        /// <summary>Seconds the last step advanced the world: its dt, unless the step was longer than
+        /// MaxSubsteps substeps hold (a hitch), when the rest was dropped.</summary>
+        public float SimulatedDt { get { return _raw.simulated_dt; } }
         /// <summary>Live diffuse particles.</summary>
         public int DiffuseCount { get { return (int)_raw.diffuse_count; } }
         /// <summary>Diffuse particles generated in the last step but dropped: the capacity was full.</summary>

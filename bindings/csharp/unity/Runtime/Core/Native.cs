@@ -342,9 +342,13 @@ namespace Pbf.Interop
         public float adaptive_error_target;
         /// <summary>
         /// cap of the automatic substep count, 1..PBF_MAX_SUBSTEPS (default
-        /// 16). A step that would need more runs this many, and the h/Δt
-        /// speed limit keeps every particle within h per substep (stats
-        /// count the cuts).
+        /// 16). A step that would need more runs this many, each no
+        /// longer than the physics holds (the depth rule at up to
+        /// `iterations`, the fastest particle within h, the surface
+        /// forces' stability): a longer dt (a hitch) simulates what they
+        /// hold and drops the rest, as a game engine's physics does
+        /// (pbf_step_stats.simulated_dt; docs/physics.md). Fixed substeps
+        /// are held to the last two alike.
         /// </summary>
         public uint max_substeps;
         /// <summary>
@@ -675,7 +679,12 @@ namespace Pbf.Interop
         /// (max_speed, or the h-per-substep cap); 0 in a healthy run
         /// </summary>
         public uint speed_clamps;
-        public uint reserved0;
+        /// <summary>
+        /// seconds the last step advanced the world: its dt, unless
+        /// the step was longer than max_substeps substeps hold (a
+        /// hitch): then less, the rest dropped (solver.max_substeps)
+        /// </summary>
+        public float simulated_dt;
         /// <summary>live diffuse particles (desc.diffuse)</summary>
         public uint diffuse_count;
         /// <summary>generated in the last step but dropped: max_diffuse full</summary>
