@@ -153,13 +153,13 @@ typedef struct pbf_solver_params {
                                    least one iteration. Decided on the device: the step still never
                                    waits. Stats report iterations run. */
     uint32_t max_substeps;      /* cap of the automatic substep count, 1..PBF_MAX_SUBSTEPS (default
-                                   16). A step that would need more runs this many, each no
-                                   longer than the physics holds (the depth rule at up to
-                                   `iterations`, the fastest particle within h, the surface
-                                   forces' stability): a longer dt (a hitch) simulates what they
-                                   hold and drops the rest, as a game engine's physics does
-                                   (pbf_step_stats.simulated_dt; docs/physics.md). Fixed substeps
-                                   are held to the last two alike. */
+                                   16). A step that would need more runs this many. A step longer
+                                   than 1/30 s (a hitch) runs substeps no longer than the physics
+                                   holds (the fastest particle within 3/4 h, and with automatic
+                                   substeps the depth rule at up to `iterations`), simulates what
+                                   they hold and drops the rest, as a game engine's physics does
+                                   (pbf_step_stats.simulated_dt; docs/physics.md). Steps up to
+                                   1/30 s always run whole. */
     float substep_travel;       /* automatic substeps: the fastest particle's travel per substep, as a
                                    fraction of h, 0.05..1 (default 0.5) */
     float sound_speed;          /* m/s, >= 10 (default 40): the response speed of the density
@@ -451,8 +451,9 @@ typedef struct pbf_step_stats {
     uint32_t speed_clamps;          /* particle-substeps of the last step whose speed a limit cut
                                        (max_speed, or the h-per-substep cap); 0 in a healthy run */
     float simulated_dt;             /* seconds the last step advanced the world: its dt, unless
-                                       the step was longer than max_substeps substeps hold (a
-                                       hitch): then less, the rest dropped (solver.max_substeps) */
+                                       the step was a hitch (over 1/30 s) longer than its
+                                       substeps hold: then less, the rest dropped
+                                       (solver.max_substeps) */
     uint32_t diffuse_count;         /* live diffuse particles (desc.diffuse) */
     uint32_t diffuse_dropped;       /* generated in the last step but dropped: max_diffuse full */
     uint64_t diffuse_generated_total; /* diffuse particles ever generated (added ones excluded) */

@@ -150,6 +150,21 @@ TEST_CASE("step plan: a frame step longer than the substep cap holds simulates w
     StepInput in = p.run();
     CHECK(in.simulated_dt == p.frame.frame_dt);
     CHECK_FALSE(in.colliders_cut);
+    // A game's frame (up to 1/30 s) runs whole even where its substeps hold less: a column far
+    // deeper than 16 substeps hold and a particle faster than h per substep.
+    {
+        Plan deep;
+        deep.frame.feedback.fluid_depth = 500.0f;
+        deep.frame.feedback.max_speed = 100.0f;
+        for (float dt : {1.0f / 60.0f, 1.0f / 30.0f}) {
+            deep.frame.frame_dt = dt;
+            const StepInput whole = deep.run();
+            CHECK(whole.substeps.size() == deep.desc.solver.max_substeps);
+            CHECK(whole.simulated_dt == dt);
+        }
+        deep.frame.frame_dt = 1.0f / 29.0f;  // a hitch: held back
+        CHECK(deep.run().simulated_dt < deep.frame.frame_dt);
+    }
     // One of 1 s: sixteen substeps of 1/16 s would compress the column past the depth rule at
     // any iteration count up to the cap; each is held to the rule at the cap instead.
     p.frame.frame_dt = 1.0f;

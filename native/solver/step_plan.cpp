@@ -174,6 +174,8 @@ constexpr float kTravelCap = 1.0f;
 // The surface forces' cap is no such rule: past it their coefficients are capped per substep
 // (material_ops.h), weaker, not unstable.
 constexpr double kHeldTravel = 0.75 * kTravelCap;
+// The longest frame step never held back: two frames of 60 Hz (a game at 30 Hz runs whole).
+constexpr float kHitchDt = 1.0f / 30.0f;  // float, as dt comes: a dt of 1.0f / 30 runs whole
 double held_substep(const pbf_solver_params& p, const WorldConstants& c, const FrameState& frame, float speed,
                     uint32_t substeps, uint32_t iterations) {
     const double g = length(c.gravity), v = speed, s = substeps;
@@ -428,7 +430,13 @@ void plan_step(const pbf_solver_params& p, const WorldConstants& c, const Materi
     // A frame step longer than its substeps hold simulates what they hold and drops the rest
     // (held_substep): the world advances less than the frame, as a game engine's physics does
     // past its substep cap, and says so (pbf_step_stats.simulated_dt).
-    const double held = held_substep(p, c, frame, expected_speed(frame, *emitters, *input), substeps, iterations);
+    // Only a hitch is held back: a frame step of a game's rate (up to kHitchDt) runs whole, as it
+    // did, its substeps' unmet rules bounded there by the speed limit's cuts and the depth rule's
+    // compression, which stay small at such steps. Held back instead, a fine-scale scene whose
+    // spray or depth outruns max_substeps at 60 Hz would play in slow motion every frame.
+    const double held = frame.frame_dt > kHitchDt
+                            ? held_substep(p, c, frame, expected_speed(frame, *emitters, *input), substeps, iterations)
+                            : HUGE_VAL;
     // (The rules the count met hold at its substep up to rounding: no clamp for that.)
     const bool held_back = double(sub_dt) > held * (1.0 + 1e-5);
     if (held_back) sub_dt = static_cast<float>(held);

@@ -342,13 +342,13 @@ namespace Pbf.Interop
         public float adaptive_error_target;
         /// <summary>
         /// cap of the automatic substep count, 1..PBF_MAX_SUBSTEPS (default
-        /// 16). A step that would need more runs this many, each no
-        /// longer than the physics holds (the depth rule at up to
-        /// `iterations`, the fastest particle within h, the surface
-        /// forces' stability): a longer dt (a hitch) simulates what they
-        /// hold and drops the rest, as a game engine's physics does
-        /// (pbf_step_stats.simulated_dt; docs/physics.md). Fixed substeps
-        /// are held to the last two alike.
+        /// 16). A step that would need more runs this many. A step longer
+        /// than 1/30 s (a hitch) runs substeps no longer than the physics
+        /// holds (the fastest particle within 3/4 h, and with automatic
+        /// substeps the depth rule at up to `iterations`), simulates what
+        /// they hold and drops the rest, as a game engine's physics does
+        /// (pbf_step_stats.simulated_dt; docs/physics.md). Steps up to
+        /// 1/30 s always run whole.
         /// </summary>
         public uint max_substeps;
         /// <summary>
@@ -681,8 +681,9 @@ namespace Pbf.Interop
         public uint speed_clamps;
         /// <summary>
         /// seconds the last step advanced the world: its dt, unless
-        /// the step was longer than max_substeps substeps hold (a
-        /// hitch): then less, the rest dropped (solver.max_substeps)
+        /// the step was a hitch (over 1/30 s) longer than its
+        /// substeps hold: then less, the rest dropped
+        /// (solver.max_substeps)
         /// </summary>
         public float simulated_dt;
         /// <summary>live diffuse particles (desc.diffuse)</summary>
