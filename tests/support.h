@@ -263,6 +263,17 @@ inline pbf_collider_id kinematic_box(pbf_world_id w, float x, float y, float z, 
     return id;
 }
 
+// A static sphere of the given radius centred at (x, y, z).
+inline pbf_collider_id static_sphere(pbf_world_id w, float radius, float x, float y, float z) {
+    pbf_collider_desc c = pbf_collider_desc_default();
+    c.shape = PBF_SHAPE_SPHERE;
+    c.radius = radius;
+    set3(c.position, x, y, z);
+    pbf_collider_id id{};
+    REQUIRE_PBF(pbf_world_create_collider(w, &c, &id));
+    return id;
+}
+
 // A nozzle at (x, y, z), pointing down (the default direction), with the given speed, disc
 // radius and rate.
 inline pbf_emitter_desc nozzle_at(float x, float y, float z, float speed, float radius, float particles_per_second) {

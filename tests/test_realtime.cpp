@@ -314,12 +314,7 @@ TEST_CASE("a collider created or teleported into a settled pool moves the water 
 TEST_CASE("a block emitted into a collider is moved out of it without flinging it", "[realtime][collide][emit]") {
     pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.02f, 0.72f, 0.8f, 0.72f, 8192);
     pbf_world_id w = create(d);
-    pbf_collider_desc c = pbf_collider_desc_default();
-    c.shape = PBF_SHAPE_SPHERE;
-    c.radius = 0.12f;
-    set3(c.position, 0.36f, 0.2f, 0.36f);
-    pbf_collider_id sphere{};
-    REQUIRE_PBF(pbf_world_create_collider(w, &c, &sphere));
+    static_sphere(w, 0.12f, 0.36f, 0.2f, 0.36f);
     const uint32_t n = fill(w, 0.12f, 0, 0.12f, 0.6f, 0.4f, 0.6f);
     REQUIRE_PBF(pbf_world_step(w, kDt));
     const Particles p = read(w);

@@ -201,12 +201,7 @@ TEST_CASE("valid inputs: a short step after a block lands on a floor plane throw
 TEST_CASE("valid inputs: one step of 1e-7 s on a pool around a sphere sunk into the floor changes nothing",
           "[valid][collide][!shouldfail]") {
     pbf_world_id w = create(tank(PBF_BACKEND_CPU, 0.0125f, 0.4f, 0.6f, 0.4f, 8192));
-    pbf_collider_desc c = pbf_collider_desc_default();
-    c.shape = PBF_SHAPE_SPHERE;
-    c.radius = 0.1f;
-    set3(c.position, 0.2f, 0.05f, 0.2f);
-    pbf_collider_id sphere{};
-    REQUIRE_PBF(pbf_world_create_collider(w, &c, &sphere));
+    static_sphere(w, 0.1f, 0.2f, 0.05f, 0.2f);
     fill(w, 0, 0, 0, 0.4f, 0.2f, 0.4f);
     for (int k = 0; k < 60; ++k) REQUIRE_PBF(pbf_world_step(w, kDt));
     const double before = top_speed(w);
