@@ -132,25 +132,6 @@ PBF_HD Vec3 contact(const WorldConstants& s, const Collider& c, const ColliderPo
     return p;
 }
 
-// Into the walls, keeping apart the particles they stop: a particle driven through a wall within a
-// substep stops short of it by kWallStandoff of the distance it started the substep from it. The
-// projection onto the wall mapped every particle that crossed it in one substep onto one plane (a
-// lattice column falling onto the floor: one point per column) and every one driven into a
-// corner onto one point, where nothing told them apart at the step's end. Particles that start
-// a substep apart keep their order along the wall's normal; one resting on the wall stays on it;
-// and the approach is still removed but for the standoff's fraction (a restitution of 1e-3).
-constexpr float kWallStandoff = 1e-3f;
-PBF_HD float into_wall_span(float p, float x_old, float lo, float hi) {
-    if (p >= lo && p <= hi) return p;
-    if (p > hi) return hi - kWallStandoff * fmaxf(hi - x_old, 0.0f);
-    return lo + kWallStandoff * fmaxf(x_old - lo, 0.0f);  // below lo, or NaN: lo, as a clamp gives
-}
-PBF_HD Vec3 into_walls(const WorldConstants& s, Vec3 p, Vec3 x_old) {
-    return Vec3{into_wall_span(p.x, x_old.x, s.wall_min.x, s.wall_max.x),
-                into_wall_span(p.y, x_old.y, s.wall_min.y, s.wall_max.y),
-                into_wall_span(p.z, x_old.z, s.wall_min.z, s.wall_max.z)};
-}
-
 // Projects predicted position p (the particle was at x_old at the start of the substep) out of
 // every collider whose step bounds its path's box (grown by the radius) meets, then into the
 // walls. A dynamic collider's push is recorded as its reaction (record_push).
@@ -167,7 +148,7 @@ PBF_HD Vec3 collide(const WorldConstants& s, const ColliderView& cv, Vec3 p, Vec
             record_push(cv, c, cv.cur[k], moved, push);
         p = moved;
     });
-    return into_walls(s, p, x_old);
+    return min3(max3(p, s.wall_min), s.wall_max);
 }
 
 // Moves p out of every collider it overlaps at the substep's start poses, to `radius` outside
