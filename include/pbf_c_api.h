@@ -158,8 +158,8 @@ typedef struct pbf_solver_params {
                                    holds (the fastest particle within 3/4 h, and with automatic
                                    substeps the depth rule at up to `iterations`), simulates what
                                    they hold and drops the rest, as a game engine's physics does
-                                   (pbf_step_stats.simulated_dt; docs/physics.md). Steps up to
-                                   1/30 s always run whole. */
+                                   (pbf_step_stats.simulated_dt; docs/physics.md), at least
+                                   1/30 s. Steps up to 1/30 s always run whole. */
     float substep_travel;       /* automatic substeps: the fastest particle's travel per substep, as a
                                    fraction of h, 0.05..1 (default 0.5) */
     float sound_speed;          /* m/s, >= 10 (default 40): the response speed of the density

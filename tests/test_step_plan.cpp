@@ -164,6 +164,13 @@ TEST_CASE("step plan: a frame step longer than the substep cap holds simulates w
         }
         deep.frame.frame_dt = 1.0f / 29.0f;  // a hitch: held back
         CHECK(deep.run().simulated_dt < deep.frame.frame_dt);
+        // However extreme the expected speed, a hitch simulates at least what a frame of 1/30 s
+        // does (that one runs whole).
+        deep.frame.feedback.max_speed = 1e30f;
+        deep.frame.frame_dt = 1.0f;
+        const StepInput extreme = deep.run();
+        CHECK(extreme.simulated_dt == Approx(1.0f / 30.0f).epsilon(1e-5));
+        CHECK(extreme.substeps[0].ctx.dt > 0.0f);
     }
     // One of 1 s: sixteen substeps of 1/16 s would compress the column past the depth rule at
     // any iteration count up to the cap; each is held to the rule at the cap instead.

@@ -439,7 +439,10 @@ void plan_step(const pbf_solver_params& p, const WorldConstants& c, const Materi
                             : HUGE_VAL;
     // (The rules the count met hold at its substep up to rounding: no clamp for that.)
     const bool held_back = double(sub_dt) > held * (1.0 + 1e-5);
-    if (held_back) sub_dt = static_cast<float>(held);
+    // A hitch simulates at least what a frame of kHitchDt does (that one runs whole): held back
+    // further, a world whose expected speed is extreme (a collider sent a kilometre in a step)
+    // would advance by next to nothing, or nothing at all once Δt rounds to 0.
+    if (held_back) sub_dt = std::fmax(static_cast<float>(held), kHitchDt / static_cast<float>(substeps));
     const float simulated = held_back ? sub_dt * static_cast<float>(substeps) : frame.frame_dt;
     input->frame_dt = frame.frame_dt;
     input->simulated_dt = simulated;

@@ -347,8 +347,8 @@ namespace Pbf.Interop
         /// holds (the fastest particle within 3/4 h, and with automatic
         /// substeps the depth rule at up to `iterations`), simulates what
         /// they hold and drops the rest, as a game engine's physics does
-        /// (pbf_step_stats.simulated_dt; docs/physics.md). Steps up to
-        /// 1/30 s always run whole.
+        /// (pbf_step_stats.simulated_dt; docs/physics.md), at least
+        /// 1/30 s. Steps up to 1/30 s always run whole.
         /// </summary>
         public uint max_substeps;
         /// <summary>
