@@ -448,6 +448,37 @@ TEST_CASE("valid inputs: surface tension and cohesion at their maximum in zero g
     REQUIRE_PBF(pbf_world_destroy(w));
 }
 
+// s_corr at the ends of its documented ranges (k up to 1, n from 1, Δq up to 0.99 h) on a cube
+// of water emitted at rest in zero gravity with no walls (512 particles): nothing acts on it, so
+// over 1 s it stays at rest (the at-rest allowance). Pairs at the rest spacing feel no more of
+// s_corr than its reference shape gives them (Δq = 0.2 h, n = 4), which inside the lattice
+// cancels and at its surface is a slight push; before that bound, Δq = 0.95 h with k = 1 threw
+// its surface off at 15 m/s.
+TEST_CASE("valid inputs: s_corr at its extremes leaves a drop at rest in zero gravity at rest", "[valid]") {
+    struct Setting {
+        float k, n, dq;
+    };
+    for (const Setting c : {Setting{1.0f, 4.0f, 0.95f}, Setting{1.0f, 1.0f, 0.2f}, Setting{0.1f, 4.0f, 0.99f},
+                            Setting{1.0f, 8.0f, 0.3f}}) {
+        pbf_world_desc d = pbf_world_desc_default();
+        d.backend = PBF_BACKEND_CPU;
+        d.particle_radius = 0.0125f;
+        d.max_particles = 1024;
+        d.walls = 0;
+        set3(d.gravity, 0, 0, 0);
+        d.solver.scorr_k = c.k;
+        d.solver.scorr_n = c.n;
+        d.solver.scorr_dq = c.dq;
+        pbf_world_id w = create(d);
+        const uint32_t n = fill(w, -0.1f, -0.1f, -0.1f, 0.1f, 0.1f, 0.1f);
+        const double top = run_top(w, 1.0);
+        INFO("k " << c.k << ", n " << c.n << ", dq " << c.dq << " h: " << n << " particles, fastest over 1 s " << top
+                  << " m/s");
+        CHECK(top <= kAtRest);
+        REQUIRE_PBF(pbf_world_destroy(w));
+    }
+}
+
 // A drop of water (a 0.15 m cube, 1,728 particles) at rest in zero gravity with no walls: nothing
 // acts on it from outside, so its angular momentum about its centre stays zero. Tolerance, as
 // the fuzzer's: 1 % of Σ m |x - c| |v| at its largest (a drop spinning rigidly has |L| equal to

@@ -433,27 +433,7 @@ struct LambdaPass {
 };
 using LambdaOp = LambdaPass<false>;
 
-// ratio^n; the default n = 4 (and any whole n) by multiplication, since powf costs a log and
-// an exp per neighbour in the hottest loop.
-PBF_HD float scorr_power(float ratio, float n) {
-    if (n == 4.0f) {
-        const float r2 = ratio * ratio;
-        return r2 * r2;
-    }
-    if (n == floorf(n)) {
-        float result = 1.0f;
-        for (int k = 0; k < static_cast<int>(n); ++k) result *= ratio;
-        return result;
-    }
-    return powf(ratio, n);
-}
-
-// s_corr's (W(r)/W(Δq))^n is at most this: with Δq near h, W(Δq) is tiny and the term reached
-// 1e20 (a dam break at Δq = 0.7 h exploded; docs/physics.md). The defaults' largest value, at
-// r = 0, is 1.63 (below the cap: unchanged).
-constexpr float kScorrPowerCap = 2.0f;
-
-// Δp_i = (1/ρ0) Σ_j (λ_i + λ_j + s_corr) ∇W(x_i - x_j), s_corr = -k min((W(r)/W(Δq))^n, 2); Jacobi:
+// Δp_i = (1/ρ0) Σ_j (λ_i + λ_j + s_corr) ∇W(x_i - x_j), s_corr = -k scorr_weight (sph.h); Jacobi:
 // reads predicted, writes the corrected, collided position to corrected. The substep's last
 // iteration does the velocity update in the same pass (finish_positions set): v = (x* - x)/Δt
 // and x = x*, each particle writing only its own x and v, which no other thread reads here.
@@ -494,8 +474,8 @@ struct DeltaPass {
                 const Vec3 d = xi - xyz(pj);
                 const float r2 = length_sq(d);
                 if (r2 >= s.h2) return;
-                const float ratio = poly6(r2, s.h2, s.poly6_coef) * s.scorr_inv_w_dq;
-                const float scorr = -scorr_k * fminf(scorr_power(ratio, s.scorr_n), kScorrPowerCap);
+                const float scorr =
+                    -scorr_k * scorr_weight(poly6(r2, s.h2, s.poly6_coef) * s.scorr_inv_w_dq, s.scorr_n, s.scorr_rest);
                 const Vec3 grad = pair_gradient(d, r2, s.h, s.spiky_coef, i, j);
                 dp += grad * (lambda_i + pj.w + scorr);
                 if (split) dp_old += grad * (old.w * lambda_i + old_push[j].w * pj.w);

@@ -44,4 +44,39 @@ PBF_HD Vec3 pair_gradient(Vec3 d, float r2, float h, float coefficient, uint32_t
     return dir * (sign * -coefficient * h * h * inv_sqrt(length_sq(dir)));
 }
 
+// ratio^n; the default n = 4 (and any whole n) by multiplication, since powf costs a log and
+// an exp per neighbour in the hottest loop.
+PBF_HD float scorr_power(float ratio, float n) {
+    if (n == 4.0f) {
+        const float r2 = ratio * ratio;
+        return r2 * r2;
+    }
+    if (n == floorf(n)) {
+        float result = 1.0f;
+        for (int k = 0; k < static_cast<int>(n); ++k) result *= ratio;
+        return result;
+    }
+    return powf(ratio, n);
+}
+
+// s_corr's (W(r)/W(Δq))^n is at most this: with Δq near h, W(Δq) is tiny and the term reached
+// 1e20 (a dam break at Δq = 0.7 h exploded; docs/physics.md). The defaults' largest value, at
+// r = 0, is 1.63 (below the cap: unchanged).
+constexpr float kScorrPowerCap = 2.0f;
+
+// s_corr's reference shape (Macklin & Müller 2013): Δq = 0.2 h, n = 4, also the defaults.
+constexpr float kScorrReferenceDq = 0.2f;
+constexpr float kScorrReferenceN = 4.0f;
+
+// s_corr's weight for a pair whose W(r)/W(Δq) is ratio: min(ratio^n, cap) less `excess`, never
+// below 0. excess (WorldConstants::scorr_rest) is how far the weight at the rest spacing s
+// exceeds the reference shape's there (0.052), so that no Δq or n pushes pairs at the rest
+// spacing harder than the reference does. That push is not balanced at a free surface (inside a
+// lattice the pushes cancel by symmetry): it lifts a resting surface layer a little at the
+// reference shape, and at Δq near h or a small n, up to 2 k, it pushed a fresh block's surface
+// layer off. The reference shape and the defaults have no excess and are unchanged.
+PBF_HD float scorr_weight(float ratio, float n, float excess) {
+    return fmaxf(fminf(scorr_power(ratio, n), kScorrPowerCap) - excess, 0.0f);
+}
+
 }  // namespace pbf
