@@ -132,9 +132,43 @@ PBF_HD Vec3 contact(const WorldConstants& s, const Collider& c, const ColliderPo
     return p;
 }
 
+// Rounds of collider projection and wall clamp after a collide or project_out_at_start. A
+// collider's projection can push a particle through a wall and the wall's clamp back into the
+// collider (a sphere sunk into the floor, a box against a wall), which left it inside to be
+// pushed out again by the next projection, each time further along the wall: in a substep of
+// 1e-7 s that crawl was a velocity of 100 m/s. Alternating the two moves it along the wall to
+// where it clears both, where there is such a place near.
+constexpr uint32_t kProjectRounds = 8;
+
+// p clamped into the walls; then, while that clamp moved p back into a collider, moved out of
+// the colliders at `poses` (to `radius` outside the surface, no sweep, friction or reaction:
+// the geometry's resolution of a wedge, not a contact's response) and clamped again, up to
+// kProjectRounds times. A particle that meets no wall pays one comparison.
+PBF_HD Vec3 clamp_into_walls(const WorldConstants& s, const ColliderView& cv, const ColliderPose* poses, Vec3 p) {
+    const Vec3 r{s.radius, s.radius, s.radius};
+    for (uint32_t round = 0;; ++round) {
+        const Vec3 walled = min3(max3(p, s.wall_min), s.wall_max);
+        if (cv.count == 0 || round + 1 == kProjectRounds || (walled.x == p.x && walled.y == p.y && walled.z == p.z))
+            return walled;
+        p = walled;
+        bool inside = false;
+        for_each_collider_on_path(cv, p, p, s.radius, [&](uint32_t k) {
+            const Collider& c = cv.shapes[k];
+            if (!overlaps(c.bounds, p - r, p + r)) return;
+            Vec3 n;
+            const float d = collider_distance(c, poses[k], p, n, cv.meshes);
+            if (d < s.radius) {
+                p += n * (s.radius - d);
+                inside = true;
+            }
+        });
+        if (!inside) return p;
+    }
+}
+
 // Projects predicted position p (the particle was at x_old at the start of the substep) out of
 // every collider whose step bounds its path's box (grown by the radius) meets, then into the
-// walls. A dynamic collider's push is recorded as its reaction (record_push).
+// walls (clamp_into_walls). A dynamic collider's push is recorded as its reaction (record_push).
 // The candidates are those of the path's box; each is tested against the path to where the
 // earlier contacts moved p.
 PBF_HD Vec3 collide(const WorldConstants& s, const ColliderView& cv, Vec3 p, Vec3 x_old) {
@@ -148,7 +182,7 @@ PBF_HD Vec3 collide(const WorldConstants& s, const ColliderView& cv, Vec3 p, Vec
             record_push(cv, c, cv.cur[k], moved, push);
         p = moved;
     });
-    return min3(max3(p, s.wall_min), s.wall_max);
+    return clamp_into_walls(s, cv, cv.cur, p);
 }
 
 // Moves p out of every collider it overlaps at the substep's start poses, to `radius` outside
@@ -156,17 +190,15 @@ PBF_HD Vec3 collide(const WorldConstants& s, const ColliderView& cv, Vec3 p, Vec
 // into the walls. For overlaps no motion made (a collider created or teleported into the
 // fluid, a block emitted into one): the caller moves x itself, so the move gives no velocity.
 PBF_HD Vec3 project_out_at_start(const WorldConstants& s, const ColliderView& cv, Vec3 p) {
-    ColliderView start = cv;
-    start.cur = cv.prev;
     const Vec3 r{s.radius, s.radius, s.radius};
-    for_each_collider_on_path(start, p, p, s.radius, [&](uint32_t k) {
-        const Collider& c = start.shapes[k];
+    for_each_collider_on_path(cv, p, p, s.radius, [&](uint32_t k) {
+        const Collider& c = cv.shapes[k];
         if (!overlaps(c.bounds, p - r, p + r)) return;
         Vec3 n;
-        const float d = collider_distance(c, start.cur[k], p, n, start.meshes);
+        const float d = collider_distance(c, cv.prev[k], p, n, cv.meshes);
         if (d < s.radius) p += n * (s.radius - d);
     });
-    return min3(max3(p, s.wall_min), s.wall_max);
+    return clamp_into_walls(s, cv, cv.prev, p);
 }
 
 // ---- boundary density ------------------------------------------------------------------------
