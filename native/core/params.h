@@ -143,7 +143,7 @@ struct WorldConstants {
     float rest_gradient_norm2;  // Σ_k |∇_k C|² of a particle at rest density (λ's units)
     float relaxation;           // ε of λ relative to rest_gradient_norm2
     float scorr_k, scorr_n, scorr_inv_w_dq;
-    float scorr_rest;  // s_corr weight at the rest spacing beyond the reference shape's (scorr_weight)
+    float scorr_a, scorr_b;  // s_corr's shape (ScorrShape, sph.h); its scale is in scorr_k
     // velocity post-processing
     float vorticity_epsilon, max_speed;
     uint32_t ldc_enabled;

@@ -474,8 +474,8 @@ struct DeltaPass {
                 const Vec3 d = xi - xyz(pj);
                 const float r2 = length_sq(d);
                 if (r2 >= s.h2) return;
-                const float scorr =
-                    -scorr_k * scorr_weight(poly6(r2, s.h2, s.poly6_coef) * s.scorr_inv_w_dq, s.scorr_n, s.scorr_rest);
+                const float scorr = -scorr_k * scorr_weight(poly6(r2, s.h2, s.poly6_coef) * s.scorr_inv_w_dq, s.scorr_n,
+                                                            s.scorr_a, s.scorr_b);
                 const Vec3 grad = pair_gradient(d, r2, s.h, s.spiky_coef, i, j);
                 dp += grad * (lambda_i + pj.w + scorr);
                 if (split) dp_old += grad * (old.w * lambda_i + old_push[j].w * pj.w);

@@ -69,14 +69,36 @@ constexpr float kScorrReferenceDq = 0.2f;
 constexpr float kScorrReferenceN = 4.0f;
 
 // s_corr's weight for a pair whose W(r)/W(Δq) is ratio: min(ratio^n, cap) less `excess`, never
-// below 0. excess (WorldConstants::scorr_rest) is how far the weight at the rest spacing s
-// exceeds the reference shape's there (0.052), so that no Δq or n pushes pairs at the rest
-// spacing harder than the reference does. That push is not balanced at a free surface (inside a
-// lattice the pushes cancel by symmetry): it lifts a resting surface layer a little at the
-// reference shape, and at Δq near h or a small n, up to 2 k, it pushed a fresh block's surface
-// layer off. The reference shape and the defaults have no excess and are unchanged.
-PBF_HD float scorr_weight(float ratio, float n, float excess) {
-    return fmaxf(fminf(scorr_power(ratio, n), kScorrPowerCap) - excess, 0.0f);
+// below 0, where excess is how far the weight at the rest spacing s exceeds the reference
+// shape's there (0.052), so that no Δq or n pushes pairs at the rest spacing harder than the
+// reference does. That push is not balanced at a free surface (inside a lattice the pushes
+// cancel by symmetry): it lifts a resting surface layer a little at the reference shape, and at
+// Δq near h or a small n, up to 2 k, it pushed a fresh block's surface layer off. The reference
+// shape and the defaults have no excess and are unchanged.
+// Computed as (cap - excess) sat(ratio^n a + b), a = 1/(cap - excess), b = -excess a, with the
+// factor cap - excess in k (ScorrShape): on the GPU one multiply-add that saturates, the cost
+// of the cap alone. At the defaults a = 1/2, b = 0 and the scale 2, all exact, so s_corr is bit
+// for bit -k min(ratio^n, 2).
+struct ScorrShape {
+    float a, b;   // sat(ratio^n a + b)
+    float scale;  // cap - excess, which multiplies k
+};
+
+PBF_HD float saturate(float x) {
+#ifdef __CUDA_ARCH__
+    return __saturatef(x);
+#else
+    return fminf(fmaxf(x, 0.0f), 1.0f);  // NaN -> 0, as __saturatef
+#endif
+}
+
+PBF_HD float scorr_weight(float ratio, float n, float a, float b) { return saturate(scorr_power(ratio, n) * a + b); }
+
+// The shape for a weight at the rest spacing of `at_rest` (min(ratio^n, cap) there).
+inline ScorrShape scorr_shape(float at_rest, float reference_at_rest) {
+    const float excess = fmaxf(at_rest - reference_at_rest, 0.0f);
+    const float scale = kScorrPowerCap - excess;
+    return ScorrShape{1.0f / scale, -excess / scale, scale};
 }
 
 }  // namespace pbf

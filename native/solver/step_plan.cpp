@@ -325,12 +325,18 @@ WorldConstants derive_constants(const pbf_world_desc& desc, const MaterialTable&
     s.scorr_k = p.scorr_k / (scales.rest_gradient_norm2 * (1.0f + p.relaxation));
     s.scorr_n = p.scorr_n;
     s.scorr_inv_w_dq = 1.0f / poly6(dq * dq, s.h2, s.poly6_coef);
-    // s_corr's weight at the rest spacing beyond the reference shape's there (Macklin & Müller's
-    // Δq = 0.2 h, n = 4: 0.052), which scorr_weight takes off every pair (core/sph.h).
+    // s_corr's shape (core/sph.h, scorr_weight): its weight at the rest spacing, against the
+    // reference shape's there (Macklin & Müller's Δq = 0.2 h, n = 4: 0.052), each computed as
+    // the pass computes it, so that the defaults have no excess at all.
     const float w_rest = poly6(4.0f * s.radius * s.radius, s.h2, s.poly6_coef);
     const float dq_ref = kScorrReferenceDq * h;
-    const float reference = scorr_weight(w_rest / poly6(dq_ref * dq_ref, s.h2, s.poly6_coef), kScorrReferenceN, 0.0f);
-    s.scorr_rest = std::fmax(scorr_weight(w_rest * s.scorr_inv_w_dq, s.scorr_n, 0.0f) - reference, 0.0f);
+    const float inv_w_dq_ref = 1.0f / poly6(dq_ref * dq_ref, s.h2, s.poly6_coef);
+    const ScorrShape shape =
+        scorr_shape(std::fmin(scorr_power(w_rest * s.scorr_inv_w_dq, s.scorr_n), kScorrPowerCap),
+                    std::fmin(scorr_power(w_rest * inv_w_dq_ref, kScorrReferenceN), kScorrPowerCap));
+    s.scorr_a = shape.a;
+    s.scorr_b = shape.b;
+    s.scorr_k *= shape.scale;
     s.vorticity_epsilon = p.vorticity_epsilon;
     s.max_speed = p.max_speed;
     s.ldc_enabled = p.ldc_enabled;
