@@ -461,16 +461,13 @@ TEST_CASE("valid inputs: s_corr at its extremes leaves a drop at rest in zero gr
     };
     for (const Setting c : {Setting{1.0f, 4.0f, 0.95f}, Setting{1.0f, 1.0f, 0.2f}, Setting{0.1f, 4.0f, 0.99f},
                             Setting{1.0f, 8.0f, 0.3f}}) {
-        pbf_world_desc d = pbf_world_desc_default();
-        d.backend = PBF_BACKEND_CPU;
-        d.particle_radius = 0.0125f;
-        d.max_particles = 1024;
-        d.walls = 0;
-        set3(d.gravity, 0, 0, 0);
-        d.solver.scorr_k = c.k;
-        d.solver.scorr_n = c.n;
-        d.solver.scorr_dq = c.dq;
-        pbf_world_id w = create(d);
+        pbf_world_id w = zero_g_open_world(0.0125f, 1024);
+        pbf_solver_params p = pbf_solver_params_default();
+        REQUIRE_PBF(pbf_world_get_solver_params(w, &p));
+        p.scorr_k = c.k;
+        p.scorr_n = c.n;
+        p.scorr_dq = c.dq;
+        REQUIRE_PBF(pbf_world_set_solver_params(w, &p));
         const uint32_t n = fill(w, -0.1f, -0.1f, -0.1f, 0.1f, 0.1f, 0.1f);
         const double top = run_top(w, 1.0);
         INFO("k " << c.k << ", n " << c.n << ", dq " << c.dq << " h: " << n << " particles, fastest over 1 s " << top

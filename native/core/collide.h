@@ -140,29 +140,35 @@ PBF_HD Vec3 contact(const WorldConstants& s, const Collider& c, const ColliderPo
 // where it clears both, where there is such a place near.
 constexpr uint32_t kProjectRounds = 8;
 
-// p clamped into the walls; then, while that clamp moved p back into a collider, moved out of
-// the colliders at `poses` (to `radius` outside the surface, no sweep, friction or reaction:
-// the geometry's resolution of a wedge, not a contact's response) and clamped again, up to
-// kProjectRounds times. A particle that meets no wall pays one comparison.
-PBF_HD Vec3 clamp_into_walls(const WorldConstants& s, const ColliderView& cv, const ColliderPose* poses, Vec3 p) {
+// Moves p out of every collider it overlaps at `poses`, to `radius` outside the surface (no
+// sweep, no friction, no reaction recorded); returns whether it was inside one.
+PBF_HD bool push_out_of_colliders(const WorldConstants& s, const ColliderView& cv, const ColliderPose* poses, Vec3& p) {
     const Vec3 r{s.radius, s.radius, s.radius};
+    bool inside = false;
+    for_each_collider_on_path(cv, p, p, s.radius, [&](uint32_t k) {
+        const Collider& c = cv.shapes[k];
+        if (!overlaps(c.bounds, p - r, p + r)) return;
+        Vec3 n;
+        const float d = collider_distance(c, poses[k], p, n, cv.meshes);
+        if (d < s.radius) {
+            p += n * (s.radius - d);
+            inside = true;
+        }
+    });
+    return inside;
+}
+
+// p clamped into the walls; then, while that clamp moved p back into a collider, moved out of
+// the colliders at `poses` (push_out_of_colliders: the geometry's resolution of a wedge, not a
+// contact's response) and clamped again, up to kProjectRounds times. A particle that meets no
+// wall pays one comparison.
+PBF_HD Vec3 clamp_into_walls(const WorldConstants& s, const ColliderView& cv, const ColliderPose* poses, Vec3 p) {
     for (uint32_t round = 0;; ++round) {
         const Vec3 walled = min3(max3(p, s.wall_min), s.wall_max);
         if (cv.count == 0 || round + 1 == kProjectRounds || (walled.x == p.x && walled.y == p.y && walled.z == p.z))
             return walled;
         p = walled;
-        bool inside = false;
-        for_each_collider_on_path(cv, p, p, s.radius, [&](uint32_t k) {
-            const Collider& c = cv.shapes[k];
-            if (!overlaps(c.bounds, p - r, p + r)) return;
-            Vec3 n;
-            const float d = collider_distance(c, poses[k], p, n, cv.meshes);
-            if (d < s.radius) {
-                p += n * (s.radius - d);
-                inside = true;
-            }
-        });
-        if (!inside) return p;
+        if (!push_out_of_colliders(s, cv, poses, p)) return p;
     }
 }
 
@@ -190,14 +196,7 @@ PBF_HD Vec3 collide(const WorldConstants& s, const ColliderView& cv, Vec3 p, Vec
 // into the walls. For overlaps no motion made (a collider created or teleported into the
 // fluid, a block emitted into one): the caller moves x itself, so the move gives no velocity.
 PBF_HD Vec3 project_out_at_start(const WorldConstants& s, const ColliderView& cv, Vec3 p) {
-    const Vec3 r{s.radius, s.radius, s.radius};
-    for_each_collider_on_path(cv, p, p, s.radius, [&](uint32_t k) {
-        const Collider& c = cv.shapes[k];
-        if (!overlaps(c.bounds, p - r, p + r)) return;
-        Vec3 n;
-        const float d = collider_distance(c, cv.prev[k], p, n, cv.meshes);
-        if (d < s.radius) p += n * (s.radius - d);
-    });
+    push_out_of_colliders(s, cv, cv.prev, p);
     return clamp_into_walls(s, cv, cv.prev, p);
 }
 
