@@ -64,6 +64,11 @@ PBF_HD float scorr_power(float ratio, float n) {
 // r = 0, is 1.63 (below the cap: unchanged).
 constexpr float kScorrPowerCap = 2.0f;
 
+// The slowest response s_corr's relaxation with the substep assumes (m/s; the default
+// sound_speed): its time scale is h / sound_speed or h / this, whichever is longer
+// (solver/step_plan.cpp, substep_context).
+constexpr float kScorrResponseSpeed = 40.0f;
+
 // s_corr's reference shape (Macklin & Müller 2013): Δq = 0.2 h, n = 4, also the defaults.
 constexpr float kScorrReferenceDq = 0.2f;
 constexpr float kScorrReferenceN = 4.0f;

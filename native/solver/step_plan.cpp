@@ -417,7 +417,11 @@ StepContext substep_context(const pbf_solver_params& p, const WorldConstants& s,
     // emitted block at 1e-5 s, and a pool at 16 fixed substeps expanded 6 %). The two meet at
     // γ = 1; k/(1 + γ)² everywhere weakened s_corr at the default substeps (γ ≈ 0.3-0.6) and
     // raised the light fluid's largest density error in the two-fluid test on the H100.
-    const float g = c.error_damping;
+    // Its time scale is τ, but no shorter than h / kScorrResponseSpeed: a stiffer density
+    // response does not make s_corr a displacement repeated at full strength every substep, whose
+    // push per second grew as 1/Δt² (at sound_speed 300 and 43 substeps per 1/60 s, a slab at
+    // rest in zero gravity left at 2.4 m/s within the frame).
+    const float g = std::fmin(std::fmax(tau, s.h / kScorrResponseSpeed) / sub_dt, 1e6f);
     c.scorr_k = s.scorr_k * std::fmin(1.0f / (1.0f + g), 0.5f / (g * g));
     // XSPH's c is per 1/60 s: a substep of Δt applies 1 - (1 - c)^(60 Δt), so the smoothing per
     // second does not depend on the substep count.
