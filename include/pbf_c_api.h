@@ -379,8 +379,12 @@ PBF_API pbf_result PBF_CALL pbf_world_create(const pbf_world_desc* desc, pbf_wor
 PBF_API pbf_result PBF_CALL pbf_world_destroy(pbf_world_id world);
 
 /* Advances by dt seconds (0 < dt <= 1; successive calls may use any dt), split into substeps
- * (solver.substeps, or chosen automatically; pbf_step_stats.substeps says how many ran). On CUDA
- * the work is queued on the world's stream: the call returns without waiting for the GPU. */
+ * (solver.substeps, or chosen automatically; pbf_step_stats.substeps says how many ran), none
+ * shorter than 1e-4 s (a short step runs fewer). A step shorter than 1e-4 s advances nothing: its
+ * dt waits, and the next step simulates it too, with the colliders' targets, teleports and
+ * emissions since (pbf_step_stats.simulated_dt is 0, then the sum); float32 positions do not
+ * resolve the velocity of a shorter motion. On CUDA the work is queued on the world's stream:
+ * the call returns without waiting for the GPU. */
 PBF_API pbf_result PBF_CALL pbf_world_step(pbf_world_id world, float dt);
 
 PBF_API pbf_result PBF_CALL pbf_world_get_solver_params(pbf_world_id world, pbf_solver_params* out_params);
@@ -453,7 +457,8 @@ typedef struct pbf_step_stats {
     float simulated_dt;             /* seconds the last step advanced the world: its dt, unless
                                        the step was a hitch (over 1/30 s) longer than its
                                        substeps hold: then less, the rest dropped
-                                       (solver.max_substeps) */
+                                       (solver.max_substeps); 0 for a step shorter than 1e-4 s,
+                                       whose dt the next step simulates (and adds here) */
     uint32_t diffuse_count;         /* live diffuse particles (desc.diffuse) */
     uint32_t diffuse_dropped;       /* generated in the last step but dropped: max_diffuse full */
     uint64_t diffuse_generated_total; /* diffuse particles ever generated (added ones excluded) */
@@ -671,7 +676,8 @@ typedef struct pbf_collider_force {
     float force[3];
     float torque[3];
 } pbf_collider_force;
-/* The force of the last step (zero before the collider's first step). Waits for that step to
+/* The force of the last step (zero before the collider's first step, and after a step too short
+ * to simulate: pbf_world_step; the next step's force carries its impulse). Waits for that step to
  * finish on the backend (on CUDA: one copy of the whole table per step, later calls read the
  * host copy). Refused with PBF_ERROR_INVALID_STATE when the collider is not dynamic. */
 PBF_API pbf_result PBF_CALL pbf_collider_get_force(pbf_world_id world, pbf_collider_id collider,

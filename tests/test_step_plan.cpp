@@ -209,3 +209,31 @@ TEST_CASE("step plan: a frame step longer than the substep cap holds simulates w
     CHECK(with_collider.substeps[0].settle_overlaps);
     CHECK_FALSE(with_collider.substeps[1].settle_overlaps);
 }
+
+TEST_CASE("step plan: a frame step shorter than the shortest step waits, and no substep is shorter", "[plan]") {
+    Plan p;
+    p.desc.solver.substeps = 42;
+    p.emitters.clear();
+    p.add_nozzle(1000.0f);
+    // Too short: no substeps, nothing simulated or emitted; its time waits for the next step.
+    p.frame.frame_dt = 0.4f * kMinStepDt;
+    StepInput in = p.run();
+    CHECK(in.substeps.empty());
+    CHECK(in.simulated_dt == 0.0f);
+    CHECK(in.carried_dt == p.frame.frame_dt);
+    CHECK(p.emitters[0].accumulator == 0.0f);
+    // The next one simulates both: with the carried time it is 2.2 shortest steps long, so it
+    // runs two substeps of 1.1 (not 42 of 5e-6 s).
+    p.frame.carried_dt = in.carried_dt;
+    p.frame.frame_dt = 1.8f * kMinStepDt;
+    in = p.run();
+    REQUIRE(in.substeps.size() == 2u);
+    CHECK(in.carried_dt == 0.0f);
+    CHECK(in.simulated_dt == Approx(2.2f * kMinStepDt).epsilon(1e-6));
+    CHECK(in.frame_dt == p.frame.frame_dt);  // a dynamic collider's force: both impulses over this dt
+    CHECK(in.substeps[0].ctx.dt == Approx(1.1f * kMinStepDt).epsilon(1e-6));
+    // A game's frame keeps its 42 substeps.
+    p.frame.carried_dt = 0.0f;
+    p.frame.frame_dt = 1.0f / 60.0f;
+    CHECK(p.run().substeps.size() == 42u);
+}

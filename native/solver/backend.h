@@ -57,6 +57,7 @@ struct StepInput {
     float frame_dt = 0.0f;
     float simulated_dt = 0.0f;
     bool colliders_cut = false;  // a moving collider's path was cut to simulated_dt: the rest, a teleport
+    float carried_dt = 0.0f;     // a frame too short to simulate (kMinStepDt): its time, for the next step
 };
 
 // Colliders standing still (between steps): keys whose start is their end.

@@ -10,6 +10,7 @@
 #include "../core/collide.h"
 #include "../core/grid.h"
 #include "../core/lattice.h"
+#include "../core/limits.h"
 #include "../core/material_ops.h"
 #include "../core/sph.h"
 
@@ -439,8 +440,24 @@ StepContext substep_context(const pbf_solver_params& p, const WorldConstants& s,
 }
 
 void plan_step(const pbf_solver_params& p, const WorldConstants& c, const MaterialTable& materials,
-               const FrameState& frame, std::vector<EmitterState>* emitters, StepInput* input) {
-    const uint32_t substeps = substep_count(p, c, frame, *emitters, *input);
+               const FrameState& carried_to, std::vector<EmitterState>* emitters, StepInput* input) {
+    // A frame step shorter than kMinStepDt (limits.h: float32 positions do not resolve the
+    // velocity of so short a motion) waits: the next step simulates its time too, and the
+    // colliders' targets, teleports and emissions since, as one step would have.
+    FrameState frame = carried_to;
+    frame.frame_dt += carried_to.carried_dt;
+    input->frame_dt = carried_to.frame_dt;  // a dynamic collider's force: the carried time's impulse too
+    input->carried_dt = 0.0f;
+    if (frame.frame_dt < kMinStepDt) {
+        input->carried_dt = frame.frame_dt;
+        input->simulated_dt = 0.0f;
+        input->colliders_cut = false;
+        input->substeps.clear();
+        return;
+    }
+    // No substep shorter than kMinStepDt either: a short step runs fewer substeps.
+    const uint32_t most = static_cast<uint32_t>(std::fmax(1.0f, std::floor(frame.frame_dt / kMinStepDt)));
+    const uint32_t substeps = std::min(substep_count(p, c, frame, *emitters, *input), most);
     const uint32_t iterations = iteration_count(p, c, frame, *input, substeps);
     float sub_dt = frame.frame_dt / static_cast<float>(substeps);
     // A frame step longer than its substeps hold simulates what they hold and drops the rest
@@ -460,7 +477,6 @@ void plan_step(const pbf_solver_params& p, const WorldConstants& c, const Materi
     // would advance by next to nothing, or nothing at all once Δt rounds to 0.
     if (held_back) sub_dt = std::fmax(static_cast<float>(held), kHitchDt / static_cast<float>(substeps));
     const float simulated = held_back ? sub_dt * static_cast<float>(substeps) : frame.frame_dt;
-    input->frame_dt = frame.frame_dt;
     input->simulated_dt = simulated;
     input->colliders_cut = false;
     if (held_back) {

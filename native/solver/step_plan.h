@@ -52,11 +52,14 @@ struct FrameState {
     float emitted_speed = 0.0f;     // fastest particle emitted since the last step (m/s)
     float emitted_depth = 0.0f;     // tallest block emitted since the last step, along gravity (m)
     bool overlaps_pending = false;  // particles may overlap a collider without having moved into it
+    float carried_dt = 0.0f;        // time earlier frame steps too short to simulate left to this one (s)
 };
 
 // Plans a frame step: its substep count and each substep's context, emissions and drains.
 // input's colliders (shapes, keys, dynamic_count) are the world's, placed by place_collider;
-// emitters (in the world's order) advance their accumulators and sequences.
+// emitters (in the world's order) advance their accumulators and sequences. A frame step that
+// with the time carried to it is shorter than kMinStepDt gets no substeps: it advances nothing,
+// and input->carried_dt is its time, for the next one.
 void plan_step(const pbf_solver_params& p, const WorldConstants& c, const MaterialTable& materials,
                const FrameState& frame, std::vector<EmitterState>* emitters, StepInput* input);
 

@@ -99,7 +99,18 @@ Status World::step(float frame_dt) {
     frame.emitted_speed = emitted_speed_;
     frame.emitted_depth = emitted_depth_;
     frame.overlaps_pending = overlaps_pending_;
+    frame.carried_dt = carried_dt_;
     plan_step(desc_.solver, constants_, material_table(), frame, &emitters, &input);
+    carried_dt_ = input.carried_dt;
+    if (input.substeps.empty()) {
+        // Too short to simulate (plan_step): nothing advances; the colliders keep their targets
+        // and the emitters their state for the step that simulates this one's time.
+        ++step_index_;
+        last_substeps_ = 0;
+        last_iterations_ = 0;
+        last_simulated_dt_ = 0.0f;
+        return Status{};
+    }
     size_t k = 0;
     emitters_.for_each([&](EmitterEntry& e) {
         e.accumulator = emitters[k].accumulator;
@@ -294,7 +305,9 @@ Status World::collider_force(pbf_collider_id id, pbf_collider_force* out) {
     const ColliderForce* rows = nullptr;
     Status st = backend_->collider_forces(&rows);
     if (!st.ok()) return st;
-    const ColliderForce& f = rows[e->collider.row];
+    // A step too short to simulate gave the collider no impulse (the next step's force carries it).
+    const bool carried = step_index_ > 0 && last_simulated_dt_ == 0.0f;
+    const ColliderForce& f = carried ? ColliderForce{} : rows[e->collider.row];
     const float values[6] = {f.force.x, f.force.y, f.force.z, f.torque.x, f.torque.y, f.torque.z};
     std::memcpy(out->force, values, 3 * sizeof(float));
     std::memcpy(out->torque, values + 3, 3 * sizeof(float));

@@ -209,6 +209,7 @@ private:
     // A collider created or teleported, or a block emitted, since the last step: particles may
     // overlap a collider without having moved into it (the step's first substep settles them).
     bool overlaps_pending_ = false;
+    float carried_dt_ = 0.0f;  // frame steps too short to simulate, waiting for the next (plan_step)
     std::unique_ptr<Backend> backend_;
     SlotTable<EmitterEntry> emitters_;
     SlotTable<ColliderEntry> colliders_;

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstring>
 #include <sstream>
+#include <tuple>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -120,6 +121,10 @@ private:
     V3 g_{};
     double g_max_ = 0;
     double time_ = 0;
+    // Time of the steps too short for the world to simulate (pbf_step_stats.simulated_dt 0),
+    // which the next step simulates with its own: the colliders move from where the world has
+    // them to their newest target over both.
+    double carried_ = 0;
     // Bookkeeping of the bounds.
     D3 box_lo_{1e30, 1e30, 1e30}, box_hi_{-1e30, -1e30, -1e30};  // everything ever placed or reached
     double coll_speed_max_ = 0, emit_speed_max_ = 0, vort_speed_ = 0, cohesion_speed_ = 0;
@@ -176,6 +181,8 @@ private:
                              bool with_fluid);
     bool create_collider(size_t k, Failure& f);
     bool events(int frame, float dt, std::vector<size_t>& appeared, bool& particles_changed, Failure& f);
+    // dt: the time the step simulated, its own and any carried to it; 0 for a step too short to
+    // simulate.
     bool check_step(int frame, float dt, const State& pre, const pbf_step_stats& st0, const pbf_step_stats& st1,
                     double work_in, double overlap_in, double v_pre_max, Failure& f);
 };
@@ -528,7 +535,9 @@ bool Runner::check_step(int frame, float dt, const State& pre, const pbf_step_st
                 }
             }
     }
-    for (size_t k = 0; k < colliders_.size(); ++k) {
+    // (After a step too short to simulate, a collider created or teleported since is where it was
+    // put, the fluid not yet moved out: the step that simulates settles it.)
+    for (size_t k = 0; k < colliders_.size() && st1.simulated_dt > 0.0f; ++k) {
         const ColliderSpec& c = spec_.colliders[k];
         if (!colliders_[k].alive || c.shape == PBF_SHAPE_MESH) continue;
         for (uint32_t i = 0; i < post.n; ++i) {
@@ -553,8 +562,8 @@ bool Runner::check_step(int frame, float dt, const State& pre, const pbf_step_st
                 return false;
             }
     }
-    // ---- density error within the depth rule ----
-    {
+    // ---- density error within the depth rule (dt 0: a step too short to simulate, nothing moved) ----
+    if (dt > 0.0f) {
         const uint32_t substeps = std::max(st1.substeps, 1u);
         const double sub_dt = double(dt) / substeps, k = std::max(1.0, double(st1.iterations) / substeps);
         double lo = 1e30, hi_ = -1e30;
@@ -756,6 +765,8 @@ RunResult Runner::run() {
         // Kinematic targets (the path at the step's end) and engine-integrated bodies.
         double coll_speed = 0;
         std::vector<std::pair<D3, D3>> motion(s.colliders.size());  // displacement, rotation vector
+        std::vector<std::pair<V3, Q4>> held(s.colliders.size());    // where the world has each, for a carried step
+        for (size_t k = 0; k < s.colliders.size(); ++k) held[k] = {colliders_[k].pos, colliders_[k].rot};
         for (size_t k = 0; k < s.colliders.size(); ++k) {
             const ColliderSpec& c = s.colliders[k];
             Live& l = colliders_[k];
@@ -783,7 +794,7 @@ RunResult Runner::run() {
             const D3 dx = d3(target) - d3(l.pos), dtheta = rotation_between(l.rot, rot);
             motion[k] = {dx, dtheta};
             const double reach = c.shape == PBF_SHAPE_PLANE ? 0.0 : collider_reach(c);
-            coll_speed = std::max(coll_speed, (norm(dx) + norm(dtheta) * reach) / dt);
+            coll_speed = std::max(coll_speed, (norm(dx) + norm(dtheta) * reach) / (dt + carried_));
             if (!ok(pbf_collider_set_target_pose(w_, l.id, target.data(), rot.data()), "pbf_collider_set_target_pose",
                     f))
                 return finish(frame);
@@ -853,6 +864,21 @@ RunResult Runner::run() {
         pbf_step_stats st1{};
         st1.struct_size = sizeof st1;
         if (!ok(pbf_world_get_stats(w_, &st1), "pbf_world_get_stats", f)) return finish(frame);
+        const bool carried = st1.simulated_dt == 0.0f;
+        if (carried) {
+            // Nothing advanced: the kinematic colliders are where they were (teleports and new
+            // ones are where they were put, their overlaps settled by the step that simulates).
+            carried_ += dt;
+            for (size_t k = 0; k < s.colliders.size(); ++k) {
+                const ColliderSpec& c = s.colliders[k];
+                if (c.on && colliders_[k].alive && c.kinematic && frame != c.teleport_frame && frame != c.create_frame)
+                    std::tie(colliders_[k].pos, colliders_[k].rot) = held[k];
+            }
+            if (!check_step(frame, 0.0f, pre, st0, st1, 0.0, overlap_in, v_pre_max, f)) return finish(frame);
+            continue;
+        }
+        const float simulated = float(dt + carried_);  // the step simulated the carried time too
+        carried_ = 0;
         // The work moving colliders did on the fluid: minus the fluid's mean force on them times
         // their displacement, and its torque times their rotation.
         double work_in = 0;
@@ -864,7 +890,8 @@ RunResult Runner::run() {
                 return finish(frame);
             work_in -= dot(d3(cf.force), motion[k].first) + dot(d3(cf.torque), motion[k].second);
         }
-        if (!check_step(frame, dt, pre, st0, st1, work_in, overlap_in, v_pre_max, f)) return finish(frame);
+        work_in *= double(dt) / simulated;  // the force is the impulse over this step's dt; the motion, over both
+        if (!check_step(frame, simulated, pre, st0, st1, work_in, overlap_in, v_pre_max, f)) return finish(frame);
     }
     return finish(-1);
 }

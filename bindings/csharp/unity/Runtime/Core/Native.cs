@@ -683,7 +683,8 @@ namespace Pbf.Interop
         /// seconds the last step advanced the world: its dt, unless
         /// the step was a hitch (over 1/30 s) longer than its
         /// substeps hold: then less, the rest dropped
-        /// (solver.max_substeps)
+        /// (solver.max_substeps); 0 for a step shorter than 1e-4 s,
+        /// whose dt the next step simulates (and adds here)
         /// </summary>
         public float simulated_dt;
         /// <summary>live diffuse particles (desc.diffuse)</summary>
@@ -1501,8 +1502,12 @@ namespace Pbf.Interop
 
         /// <summary>
         /// Advances by dt seconds (0 &lt; dt &lt;= 1; successive calls may use any dt), split into substeps
-        /// (solver.substeps, or chosen automatically; pbf_step_stats.substeps says how many ran). On CUDA
-        /// the work is queued on the world's stream: the call returns without waiting for the GPU.
+        /// (solver.substeps, or chosen automatically; pbf_step_stats.substeps says how many ran), none
+        /// shorter than 1e-4 s (a short step runs fewer). A step shorter than 1e-4 s advances nothing: its
+        /// dt waits, and the next step simulates it too, with the colliders' targets, teleports and
+        /// emissions since (pbf_step_stats.simulated_dt is 0, then the sum); float32 positions do not
+        /// resolve the velocity of a shorter motion. On CUDA the work is queued on the world's stream:
+        /// the call returns without waiting for the GPU.
         /// </summary>
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_world_step(pbf_world_id world, float dt);
@@ -1774,7 +1779,8 @@ namespace Pbf.Interop
         // contacts and the boundary density gave the particles, reversed, over the step's length.
 
         /// <summary>
-        /// The force of the last step (zero before the collider's first step). Waits for that step to
+        /// The force of the last step (zero before the collider's first step, and after a step too short
+        /// to simulate: pbf_world_step; the next step's force carries its impulse). Waits for that step to
         /// finish on the backend (on CUDA: one copy of the whole table per step, later calls read the
         /// host copy). Refused with PBF_ERROR_INVALID_STATE when the collider is not dynamic.
         /// </summary>
