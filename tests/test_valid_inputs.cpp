@@ -5,6 +5,7 @@
 // derives the shared ones: the free fall over the scene's height, the at-rest allowance).
 #include <algorithm>
 #include <array>
+#include <initializer_list>
 #include <vector>
 
 #include "coupling_scenes.h"
@@ -39,6 +40,27 @@ double run_top(pbf_world_id w, double seconds, float dt = kDt) {
     double top = 0.0;
     const int steps = int(std::lround(seconds / dt));
     for (int k = 0; k < steps; ++k) {
+        REQUIRE_PBF(pbf_world_step(w, dt));
+        top = std::max(top, top_speed(w));
+    }
+    return top;
+}
+
+// Emits a block lo..hi moving at v; returns its particle count.
+uint32_t throw_block(pbf_world_id w, const float lo[3], const float hi[3], const float v[3]) {
+    pbf_block_desc b = pbf_block_desc_default();
+    set3(b.box_min, lo[0], lo[1], lo[2]);
+    set3(b.box_max, hi[0], hi[1], hi[2]);
+    set3(b.velocity, v[0], v[1], v[2]);
+    uint32_t n = 0;
+    REQUIRE_PBF(pbf_world_emit_block(w, &b, &n));
+    return n;
+}
+
+// Steps w by each dt in turn and returns the fastest particle seen after any of them.
+double top_over(pbf_world_id w, std::initializer_list<float> dts) {
+    double top = 0.0;
+    for (float dt : dts) {
         REQUIRE_PBF(pbf_world_step(w, dt));
         top = std::max(top, top_speed(w));
     }
@@ -80,6 +102,25 @@ pbf_world_id zero_g_open_world(float radius, uint32_t capacity) {
     d.walls = 0;
     set3(d.gravity, 0, 0, 0);
     return create(d);
+}
+
+// A world on the CPU in zero gravity, with a fuzzer world's particles and capacity.
+pbf_world_desc zero_g_desc(float radius, float rest_density, uint32_t capacity) {
+    pbf_world_desc d = pbf_world_desc_default();
+    d.backend = PBF_BACKEND_CPU;
+    d.particle_radius = radius;
+    d.rest_density = rest_density;
+    d.max_particles = capacity;
+    set3(d.gravity, 0, 0, 0);
+    return d;
+}
+
+// The same within walls lo..hi.
+pbf_world_desc zero_g_box(float radius, float rest_density, uint32_t capacity, const float lo[3], const float hi[3]) {
+    pbf_world_desc d = zero_g_desc(radius, rest_density, capacity);
+    set3(d.domain_min, lo[0], lo[1], lo[2]);
+    set3(d.domain_max, hi[0], hi[1], hi[2]);
+    return d;
 }
 
 struct Momenta {
@@ -174,17 +215,10 @@ TEST_CASE("valid inputs: a short step after a block lands on a floor plane throw
     c.shape = PBF_SHAPE_PLANE;
     pbf_collider_id floor{};
     REQUIRE_PBF(pbf_world_create_collider(w, &c, &floor));
-    pbf_block_desc b = pbf_block_desc_default();
-    set3(b.box_min, -0.44359f, 0.0f, -0.628571f);
-    set3(b.box_max, 0.529628f, 0.865083f, 0.452783f);
-    set3(b.velocity, -2.21037f, -0.948599f, -1.45287f);
-    uint32_t n = 0;
-    REQUIRE_PBF(pbf_world_emit_block(w, &b, &n));
-    double top = 0.0;
-    for (float dt : {0.00407102f, 0.301231f, 6.47866e-05f}) {
-        REQUIRE_PBF(pbf_world_step(w, dt));
-        top = std::max(top, top_speed(w));
-    }
+    const float lo[3] = {-0.44359f, 0.0f, -0.628571f}, hi[3] = {0.529628f, 0.865083f, 0.452783f},
+                v[3] = {-2.21037f, -0.948599f, -1.45287f};
+    const uint32_t n = throw_block(w, lo, hi, v);
+    const double top = top_over(w, {0.00407102f, 0.301231f, 6.47866e-05f});
     const double bound = free_fall_front(0.865083) + 2.81005 + kAtRest;
     INFO(n << " particles; fastest " << top << " m/s (bound " << bound << ")");
     CHECK(top <= bound);
@@ -221,26 +255,12 @@ TEST_CASE("valid inputs: one step of 1e-7 s on a pool around a sphere sunk into 
 // and the shortfall, taken for new compression, went into velocity (100 m/s). Bound: the
 // fuzzer's (no gravity: the block's speed plus the at-rest allowance).
 TEST_CASE("valid inputs: a step of 1.6e-7 s after a block strikes a wall throws no water", "[valid]") {
-    pbf_world_desc d = pbf_world_desc_default();
-    d.backend = PBF_BACKEND_CPU;
-    d.particle_radius = 0.0132775f;
-    d.rest_density = 31.5504f;
-    d.max_particles = 502;
-    set3(d.gravity, 0, 0, 0);
-    set3(d.domain_min, -0.15933f, 0.0f, -0.199162f);
-    set3(d.domain_max, 0.15933f, 0.504544f, 0.199162f);
-    pbf_world_id w = create(d);
-    pbf_block_desc b = pbf_block_desc_default();
-    set3(b.box_min, -0.0942869f, 0.0f, -0.0130677f);
-    set3(b.box_max, 0.0915978f, 0.21244f, 0.146262f);
-    set3(b.velocity, -0.294648f, 0.336456f, -3.27287f);
-    uint32_t n = 0;
-    REQUIRE_PBF(pbf_world_emit_block(w, &b, &n));
-    double top = 0.0;
-    for (float dt : {0.00140211f, 0.0777713f, 1.62812e-07f}) {
-        REQUIRE_PBF(pbf_world_step(w, dt));
-        top = std::max(top, top_speed(w));
-    }
+    const float lo[3] = {-0.15933f, 0.0f, -0.199162f}, hi[3] = {0.15933f, 0.504544f, 0.199162f};
+    pbf_world_id w = create(zero_g_box(0.0132775f, 31.5504f, 502, lo, hi));
+    const float block_lo[3] = {-0.0942869f, 0.0f, -0.0130677f}, block_hi[3] = {0.0915978f, 0.21244f, 0.146262f},
+                v[3] = {-0.294648f, 0.336456f, -3.27287f};
+    const uint32_t n = throw_block(w, block_lo, block_hi, v);
+    const double top = top_over(w, {0.00140211f, 0.0777713f, 1.62812e-07f});
     const double bound = 3.30328 + kAtRest;
     INFO(n << " particles; fastest " << top << " m/s (bound " << bound << ")");
     CHECK(top <= bound);
@@ -260,14 +280,8 @@ TEST_CASE("valid inputs: a stiffer fluid's s_corr pushes a slab at rest no harde
     double top[2] = {0.0, 0.0};
     uint32_t n = 0;
     for (int stiff = 0; stiff < 2; ++stiff) {
-        pbf_world_desc d = pbf_world_desc_default();
-        d.backend = PBF_BACKEND_CPU;
-        d.particle_radius = 0.00990677f;
-        d.rest_density = 499.19f;
-        d.max_particles = 213;
-        set3(d.gravity, 0, 0, 0);
-        set3(d.domain_min, -0.227856f, 0.0f, -0.0792541f);
-        set3(d.domain_max, 0.227856f, 0.396271f, 0.0792541f);
+        const float lo[3] = {-0.227856f, 0.0f, -0.0792541f}, hi[3] = {0.227856f, 0.396271f, 0.0792541f};
+        pbf_world_desc d = zero_g_box(0.00990677f, 499.19f, 213, lo, hi);
         d.solver.substeps = 43;
         if (stiff) d.solver.sound_speed = 301.518f;
         pbf_world_id w = create(d);
@@ -288,21 +302,13 @@ TEST_CASE("valid inputs: a stiffer fluid's s_corr pushes a slab at rest no harde
 // too. Tolerance: the fuzzer's, 1 % of Σ m |v|.
 TEST_CASE("valid inputs: steps shorter than 1e-4 s wait, and a flying sheet keeps its momentum through them",
           "[valid]") {
-    pbf_world_desc d = pbf_world_desc_default();
-    d.backend = PBF_BACKEND_CPU;
-    d.particle_radius = 0.050209f;
-    d.rest_density = 20.4684f;
-    d.max_particles = 143;
+    pbf_world_desc d = zero_g_desc(0.050209f, 20.4684f, 143);
     d.walls = 0;
-    set3(d.gravity, 0, 0, 0);
     d.solver.substeps = 42;
     pbf_world_id w = create(d);
-    pbf_block_desc b = pbf_block_desc_default();
-    set3(b.box_min, -0.690196f, 0.0f, -0.555687f);
-    set3(b.box_max, 0.615237f, 0.100418f, 0.54891f);
-    set3(b.velocity, -0.0181908f, -4.20723f, -2.27747f);
-    uint32_t n = 0;
-    REQUIRE_PBF(pbf_world_emit_block(w, &b, &n));
+    const float lo[3] = {-0.690196f, 0.0f, -0.555687f}, hi[3] = {0.615237f, 0.100418f, 0.54891f},
+                v[3] = {-0.0181908f, -4.20723f, -2.27747f};
+    const uint32_t n = throw_block(w, lo, hi, v);
     const double m = mass_of(w);
     const Particles before = read(w);
     const Momenta p0 = momenta(before, m);
