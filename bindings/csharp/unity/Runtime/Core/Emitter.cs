@@ -121,7 +121,8 @@ namespace Pbf
         }
 
         /// <summary>Dynamic colliders only (else <see cref="Result.InvalidState"/>): the fluid's mean
-        /// force and torque over the last step (zero before the first). Waits for that step to finish
+        /// force and torque over the last step (zero before the first, and after a step too short to
+        /// simulate, whose impulse the next step's force carries). Waits for that step to finish
         /// on the backend; on CUDA the first call after a step copies every collider's row at once.</summary>
         public ColliderForce GetForce()
         {
