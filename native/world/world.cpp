@@ -102,6 +102,7 @@ Status World::step(float frame_dt) {
     frame.carried_dt = carried_dt_;
     plan_step(desc_.solver, constants_, material_table(), frame, &emitters, &input);
     carried_dt_ = input.carried_dt;
+    mapped_ = false;  // the mapping is valid until the next step
     if (input.substeps.empty()) {
         // Too short to simulate (plan_step): nothing advances; the colliders keep their targets
         // and the emitters their state for the step that simulates this one's time.
@@ -117,7 +118,6 @@ Status World::step(float frame_dt) {
         e.sequence = emitters[k].sequence;
         ++k;
     });
-    mapped_ = false;  // the mapping is valid until the next step
     Status st = backend_->step(constants_, input);
     // Kinematic colliders arrived at their targets.
     colliders_.for_each([](ColliderEntry& e) {
