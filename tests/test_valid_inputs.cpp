@@ -313,9 +313,13 @@ TEST_CASE("valid inputs: steps shorter than 1e-4 s wait, and a flying sheet keep
     const Particles before = read(w);
     const Momenta p0 = momenta(before, m);
     for (float dt : {7.25789e-05f, 1.84365e-07f}) {
+        pbf_mapped_buffer mapped{};
+        mapped.struct_size = sizeof mapped;
+        REQUIRE_PBF(pbf_world_map_positions(w, &mapped));
         REQUIRE_PBF(pbf_world_step(w, dt));
         CHECK(stats(w).simulated_dt == 0.0f);
         CHECK(stats(w).substeps == 0u);
+        CHECK(pbf_world_unmap(w) == PBF_ERROR_INVALID_STATE);  // a step ended the mapping, as any step does
     }
     const Particles waited = read(w);
     REQUIRE(waited.count == before.count);
