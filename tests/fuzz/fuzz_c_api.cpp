@@ -212,6 +212,10 @@ struct WorldModel {
     Mapped mapped = kNotMapped;
     pbf_mapped_buffer map{};
     uint64_t steps = 0;
+    // Steps shorter than 1e-4 s wait for the next (pbf_world_step): the time waiting, summed in
+    // float as the library sums it, and whether the last step simulated anything.
+    float carried = 0.0f;
+    bool simulated = false;
     bool settled = false;  // no particle emitted since the last step: all are inside the walls
     bool any_enabled_source() const {
         for (const EmitterModel& e : emitters)
@@ -401,7 +405,7 @@ void check_world(const WorldModel& w, bool deep) {
     FUZZ_ASSERT(st.emitted_total >= st.drained_total);
     FUZZ_ASSERT(st.emitted_total - st.drained_total == n);  // exact accounting
     FUZZ_ASSERT(!std::isnan(st.density_error_mean) && !std::isnan(st.density_error_max));
-    FUZZ_ASSERT(std::isfinite(st.simulated_dt) && st.simulated_dt >= 0.0f && (st.simulated_dt > 0.0f) == (w.steps > 0));
+    FUZZ_ASSERT(std::isfinite(st.simulated_dt) && st.simulated_dt >= 0.0f && (st.simulated_dt > 0.0f) == w.simulated);
     if (!deep) return;
     const Snapshot s = snapshot(w);
     FUZZ_ASSERT(s.count == n);
@@ -634,7 +638,10 @@ void op_step(Reader& in, State& s) {
     FUZZ_ASSERT(r == PBF_OK);
     ++w->steps;
     w->mapped = kNotMapped;
-    w->settled = true;
+    const float total = dt + w->carried;
+    w->simulated = total >= 1e-4f;
+    w->carried = w->simulated ? 0.0f : total;
+    w->settled = w->settled || w->simulated;
     if (!w->any_enabled_source()) FUZZ_ASSERT(count_of(*w) == before);
     check_world(*w, true);
 }
