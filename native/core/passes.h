@@ -510,6 +510,7 @@ struct DeltaPass {
         if (finish_positions) {
             const Vec3 v = limit_speed(ctx, (c - xyz(positions[i]) - xyz(old)) * ctx.inv_dt);
             finish_velocities[i] = make_vec4(v, 0.0f);
+            if (!kPlain && ctx.colliders.count > 0) c = free_from_walls(s, ctx.colliders, c);
             finish_positions[i] = make_vec4(c, density[i] * s.inv_rest_density);
         } else {
             corrected[i] = make_vec4(c, lambda_i);
