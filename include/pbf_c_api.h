@@ -378,13 +378,16 @@ static inline pbf_world_desc pbf_world_desc_default(void) {
 PBF_API pbf_result PBF_CALL pbf_world_create(const pbf_world_desc* desc, pbf_world_id* out_world);
 PBF_API pbf_result PBF_CALL pbf_world_destroy(pbf_world_id world);
 
+/* The shortest time a step or substep simulates, seconds. */
+#define PBF_MIN_STEP_DT 1e-4f
 /* Advances by dt seconds (0 < dt <= 1; successive calls may use any dt), split into substeps
  * (solver.substeps, or chosen automatically; pbf_step_stats.substeps says how many ran), none
- * shorter than 1e-4 s (a short step runs fewer). A step shorter than 1e-4 s advances nothing: its
- * dt waits, and the next step simulates it too, with the colliders' targets, teleports and
- * emissions since (pbf_step_stats.simulated_dt is 0, then the sum); float32 positions do not
- * resolve the velocity of a shorter motion. On CUDA the work is queued on the world's stream:
- * the call returns without waiting for the GPU. */
+ * shorter than PBF_MIN_STEP_DT (1e-4 s; a short step runs fewer). A step shorter than that
+ * advances nothing: its dt waits, and the next step simulates it too, with the colliders'
+ * targets, teleports and emissions since (pbf_step_stats.simulated_dt is 0, then the sum; every
+ * dynamic collider's force reads 0, in pbf_collider_get_force and the mapped table); float32
+ * positions do not resolve the velocity of a shorter motion. On CUDA the work is queued on the
+ * world's stream: the call returns without waiting for the GPU. */
 PBF_API pbf_result PBF_CALL pbf_world_step(pbf_world_id world, float dt);
 
 PBF_API pbf_result PBF_CALL pbf_world_get_solver_params(pbf_world_id world, pbf_solver_params* out_params);
@@ -457,8 +460,9 @@ typedef struct pbf_step_stats {
     float simulated_dt;             /* seconds the last step advanced the world: its dt, unless
                                        the step was a hitch (over 1/30 s) longer than its
                                        substeps hold: then less, the rest dropped
-                                       (solver.max_substeps); 0 for a step shorter than 1e-4 s,
-                                       whose dt the next step simulates (and adds here) */
+                                       (solver.max_substeps); 0 for a step shorter than
+                                       PBF_MIN_STEP_DT, whose dt the next step simulates (and
+                                       adds here) */
     uint32_t diffuse_count;         /* live diffuse particles (desc.diffuse) */
     uint32_t diffuse_dropped;       /* generated in the last step but dropped: max_diffuse full */
     uint64_t diffuse_generated_total; /* diffuse particles ever generated (added ones excluded) */
@@ -806,8 +810,9 @@ PBF_API pbf_result PBF_CALL pbf_world_unmap(pbf_world_id world);
  * count = max_colliders rows of pbf_collider_force (stride 24 bytes), row k for the collider whose
  * handle has index k (rows of colliders that are not dynamic hold zero or stale values). The
  * pointer is valid until the world is destroyed; no unmap. On CUDA the rows are written at the end
- * of each pbf_world_step on the world's stream: read them on that stream or after an event
- * recorded after the step (pbf_world_record_cuda_event); the next step overwrites them. */
+ * of each pbf_world_step on the world's stream (zeroed by a step too short to simulate): read
+ * them on that stream or after an event recorded after the step (pbf_world_record_cuda_event);
+ * the next step overwrites them. */
 PBF_API pbf_result PBF_CALL pbf_world_map_collider_forces(pbf_world_id world, pbf_mapped_buffer* out_buffer);
 
 /* ==== Interop: zero-copy rendering ======================================================== *

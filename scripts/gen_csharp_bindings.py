@@ -409,10 +409,12 @@ def function_remarks(ci, fn, params):
 def literal(cs_type, value, spelling):
     """A C# literal: the macro's own spelling when it is a plain number, else the value."""
     suffix = {"uint": "u", "ulong": "ul", "long": "L", "float": "f", "double": "d"}.get(cs_type, "")
-    m = re.match(r"^(0[xX][0-9A-Fa-f]+|\d+\.\d+|\d+)[uUlLfF]*$", spelling or "")
-    if m and not (cs_type in ("float", "double") and m.group(1).lower().startswith("0x")):
+    m = re.match(r"^(0[xX][0-9A-Fa-f]+|\d+(?:\.\d+)?[eE][-+]?\d+|\d+\.\d+|\d+)[uUlLfF]*$", spelling or "")
+    exponent = bool(m) and not m.group(1).lower().startswith("0x") and "e" in m.group(1).lower()
+    if m and not (cs_type in ("float", "double") and m.group(1).lower().startswith("0x")) and \
+            (not exponent or cs_type in ("float", "double")):
         digits = m.group(1)
-        if cs_type in ("float", "double") and "." not in digits:
+        if cs_type in ("float", "double") and "." not in digits and not exponent:
             digits += ".0"
         return digits + suffix
     if cs_type in ("float", "double"):

@@ -67,6 +67,15 @@ TEST_CASE("coupling: force calls refuse what they cannot answer", "[coupling][ap
     const pbf_collider_force* rows = static_cast<const pbf_collider_force*>(m.data);
     CHECK(f.force[1] < 0.0f);  // water resting on it pushes it down
     CHECK(rows[dyn.index].force[1] == f.force[1]);
+    // A step too short to simulate gave no impulse: both read 0; the next step's force is back.
+    REQUIRE_OK(pbf_world_step(w, 0.5f * PBF_MIN_STEP_DT));
+    REQUIRE_OK(pbf_collider_get_force(w, dyn, &f));
+    CHECK(f.force[1] == 0.0f);
+    CHECK(rows[dyn.index].force[1] == 0.0f);
+    REQUIRE_OK(pbf_world_step(w, kDt));
+    REQUIRE_OK(pbf_collider_get_force(w, dyn, &f));
+    CHECK(f.force[1] < 0.0f);
+    CHECK(rows[dyn.index].force[1] == f.force[1]);
     m.struct_size = 3;
     CHECK_FAILS(pbf_world_map_collider_forces(w, &m), PBF_ERROR_STRUCT_SIZE, "pbf_mapped_buffer");
 }

@@ -24,6 +24,7 @@ static_assert(kMaxSubsteps == PBF_MAX_SUBSTEPS, "the public header states the su
 // out. A frame step shorter than this advances nothing and carries its dt into the next step's;
 // no frame step is split into substeps shorter than this.
 constexpr float kMinStepDt = 1e-4f;
+static_assert(kMinStepDt == PBF_MIN_STEP_DT, "the public header states the shortest step");
 
 // The largest max_colliders a world may ask for. Each step uploads its colliders' shapes (76 B
 // each) and start and end poses (56 B each) through pinned staging slots of 256 KB without a

@@ -132,6 +132,9 @@ public:
     virtual const ColliderForce* collider_force_table() const = 0;
     // Zeroes one row (a collider created there has felt nothing yet).
     virtual Status clear_collider_force(uint32_t row) = 0;
+    // Zeroes every row, in order after the steps queued before (a step too short to simulate
+    // gave no collider an impulse).
+    virtual Status clear_collider_forces() = 0;
     // Builds a mesh's distance field into row `row` of the mesh table (waits for the build), and
     // frees it (no collider may use the row any more).
     virtual Status create_mesh(const MeshBuild& mesh, uint32_t row) = 0;

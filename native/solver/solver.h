@@ -455,6 +455,10 @@ public:
         exec_.activate();
         return colliders_.clear_force(row);
     }
+    Status clear_collider_forces() override {
+        exec_.activate();
+        return colliders_.clear_forces();
+    }
     Status create_mesh(const MeshBuild& b, uint32_t row) override {
         exec_.activate();
         return colliders_.create_mesh(b, row);

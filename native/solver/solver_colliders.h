@@ -125,6 +125,11 @@ public:
         return Status{};
     }
     const ColliderForce* force_table() const { return forces_; }
+    Status clear_forces() {
+        exec_.zero(forces_, max_colliders_ * sizeof(ColliderForce));
+        host_forces_valid_ = false;
+        return exec_.check("clearing the collider forces");
+    }
     Status clear_force(uint32_t row) {
         if (row >= max_colliders_) return Status::error(PBF_ERROR_INTERNAL, "collider row out of range");
         exec_.zero(forces_ + row, sizeof(ColliderForce));

@@ -105,12 +105,15 @@ Status World::step(float frame_dt) {
     mapped_ = false;  // the mapping is valid until the next step
     if (input.substeps.empty()) {
         // Too short to simulate (plan_step): nothing advances; the colliders keep their targets
-        // and the emitters their state for the step that simulates this one's time.
+        // and the emitters their state for the step that simulates this one's time. No collider
+        // felt an impulse: their forces read 0, in pbf_collider_get_force and in the mapped table.
         ++step_index_;
         last_substeps_ = 0;
         last_iterations_ = 0;
         last_simulated_dt_ = 0.0f;
-        return Status{};
+        bool dynamic = false;
+        colliders_.for_each([&](const ColliderEntry& e) { dynamic |= (e.collider.flags & kColliderDynamic) != 0; });
+        return dynamic ? backend_->clear_collider_forces() : Status{};
     }
     size_t k = 0;
     emitters_.for_each([&](EmitterEntry& e) {
@@ -305,9 +308,7 @@ Status World::collider_force(pbf_collider_id id, pbf_collider_force* out) {
     const ColliderForce* rows = nullptr;
     Status st = backend_->collider_forces(&rows);
     if (!st.ok()) return st;
-    // A step too short to simulate gave the collider no impulse (the next step's force carries it).
-    const bool carried = step_index_ > 0 && last_simulated_dt_ == 0.0f;
-    const ColliderForce& f = carried ? ColliderForce{} : rows[e->collider.row];
+    const ColliderForce& f = rows[e->collider.row];
     const float values[6] = {f.force.x, f.force.y, f.force.z, f.torque.x, f.torque.y, f.torque.z};
     std::memcpy(out->force, values, 3 * sizeof(float));
     std::memcpy(out->torque, values + 3, 3 * sizeof(float));

@@ -639,7 +639,7 @@ void op_step(Reader& in, State& s) {
     ++w->steps;
     w->mapped = kNotMapped;
     const float total = dt + w->carried;
-    w->simulated = total >= 1e-4f;
+    w->simulated = total >= PBF_MIN_STEP_DT;
     w->carried = w->simulated ? 0.0f : total;
     w->settled = w->settled || w->simulated;
     if (!w->any_enabled_source()) FUZZ_ASSERT(count_of(*w) == before);

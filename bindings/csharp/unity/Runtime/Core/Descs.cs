@@ -538,7 +538,7 @@ namespace Pbf
         public long SpeedClamps { get { return _raw.speed_clamps; } }
         /// <summary>Seconds the last step advanced the world: its dt, unless the step was longer than
         /// MaxSubsteps substeps hold (a hitch), when the rest was dropped; 0 for a step shorter than
-        /// 1e-4 s, whose dt the next step simulates (and adds here).</summary>
+        /// Native.PBF_MIN_STEP_DT (1e-4 s), whose dt the next step simulates (and adds here).</summary>
         public float SimulatedDt { get { return _raw.simulated_dt; } }
         /// <summary>Live diffuse particles.</summary>
         public int DiffuseCount { get { return (int)_raw.diffuse_count; } }

@@ -683,8 +683,9 @@ namespace Pbf.Interop
         /// seconds the last step advanced the world: its dt, unless
         /// the step was a hitch (over 1/30 s) longer than its
         /// substeps hold: then less, the rest dropped
-        /// (solver.max_substeps); 0 for a step shorter than 1e-4 s,
-        /// whose dt the next step simulates (and adds here)
+        /// (solver.max_substeps); 0 for a step shorter than
+        /// PBF_MIN_STEP_DT, whose dt the next step simulates (and
+        /// adds here)
         /// </summary>
         public float simulated_dt;
         /// <summary>live diffuse particles (desc.diffuse)</summary>
@@ -1499,15 +1500,17 @@ namespace Pbf.Interop
 
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_world_destroy(pbf_world_id world);
+        public const float PBF_MIN_STEP_DT = 1e-4f;
 
         /// <summary>
         /// Advances by dt seconds (0 &lt; dt &lt;= 1; successive calls may use any dt), split into substeps
         /// (solver.substeps, or chosen automatically; pbf_step_stats.substeps says how many ran), none
-        /// shorter than 1e-4 s (a short step runs fewer). A step shorter than 1e-4 s advances nothing: its
-        /// dt waits, and the next step simulates it too, with the colliders' targets, teleports and
-        /// emissions since (pbf_step_stats.simulated_dt is 0, then the sum); float32 positions do not
-        /// resolve the velocity of a shorter motion. On CUDA the work is queued on the world's stream:
-        /// the call returns without waiting for the GPU.
+        /// shorter than PBF_MIN_STEP_DT (1e-4 s; a short step runs fewer). A step shorter than that
+        /// advances nothing: its dt waits, and the next step simulates it too, with the colliders'
+        /// targets, teleports and emissions since (pbf_step_stats.simulated_dt is 0, then the sum; every
+        /// dynamic collider's force reads 0, in pbf_collider_get_force and the mapped table); float32
+        /// positions do not resolve the velocity of a shorter motion. On CUDA the work is queued on the
+        /// world's stream: the call returns without waiting for the GPU.
         /// </summary>
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_world_step(pbf_world_id world, float dt);
@@ -1939,8 +1942,9 @@ namespace Pbf.Interop
         /// count = max_colliders rows of pbf_collider_force (stride 24 bytes), row k for the collider whose
         /// handle has index k (rows of colliders that are not dynamic hold zero or stale values). The
         /// pointer is valid until the world is destroyed; no unmap. On CUDA the rows are written at the end
-        /// of each pbf_world_step on the world's stream: read them on that stream or after an event
-        /// recorded after the step (pbf_world_record_cuda_event); the next step overwrites them.
+        /// of each pbf_world_step on the world's stream (zeroed by a step too short to simulate): read
+        /// them on that stream or after an event recorded after the step (pbf_world_record_cuda_event);
+        /// the next step overwrites them.
         /// </summary>
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_world_map_collider_forces(pbf_world_id world, ref pbf_mapped_buffer out_buffer);

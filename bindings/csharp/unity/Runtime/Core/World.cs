@@ -99,8 +99,9 @@ namespace Pbf
         // ---- simulation ----------------------------------------------------------------------
         /// <summary>Advances by dt seconds (0 &lt; dt &lt;= 1; successive calls may use any dt), split
         /// into Solver.Substeps substeps (or chosen automatically; <see cref="StepStats.Substeps"/>
-        /// says how many ran), none shorter than 1e-4 s. A step shorter than 1e-4 s advances
-        /// nothing: the next step simulates its dt too (<see cref="StepStats.SimulatedDt"/>).
+        /// says how many ran), none shorter than Native.PBF_MIN_STEP_DT (1e-4 s). A step shorter
+        /// than that advances nothing: the next step simulates its dt too
+        /// (<see cref="StepStats.SimulatedDt"/>), and every dynamic collider's force reads 0.
         /// On CUDA it returns without waiting for the GPU.</summary>
         public void Step(float dt) { PbfException.Check(Native.pbf_world_step(Handle, dt)); }
 
