@@ -400,6 +400,21 @@ DiffuseConstants diffuse_constants(const pbf_diffuse_params& p) {
 
 float xsph_factor(float c, float sub_dt) { return c >= 1.0f ? 1.0f : 1.0f - std::pow(1.0f - c, 60.0f * sub_dt); }
 
+// The compression a resting fluid carries its weight with grows with the substep length (C ∝ H
+// Δt², see above), so a game that steps a settled pool in short steps meets it as an old error.
+// Released over τ, the part of it still converted into velocity (about 4Δt/τ, an acceleration of
+// about 4 C h / τ² per layer) lifted the whole pool (a 0.3 m pool stepped 0.1 s at 1e-4 s: its
+// centre of mass 6.7 cm higher); released over √(h/g), gravity's time at the kernel's scale, no
+// faster than gravity made it. Blended in by the weight old errors move positions by, so γ ≤ 2
+// is unchanged and the rise has no step.
+float error_damping(float tau, float h, float gravity, float sub_dt) {
+    const float gamma = tau / sub_dt;
+    if (!(gamma > 2.0f) || !(gravity > 0.0f)) return gamma;
+    const float slow = std::sqrt(h / gravity) / sub_dt;
+    const float u = 1.0f - 2.0f / gamma;
+    return slow > gamma ? gamma + u * u * (slow - gamma) : gamma;
+}
+
 StepContext substep_context(const pbf_solver_params& p, const WorldConstants& s, const MaterialTable& materials,
                             float sub_dt) {
     StepContext c{};
@@ -407,10 +422,11 @@ StepContext substep_context(const pbf_solver_params& p, const WorldConstants& s,
     c.inv_dt = 1.0f / sub_dt;
     c.lambda_epsilon = s.rest_gradient_norm2 * p.relaxation;
     // The response time τ = h / sound_speed: errors older than the substep relax over τ (the λ
-    // pass's error damping, γ = τ/Δt), and LDC's K = gain / Δt² takes τ as a floor of Δt, so
-    // neither turns an error into a velocity larger than about error · sound_speed.
+    // pass's error damping, γ = τ/Δt; longer where old errors move positions, error_damping),
+    // and LDC's K = gain / Δt² takes τ as a floor of Δt, so neither turns an error into a
+    // velocity larger than about error · sound_speed.
     const float tau = s.h / p.sound_speed;
-    c.error_damping = std::fmin(tau / sub_dt, 1e6f);
+    c.error_damping = std::fmin(error_damping(tau, s.h, length(s.gravity), sub_dt), 1e6f);
     c.ldc_k = p.ldc_gain / (sub_dt * sub_dt + tau * tau);
     // s_corr answers an arrangement (clumping) that persists, so it pushes again every substep:
     // k/(1 + γ) while Δt ≥ τ (γ ≤ 1), then k/(2γ²), an acceleration of about k/(2τ²) as Δt → 0,

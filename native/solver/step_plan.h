@@ -33,6 +33,11 @@ DiffuseConstants diffuse_constants(const pbf_diffuse_params& p);
 
 // XSPH's factor for a substep of sub_dt from c per 1/60 s: 1 - (1 - c)^(60 Δt).
 float xsph_factor(float c, float sub_dt);
+// The error damping γ of a substep of sub_dt: τ/Δt, the response time τ = h / sound_speed in
+// substeps. Where old errors move positions (γ > 2, passes.h old_error_weight), the time scale
+// the old error relaxes over rises from τ toward √(h/g) by the weight u² positions take
+// (docs/physics.md, Error damping).
+float error_damping(float tau, float h, float gravity, float sub_dt);
 // A substep of sub_dt: everything that depends on its length.
 StepContext substep_context(const pbf_solver_params& p, const WorldConstants& c, const MaterialTable& materials,
                             float sub_dt);

@@ -576,7 +576,13 @@ bool Runner::check_step(int frame, float dt, const State& pre, const pbf_step_st
         const double depth_rule = 4.0 / (k + 0.5) * gmag() * depth * sub_dt * sub_dt / (h_ * h_);
         pbf_solver_params sp = pbf_solver_params_default();
         (void)pbf_world_get_solver_params(w_, &sp);
-        const double gamma = (h_ / sp.sound_speed) / sub_dt;
+        // γ as the library damps errors (docs/physics.md, Error damping): τ/Δt, and where old
+        // errors move positions (γ > 2) rising toward √(h/g)/Δt by the weight (1 - 2/γ)².
+        double gamma = (h_ / sp.sound_speed) / sub_dt;
+        if (gamma > 2.0 && gmag() > 0.0) {
+            const double slow = std::sqrt(h_ / gmag()) / sub_dt, u = 1.0 - 2.0 / gamma;
+            if (slow > gamma) gamma += u * u * (slow - gamma);
+        }
         const double carried = prev_density_max_ * std::pow(1.0 + gamma, -double(substeps));
         // Adaptive iterations stop once the mean error is below the target: the error the user asked
         // to tolerate, with the same factor.
