@@ -216,10 +216,9 @@ PBF_HD bool push_out_of_colliders(const WorldConstants& s, const ColliderView& c
 // particle on a wall can be held so; the others pay six comparisons.
 PBF_HD Vec3 free_from_walls(const WorldConstants& s, const ColliderView& cv, Vec3 p) {
     const float slack = 1e-3f * s.radius;
-    const int walls = int(p.x <= s.wall_min.x + slack) + int(p.y <= s.wall_min.y + slack) +
-                      int(p.z <= s.wall_min.z + slack) + int(p.x >= s.wall_max.x - slack) +
-                      int(p.y >= s.wall_max.y - slack) + int(p.z >= s.wall_max.z - slack);
-    if (walls == 0) return p;
+    const bool on_wall = p.x <= s.wall_min.x + slack || p.y <= s.wall_min.y + slack || p.z <= s.wall_min.z + slack ||
+                         p.x >= s.wall_max.x - slack || p.y >= s.wall_max.y - slack || p.z >= s.wall_max.z - slack;
+    if (!on_wall) return p;
     const Vec3 r{s.radius, s.radius, s.radius};
     for_each_collider_on_path(cv, p, p, s.radius, [&](uint32_t k) {
         const Collider& c = cv.shapes[k];

@@ -12,6 +12,7 @@
 #include "../core/lattice.h"
 #include "../core/limits.h"
 #include "../core/material_ops.h"
+#include "../core/passes.h"
 #include "../core/sph.h"
 
 namespace pbf {
@@ -411,8 +412,7 @@ float error_damping(float tau, float h, float gravity, float sub_dt) {
     const float gamma = tau / sub_dt;
     if (!(gamma > 2.0f) || !(gravity > 0.0f)) return gamma;
     const float slow = std::sqrt(h / gravity) / sub_dt;
-    const float u = 1.0f - 2.0f / gamma;
-    return slow > gamma ? gamma + u * u * (slow - gamma) : gamma;
+    return slow > gamma ? gamma + old_error_weight(gamma) * (slow - gamma) : gamma;
 }
 
 StepContext substep_context(const pbf_solver_params& p, const WorldConstants& s, const MaterialTable& materials,

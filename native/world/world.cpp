@@ -111,9 +111,7 @@ Status World::step(float frame_dt) {
         last_substeps_ = 0;
         last_iterations_ = 0;
         last_simulated_dt_ = 0.0f;
-        bool dynamic = false;
-        colliders_.for_each([&](const ColliderEntry& e) { dynamic |= (e.collider.flags & kColliderDynamic) != 0; });
-        return dynamic ? backend_->clear_collider_forces() : Status{};
+        return input.dynamic_count > 0 ? backend_->clear_collider_forces() : Status{};
     }
     size_t k = 0;
     emitters_.for_each([&](EmitterEntry& e) {
