@@ -656,7 +656,8 @@ static inline pbf_collider_desc pbf_collider_desc_default(void) {
 /* A collider created where fluid is (or teleported there, or a block emitted into one) did not
  * move into it: the next step's first substep moves the particles inside it out and settles
  * what that piles at its surface, in their positions only, so the water is not flung
- * (docs/physics.md, Overlaps; that substep runs at least 32 extra constraint iterations). */
+ * (docs/physics.md, Overlaps; that substep runs at least 32 extra constraint iterations, in
+ * rounds of 8 between neighbour-grid builds). */
 PBF_API pbf_result PBF_CALL pbf_world_create_collider(pbf_world_id world, const pbf_collider_desc* desc,
                                                       pbf_collider_id* out_collider);
 PBF_API pbf_result PBF_CALL pbf_world_destroy_collider(pbf_world_id world, pbf_collider_id collider);

@@ -578,24 +578,35 @@ TEST_CASE("valid inputs: a box created fully inside a settled pool flings no wat
 
 // A plane created 0.1 m above the floor of a settled pool 0.36 m deep: the water under it moves
 // above it, and the surface rises by 0.1 m. No particle may move faster than the fall over that
-// rise (Ritter's front) plus the at-rest allowance, at 1/60 s steps (over 0.25 s) and at 1e-4 s
-// steps (over 0.02 s).
-TEST_CASE("valid inputs: a plane created under the surface of a pool flings no water",
+// rise (Ritter's front) plus the at-rest allowance, over 0.25 s of 1/60 s steps or 0.02 s of
+// 1e-4 s steps.
+namespace {
+void check_plane_created_under_surface(float dt) {
+    pbf_world_id w = deep_pool();
+    pbf_collider_desc c = pbf_collider_desc_default();
+    c.shape = PBF_SHAPE_PLANE;
+    set3(c.position, 0.24f, 0.1f, 0.24f);
+    pbf_collider_id plane{};
+    REQUIRE_PBF(pbf_world_create_collider(w, &c, &plane));
+    const double bound = free_fall_front(0.1) + kAtRest;
+    const double top = run_top(w, dt > 1e-3f ? 0.25 : 0.02, dt);
+    INFO("steps of " << dt << " s: fastest particle " << top << " m/s after the plane appeared (bound " << bound
+                     << " m/s)");
+    CHECK(top <= bound);
+    REQUIRE_PBF(pbf_world_destroy(w));
+}
+}  // namespace
+
+TEST_CASE("valid inputs: a plane created under the surface of a pool flings no water at 1/60 s steps",
+          "[valid][collide]") {
+    check_plane_created_under_surface(1.0f / 60.0f);
+}
+
+// Open (docs/physics.md, Overlaps): at 1e-4 s steps the water the settling could not move
+// leaves faster than gravity would move it.
+TEST_CASE("valid inputs: a plane created under the surface of a pool flings no water at 1e-4 s steps",
           "[valid][collide][!shouldfail]") {
-    for (float dt : {1.0f / 60.0f, 1e-4f}) {
-        pbf_world_id w = deep_pool();
-        pbf_collider_desc c = pbf_collider_desc_default();
-        c.shape = PBF_SHAPE_PLANE;
-        set3(c.position, 0.24f, 0.1f, 0.24f);
-        pbf_collider_id plane{};
-        REQUIRE_PBF(pbf_world_create_collider(w, &c, &plane));
-        const double bound = free_fall_front(0.1) + kAtRest;
-        const double top = run_top(w, dt > 1e-3f ? 0.25 : 0.02, dt);
-        INFO("steps of " << dt << " s: fastest particle " << top << " m/s after the plane appeared (bound " << bound
-                         << " m/s)");
-        CHECK(top <= bound);
-        REQUIRE_PBF(pbf_world_destroy(w));
-    }
+    check_plane_created_under_surface(1e-4f);
 }
 
 // Two materials 100 times apart in density (100 and 10,000 kg/m3, both within 0.1..10 x the

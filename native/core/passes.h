@@ -148,12 +148,13 @@ struct SettleOverlapOp {
 };
 
 // The settling iterations' error damping γ: this large, the λ pass's target is each particle's
-// own C₀. At least kSettleIterations of them run: a 0.2 m box created half in a settled pool of
-// 0.02 m particles flung the water at 1.9 m/s after 16, 1.5 after 32, 1.1 after 64 (12 m/s with
-// the move out of the box alone, 14 with neither; the water lifted onto its top falls off at
-// about 1.1 m/s).
+// own C₀. At least kSettleIterations of them run (docs/physics.md, Overlaps, has what fewer
+// left), in rounds of kSettleRound with the neighbour grid built anew before each: the water a
+// collider displaces has to travel several spacings to where there is room, and iterations
+// that keep the neighbours found at the start push only against those, however many run.
 constexpr float kSettleDamping = 1e6f;
 constexpr uint32_t kSettleIterations = 32;
+constexpr uint32_t kSettleRound = 8;
 
 // x* = x, the starting point of the settling iterations.
 struct CopyPositionsOp {

@@ -285,16 +285,25 @@ private:
         settling.colliders.impulses = nullptr;
         settling.error_damping = kSettleDamping;
         settling.scorr_k = 0.0f;
-        exec_.for_each(bound_, CopyPositionsOp{pos_, pred_});
-        const NeighborMasks masks{masks_, sorted_keys_, config_.capacity};
-        const PackedVectors colliders_gradient{order_[0], reinterpret_cast<float*>(order_[1])};
         const uint32_t settle_iterations = std::max(iterations, kSettleIterations);
-        for (uint32_t it = 0; it < settle_iterations; ++it) {
-            exec_.for_each(bound_, LambdaOp{s, settling, cell_begin_, masks, it == 0 ? 1u : 0u, pos_, pred_, density_,
-                                            nullptr, denominator_, colliders_gradient});
-            exec_.for_each(bound_, DeltaOp{s, settling, cell_begin_, masks, pos_, pred_, spare_, nullptr, nullptr,
-                                           nullptr, density_, colliders_gradient});
-            std::swap(pred_, spare_);
+        for (uint32_t done = 0; done < settle_iterations; done += kSettleRound) {
+            // Each round starts from x, binned anew (the first from the build above), so the
+            // particles it moves meet the neighbours they are moving into.
+            if (done > 0) {
+                exec_.for_each(bound_, AdoptSettledOp{pred_, pos_});
+                build_grid(s, false);
+            }
+            exec_.for_each(bound_, CopyPositionsOp{pos_, pred_});
+            const NeighborMasks masks{masks_, sorted_keys_, config_.capacity};
+            const PackedVectors colliders_gradient{order_[0], reinterpret_cast<float*>(order_[1])};
+            const uint32_t round = std::min(kSettleRound, settle_iterations - done);
+            for (uint32_t it = 0; it < round; ++it) {
+                exec_.for_each(bound_, LambdaOp{s, settling, cell_begin_, masks, it == 0 ? 1u : 0u, pos_, pred_,
+                                                density_, nullptr, denominator_, colliders_gradient});
+                exec_.for_each(bound_, DeltaOp{s, settling, cell_begin_, masks, pos_, pred_, spare_, nullptr, nullptr,
+                                               nullptr, density_, colliders_gradient});
+                std::swap(pred_, spare_);
+            }
         }
         exec_.for_each(bound_, AdoptSettledOp{pred_, pos_});
         grid_valid_ = density_valid_ = masks_valid_ = false;

@@ -1733,7 +1733,8 @@ namespace Pbf.Interop
         /// A collider created where fluid is (or teleported there, or a block emitted into one) did not
         /// move into it: the next step's first substep moves the particles inside it out and settles
         /// what that piles at its surface, in their positions only, so the water is not flung
-        /// (docs/physics.md, Overlaps; that substep runs at least 32 extra constraint iterations).
+        /// (docs/physics.md, Overlaps; that substep runs at least 32 extra constraint iterations, in
+        /// rounds of 8 between neighbour-grid builds).
         /// </summary>
         [DllImport(Library, CallingConvention = CallingConvention.Cdecl)]
         public static extern pbf_result pbf_world_create_collider(pbf_world_id world, ref pbf_collider_desc desc, out pbf_collider_id out_collider);
