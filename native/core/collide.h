@@ -193,6 +193,24 @@ PBF_HD Vec3 contact(const WorldConstants& s, const Collider& c, const ColliderPo
 // where it clears both, where there is such a place near.
 constexpr uint32_t kProjectRounds = 8;
 
+// The walls' clamp, with a restitution of kWallRestitution: a particle driven a depth beyond a
+// wall ends that fraction of the depth inside it, up to kWallRestitutionReach radii. A plain
+// clamp maps every point beyond a corner onto the corner, and every point beyond an edge onto
+// one point of it per position along the edge, so particles driven into a corner or an edge
+// together (a block thrown there, whose lattice columns share coordinates exactly) ended on one
+// position, with no direction between them. With the restitution distinct depths end at distinct
+// positions; the energy it returns is kWallRestitution² of the normal kinetic energy.
+constexpr float kWallRestitution = 1e-3f;
+constexpr float kWallRestitutionReach = 1e-2f;
+PBF_HD Vec3 clamp_to_walls(const WorldConstants& s, Vec3 p) {
+    const Vec3 c = min3(max3(p, s.wall_min), s.wall_max);
+    const float reach = kWallRestitutionReach * s.radius;
+    const Vec3 back = (c - p) * kWallRestitution;
+    const Vec3 q =
+        c + Vec3{clampf(back.x, -reach, reach), clampf(back.y, -reach, reach), clampf(back.z, -reach, reach)};
+    return min3(max3(q, s.wall_min), s.wall_max);
+}
+
 // Moves p out of every collider it overlaps at `poses`, to `radius` outside the surface (no
 // sweep, no friction, no reaction recorded); returns whether it was inside one.
 PBF_HD bool push_out_of_colliders(const WorldConstants& s, const ColliderView& cv, const ColliderPose* poses, Vec3& p) {
@@ -213,9 +231,10 @@ PBF_HD bool push_out_of_colliders(const WorldConstants& s, const ColliderView& c
 
 // Frees a particle that ends a substep held inside a box by a wall (wall_detour), in x alone:
 // the substep's velocity is already taken, and the next starts clear of the box. Only a
-// particle on a wall can be held so; the others pay six comparisons.
+// particle on a wall (within the clamp's restitution of it) can be held so; the others pay six
+// comparisons.
 PBF_HD Vec3 free_from_walls(const WorldConstants& s, const ColliderView& cv, Vec3 p) {
-    const float slack = 1e-3f * s.radius;
+    const float slack = kWallRestitutionReach * s.radius;
     const bool on_wall = p.x <= s.wall_min.x + slack || p.y <= s.wall_min.y + slack || p.z <= s.wall_min.z + slack ||
                          p.x >= s.wall_max.x - slack || p.y >= s.wall_max.y - slack || p.z >= s.wall_max.z - slack;
     if (!on_wall) return p;
@@ -227,7 +246,7 @@ PBF_HD Vec3 free_from_walls(const WorldConstants& s, const ColliderView& cv, Vec
         float move;
         if (wall_detour(s, c, cv.cur[k], p, n, move)) p += n * move;
     });
-    return min3(max3(p, s.wall_min), s.wall_max);
+    return clamp_to_walls(s, p);
 }
 
 // p clamped into the walls; then, while that clamp moved p back into a collider, moved out of
@@ -236,7 +255,7 @@ PBF_HD Vec3 free_from_walls(const WorldConstants& s, const ColliderView& cv, Vec
 // wall pays one comparison.
 PBF_HD Vec3 clamp_into_walls(const WorldConstants& s, const ColliderView& cv, const ColliderPose* poses, Vec3 p) {
     for (uint32_t round = 0;; ++round) {
-        const Vec3 walled = min3(max3(p, s.wall_min), s.wall_max);
+        const Vec3 walled = clamp_to_walls(s, p);
         if (cv.count == 0 || round + 1 == kProjectRounds || (walled.x == p.x && walled.y == p.y && walled.z == p.z))
             return walled;
         p = walled;
