@@ -296,9 +296,9 @@ TEST_CASE("a thin paddle swept through the fluid faster than its thickness per s
 // (Solver::settle; docs/physics.md, Overlaps). What the
 // settling leaves relaxes over τ, at about error · sound_speed. Scene: a 0.2 m box appearing
 // half in a settled pool 0.36 m deep (0.02 m particles), its top 4 cm above the water. Measured
-// (CPU, fastest particle over 0.1 s, created / teleported): 1/60 s: 1.06 / 0.89 m/s (the water
+// (CPU, fastest particle over 0.1 s, created / teleported): 1/60 s: 1.0 / 1.0 m/s (the water
 // lifted onto its top falls off at about 1.1 m/s; a pool without the box: 0.2 m/s); 1e-4 s:
-// 3.2 / 3.4 m/s (without the box 1.5 m/s: a settled pool stepped at 1e-4 s stirs by itself).
+// 3.6 / 2.8 m/s (without the box 1.5 m/s: a settled pool stepped at 1e-4 s stirs by itself).
 // Moved out of the box in one substep instead: 14.4 m/s at 1/60 s, and at 1e-4 s the speed cap
 // (100 m/s).
 TEST_CASE("a collider created or teleported into a settled pool moves the water out without flinging it",
@@ -309,7 +309,7 @@ TEST_CASE("a collider created or teleported into a settled pool moves the water 
 }
 
 // A block emitted into a collider: its first step moves the particles out and settles them the
-// same way. Measured (CPU): the fastest particle 0.55 m/s after one step of 1/60 s (14.1 m/s
+// same way. Measured (CPU): the fastest particle 1.2 m/s after one step of 1/60 s (14.1 m/s
 // moved out in one substep).
 TEST_CASE("a block emitted into a collider is moved out of it without flinging it", "[realtime][collide][emit]") {
     pbf_world_desc d = tank(PBF_BACKEND_CPU, 0.02f, 0.72f, 0.8f, 0.72f, 8192);

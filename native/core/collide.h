@@ -211,9 +211,11 @@ PBF_HD Vec3 clamp_to_walls(const WorldConstants& s, Vec3 p) {
     return min3(max3(q, s.wall_min), s.wall_max);
 }
 
-// Moves p out of every collider it overlaps at `poses`, to `radius` outside the surface (no
-// sweep, no friction, no reaction recorded); returns whether it was inside one.
-PBF_HD bool push_out_of_colliders(const WorldConstants& s, const ColliderView& cv, const ColliderPose* poses, Vec3& p) {
+// Moves p out of every collider it overlaps at `poses`, to `radius` outside the surface, plus
+// its depth inside where `mirror` (no sweep, no friction, no reaction recorded); returns whether
+// it was inside one.
+PBF_HD bool push_out_of_colliders(const WorldConstants& s, const ColliderView& cv, const ColliderPose* poses, Vec3& p,
+                                  bool mirror = false) {
     const Vec3 r{s.radius, s.radius, s.radius};
     bool inside = false;
     for_each_collider_on_path(cv, p, p, s.radius, [&](uint32_t k) {
@@ -222,7 +224,7 @@ PBF_HD bool push_out_of_colliders(const WorldConstants& s, const ColliderView& c
         Vec3 n;
         const float d = collider_distance(c, poses[k], p, n, cv.meshes);
         if (d < s.radius) {
-            p += n * (s.radius - d);
+            p += n * (s.radius - d + (mirror ? fmaxf(-d, 0.0f) : 0.0f));
             inside = true;
         }
     });
@@ -286,8 +288,12 @@ PBF_HD Vec3 collide(const WorldConstants& s, const ColliderView& cv, Vec3 p, Vec
 // the surface as contact's projection does (no sweep, no friction, no reaction recorded), then
 // into the walls. For overlaps no motion made (a collider created or teleported into the
 // fluid, a block emitted into one): the caller moves x itself, so the move gives no velocity.
-PBF_HD Vec3 project_out_at_start(const WorldConstants& s, const ColliderView& cv, Vec3 p) {
-    push_out_of_colliders(s, cv, cv.prev, p);
+// With `mirror`, a particle a depth d inside ends r + d outside, along the same normal: the
+// overlapped layers keep their order and spacing outside a flat face, where ending all at r
+// outside piled them onto one sheet, whose particles have no direction between them to be
+// separated along (the settling iterations that follow spread them only within it).
+PBF_HD Vec3 project_out_at_start(const WorldConstants& s, const ColliderView& cv, Vec3 p, bool mirror = false) {
+    push_out_of_colliders(s, cv, cv.prev, p, mirror);
     return clamp_into_walls(s, cv, cv.prev, p);
 }
 

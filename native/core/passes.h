@@ -133,8 +133,9 @@ struct DensityOp {
 // before the prediction resolve initial overlaps without adding energy) ------------------------
 // For overlaps no motion made: a collider created or teleported into the fluid, a block emitted
 // into one. The solver runs these on the first substep after such a change (Solver::settle).
-// x moves out of the colliders it overlaps at the start poses: all the way, or by `weight` of
-// it (the substeps' contact pre-stabilization, Solver::substep).
+// x moves out of the colliders it overlaps at the start poses: mirrored (project_out_at_start)
+// all the way, or by `weight` of a plain projection (the substeps' contact pre-stabilization,
+// Solver::substep, whose penetrations are a contact's, a fraction of a radius).
 struct SettleOverlapOp {
     WorldConstants s;
     ColliderView colliders;
@@ -142,7 +143,7 @@ struct SettleOverlapOp {
     float weight = 1.0f;
     PBF_HD void operator()(uint32_t i) const {
         const Vec4 x = positions[i];
-        const Vec3 out = project_out_at_start(s, colliders, xyz(x));
+        const Vec3 out = project_out_at_start(s, colliders, xyz(x), weight == 1.0f);
         positions[i] = make_vec4(weight == 1.0f ? out : xyz(x) + (out - xyz(x)) * weight, x.w);
     }
 };
