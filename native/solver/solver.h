@@ -280,19 +280,16 @@ private:
     // with, which relaxes over τ (docs/physics.md, Overlaps).
     void settle(const WorldConstants& s, const StepContext& ctx, uint32_t iterations) {
         if (ctx.colliders.count > 0) exec_.for_each(bound_, SettleOverlapOp{s, ctx.colliders, pos_});
-        build_grid(s, false);
         StepContext settling = ctx;
         settling.colliders.impulses = nullptr;
         settling.error_damping = kSettleDamping;
         settling.scorr_k = 0.0f;
         const uint32_t settle_iterations = std::max(iterations, kSettleIterations);
         for (uint32_t done = 0; done < settle_iterations; done += kSettleRound) {
-            // Each round starts from x, binned anew (the first from the build above), so the
-            // particles it moves meet the neighbours they are moving into.
-            if (done > 0) {
-                exec_.for_each(bound_, AdoptSettledOp{pred_, pos_});
-                build_grid(s, false);
-            }
+            // Each round starts from x, binned anew, so the particles it moves meet the
+            // neighbours they are moving into.
+            if (done > 0) exec_.for_each(bound_, AdoptSettledOp{pred_, pos_});
+            build_grid(s, false);
             exec_.for_each(bound_, CopyPositionsOp{pos_, pred_});
             const NeighborMasks masks{masks_, sorted_keys_, config_.capacity};
             const PackedVectors colliders_gradient{order_[0], reinterpret_cast<float*>(order_[1])};
