@@ -130,7 +130,10 @@ typedef struct pbf_solver_params {
                                    gradient norm of a particle at rest density; > 0 (default 1).
                                    Smaller converges faster per iteration but a Jacobi sweep
                                    overshoots and a resting fluid boils. */
-    float scorr_k;              /* tensile instability s_corr = -k (W(r)/W(Δq))^n, 0..1 (default 0.1) */
+    float scorr_k;              /* tensile instability s_corr = -k (W(r)/W(Δq))^n, 0..1 (default 0.1).
+                                   Pairs at or beyond the rest spacing are pushed no harder than
+                                   the defaults push them, whatever k, n and Δq are: there it
+                                   only pushes a free surface out (docs/physics.md) */
     float scorr_n;              /* exponent n, 1..8 (default 4) */
     float scorr_dq;             /* Δq as a fraction of h, 0..1 (default 0.2) */
     float xsph_c;               /* XSPH viscosity c per 1/60 s of simulated time, 0..1 (default 0.01):

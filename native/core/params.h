@@ -144,6 +144,12 @@ struct WorldConstants {
     float relaxation;           // ε of λ relative to rest_gradient_norm2
     float scorr_k, scorr_n, scorr_inv_w_dq;
     float scorr_a, scorr_b;  // s_corr's shape (ScorrShape, sph.h); its scale is in scorr_k
+    // Other k, Δq or n than the defaults push pairs at or beyond the rest spacing no harder than the
+    // defaults do (scorr_push, passes.h); 0 where k ≤ the default's at the reference shape.
+    uint32_t scorr_bounded;
+    float scorr_rest_weight;   // scorr_weight at the rest spacing
+    float scorr_ref_inv_w_dq;  // 1 / W(0.2 h), the reference shape's
+    float scorr_ref_k;         // the default k, in the units of scorr_k
     // velocity post-processing
     float vorticity_epsilon, max_speed;
     uint32_t ldc_enabled;
@@ -171,6 +177,7 @@ struct StepContext {
     float error_damping;   // γ = τ / Δt: an error present at the substep's start relaxes by 1/(1 + γ)
     float ldc_k;           // LDC's K (1/s²)
     float scorr_k;         // s_corr's k of this substep: WorldConstants::scorr_k · min(1/(1 + γ), 1/(2γ²))
+    float scorr_ref_k;     // the default k's, relaxed the same way (WorldConstants::scorr_bounded)
     float xsph_c;          // XSPH factor of this substep (the user's c is per 1/60 s)
     float speed_limit;     // min(max_speed, the travel cap · h / Δt)
     ColliderView colliders;

@@ -435,6 +435,22 @@ struct LambdaPass {
 };
 using LambdaOp = LambdaPass<false>;
 
+// s_corr's push k·weight for a pair of kernel value w. With k, Δq or n other than the defaults
+// (WorldConstants::scorr_bounded): at and beyond the rest spacing s s_corr separates nothing
+// that clumps; it pushes a free surface outward, which in zero gravity nothing holds back, so
+// that push is energy the fluid never had. A resting pool needs the defaults' push there (it
+// holds the surface up against the solver's residual compression), so the push is at most the
+// defaults', k_ref · min((W/W(0.2 h))^4, 2), plus what the given term rises above its own value
+// at s: pairs closer than s, which clump, still meet the given term's rise, and the push stays
+// continuous in r.
+PBF_HD float scorr_push(const WorldConstants& s, const StepContext& ctx, float w) {
+    const float weight = scorr_weight(w * s.scorr_inv_w_dq, s.scorr_n, s.scorr_a, s.scorr_b);
+    if (!s.scorr_bounded) return ctx.scorr_k * weight;
+    const float ratio = w * s.scorr_ref_inv_w_dq;
+    const float reference = ctx.scorr_ref_k * fminf(ratio * ratio * ratio * ratio, kScorrPowerCap);
+    return fminf(ctx.scorr_k * weight, reference + ctx.scorr_k * fmaxf(weight - s.scorr_rest_weight, 0.0f));
+}
+
 // Δp_i = (1/ρ0) Σ_j (λ_i + λ_j + s_corr) ∇W(x_i - x_j), s_corr = -k scorr_weight (sph.h); Jacobi:
 // reads predicted, writes the corrected, collided position to corrected. The substep's last
 // iteration does the velocity update in the same pass (finish_positions set): v = (x* - x)/Δt
@@ -469,15 +485,13 @@ struct DeltaPass {
         if (!(control && control->converged)) {  // converged: x* carries over unchanged
             Vec3 dp{0.0f, 0.0f, 0.0f}, dp_old{0.0f, 0.0f, 0.0f};
             // s_corr's k relaxes with Δt (StepContext::scorr_k, solver/step_plan.cpp).
-            const float scorr_k = ctx.scorr_k;
             for_each_listed_neighbor(s.grid, cell_begin, masks, i, [&](uint32_t j) {
                 if (j == i) return;
                 const Vec4 pj = predicted[j];
                 const Vec3 d = xi - xyz(pj);
                 const float r2 = length_sq(d);
                 if (r2 >= s.h2) return;
-                const float scorr = -scorr_k * scorr_weight(poly6(r2, s.h2, s.poly6_coef) * s.scorr_inv_w_dq, s.scorr_n,
-                                                            s.scorr_a, s.scorr_b);
+                const float scorr = -scorr_push(s, ctx, poly6(r2, s.h2, s.poly6_coef));
                 const Vec3 grad = pair_gradient(d, r2, s.h, s.spiky_coef, i, j);
                 dp += grad * (lambda_i + pj.w + scorr);
                 if (split) dp_old += grad * (old.w * lambda_i + old_push[j].w * pj.w);

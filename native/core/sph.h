@@ -69,9 +69,10 @@ constexpr float kScorrPowerCap = 2.0f;
 // (solver/step_plan.cpp, substep_context).
 constexpr float kScorrResponseSpeed = 40.0f;
 
-// s_corr's reference shape (Macklin & Müller 2013): Δq = 0.2 h, n = 4, also the defaults.
+// s_corr's reference shape (Macklin & Müller 2013): Δq = 0.2 h, n = 4, and k = 0.1: the defaults.
 constexpr float kScorrReferenceDq = 0.2f;
 constexpr float kScorrReferenceN = 4.0f;
+constexpr float kScorrReferenceK = 0.1f;
 
 // s_corr's weight for a pair whose W(r)/W(Δq) is ratio: min(ratio^n, cap) less `excess`, never
 // below 0, where excess is how far the weight at the rest spacing s exceeds the reference

@@ -339,6 +339,11 @@ WorldConstants derive_constants(const pbf_world_desc& desc, const MaterialTable&
     s.scorr_a = shape.a;
     s.scorr_b = shape.b;
     s.scorr_k *= shape.scale;
+    s.scorr_rest_weight = scorr_weight(w_rest * s.scorr_inv_w_dq, s.scorr_n, s.scorr_a, s.scorr_b);
+    s.scorr_ref_inv_w_dq = inv_w_dq_ref;
+    s.scorr_bounded = p.scorr_k > 0.0f && !(p.scorr_k <= kScorrReferenceK && p.scorr_n == kScorrReferenceN &&
+                                            p.scorr_dq == kScorrReferenceDq);
+    s.scorr_ref_k = kScorrReferenceK / (scales.rest_gradient_norm2 * (1.0f + p.relaxation));
     s.vorticity_epsilon = p.vorticity_epsilon;
     s.max_speed = p.max_speed;
     s.ldc_enabled = p.ldc_enabled;
@@ -439,7 +444,9 @@ StepContext substep_context(const pbf_solver_params& p, const WorldConstants& s,
     // push per second grew as 1/Δt² (at sound_speed 300 and 43 substeps per 1/60 s, a slab at
     // rest in zero gravity left at 2.4 m/s within the frame).
     const float g = std::fmin(std::fmax(tau, s.h / kScorrResponseSpeed) / sub_dt, 1e6f);
-    c.scorr_k = s.scorr_k * std::fmin(1.0f / (1.0f + g), 0.5f / (g * g));
+    const float scorr_relax = std::fmin(1.0f / (1.0f + g), 0.5f / (g * g));
+    c.scorr_k = s.scorr_k * scorr_relax;
+    c.scorr_ref_k = s.scorr_ref_k * scorr_relax;
     // XSPH's c is per 1/60 s: a substep of Δt applies 1 - (1 - c)^(60 Δt), so the smoothing per
     // second does not depend on the substep count.
     c.xsph_c = xsph_factor(p.xsph_c, sub_dt);

@@ -299,7 +299,12 @@ namespace Pbf.Interop
         /// overshoots and a resting fluid boils.
         /// </summary>
         public float relaxation;
-        /// <summary>tensile instability s_corr = -k (W(r)/W(Δq))^n, 0..1 (default 0.1)</summary>
+        /// <summary>
+        /// tensile instability s_corr = -k (W(r)/W(Δq))^n, 0..1 (default 0.1).
+        /// Pairs at or beyond the rest spacing are pushed no harder than
+        /// the defaults push them, whatever k, n and Δq are: there it
+        /// only pushes a free surface out (docs/physics.md)
+        /// </summary>
         public float scorr_k;
         /// <summary>exponent n, 1..8 (default 4)</summary>
         public float scorr_n;
