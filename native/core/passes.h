@@ -443,9 +443,12 @@ using LambdaOp = LambdaPass<false>;
 // defaults', k_ref · min((W/W(0.2 h))^4, 2), plus what the given term rises above its own value
 // at s: pairs closer than s, which clump, still meet the given term's rise, and the push stays
 // continuous in r.
+// Compiled only into the Δ pass of such worlds (DeltaBounded): in the others' kernels even an
+// untaken branch took registers the hot loop needs.
+template <bool kBounded>
 PBF_HD float scorr_push(const WorldConstants& s, const StepContext& ctx, float w) {
     const float weight = scorr_weight(w * s.scorr_inv_w_dq, s.scorr_n, s.scorr_a, s.scorr_b);
-    if (!s.scorr_bounded) return ctx.scorr_k * weight;
+    if (!kBounded) return ctx.scorr_k * weight;
     const float ratio = w * s.scorr_ref_inv_w_dq;
     const float reference = ctx.scorr_ref_k * fminf(ratio * ratio * ratio * ratio, kScorrPowerCap);
     return fminf(ctx.scorr_k * weight, reference + ctx.scorr_k * fmaxf(weight - s.scorr_rest_weight, 0.0f));
@@ -455,7 +458,7 @@ PBF_HD float scorr_push(const WorldConstants& s, const StepContext& ctx, float w
 // reads predicted, writes the corrected, collided position to corrected. The substep's last
 // iteration does the velocity update in the same pass (finish_positions set): v = (x* - x)/Δt
 // and x = x*, each particle writing only its own x and v, which no other thread reads here.
-template <bool kPlain, bool kSplit = true>
+template <bool kPlain, bool kSplit = true, bool kScorrBounded = false>
 struct DeltaPass {
     using F = Features<kPlain>;
     WorldConstants s;
@@ -491,7 +494,7 @@ struct DeltaPass {
                 const Vec3 d = xi - xyz(pj);
                 const float r2 = length_sq(d);
                 if (r2 >= s.h2) return;
-                const float scorr = -scorr_push(s, ctx, poly6(r2, s.h2, s.poly6_coef));
+                const float scorr = -scorr_push<kScorrBounded>(s, ctx, poly6(r2, s.h2, s.poly6_coef));
                 const Vec3 grad = pair_gradient(d, r2, s.h, s.spiky_coef, i, j);
                 dp += grad * (lambda_i + pj.w + scorr);
                 if (split) dp_old += grad * (old.w * lambda_i + old_push[j].w * pj.w);
@@ -539,6 +542,9 @@ using DeltaOp = DeltaPass<false>;
 // The Δ pass without the old-error split, compiled with or without the features.
 template <bool kPlain>
 using DeltaNoSplit = DeltaPass<kPlain, false>;
+// The Δ pass of a world whose s_corr is bounded (WorldConstants::scorr_bounded, scorr_push),
+// with every feature and the split read at run time.
+using DeltaBounded = DeltaPass<false, true, true>;
 
 // ---- velocity update, vorticity confinement, XSPH ---------------------------------------------
 // Pass 1 after the iterations: ω_i = Σ_j (m/ρ_j) v_ij × ∇_j W_ij (Macklin & Müller Eq. 15) and

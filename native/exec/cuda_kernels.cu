@@ -42,8 +42,8 @@ template <>
 struct MinBlocksPerSm<PredictOp> {
     static constexpr int value = blocks_that_fit(4);  // 64
 };
-template <bool kPlain, bool kSplit>
-struct MinBlocksPerSm<DeltaPass<kPlain, kSplit>> {
+template <bool kPlain, bool kSplit, bool kScorrBounded>
+struct MinBlocksPerSm<DeltaPass<kPlain, kSplit, kScorrBounded>> {
     static constexpr int value = blocks_that_fit(4);  // 64
 };
 template <bool kPlain>

@@ -47,6 +47,7 @@ namespace pbf {
     X(LambdaPlain, LambdaPass<true>)                        \
     X(DeltaPlain, DeltaPass<true, false>)                   \
     X(DeltaNoSplit, DeltaPass<false, false>)                \
+    X(DeltaBounded, DeltaBounded)                           \
     X(VorticityXsphPlain, VorticityXsphPass<true>)          \
     X(VorticityForcePlain, VorticityForcePass<false, true>) \
     X(EmitBlock, EmitBlockOp)                               \

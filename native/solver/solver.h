@@ -219,7 +219,11 @@ private:
             exec_.profile_mark(kStageDeltaCollide);
             // The last iteration also updates v and x (no separate velocity pass).
             const bool last = it + 1 == in.iterations;
-            if (old_push)
+            if (s.scorr_bounded)
+                exec_.for_each(bound_, DeltaBounded{s, ctx, cell_begin_, masks, pos_, pred_, spare_, control,
+                                                    last ? pos_ : nullptr, last ? spare_ : nullptr, density_,
+                                                    colliders_gradient, old_push});
+            else if (old_push)
                 exec_.for_each(bound_,
                                DeltaOp{s, ctx, cell_begin_, masks, pos_, pred_, spare_, control, last ? pos_ : nullptr,
                                        last ? spare_ : nullptr, density_, colliders_gradient, old_push});
