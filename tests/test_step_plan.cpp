@@ -237,3 +237,33 @@ TEST_CASE("step plan: a frame step shorter than the shortest step waits, and no 
     p.frame.frame_dt = 1.0f / 60.0f;
     CHECK(p.run().substeps.size() == 42u);
 }
+
+// s_corr's bound (scorr_push, core/passes.h) measures every other setting against the reference
+// shape and k of core/sph.h, which are documented as the C ABI's defaults; kScorrResponseSpeed is
+// documented as the default sound_speed. Changing a default without them would silently bound the
+// new defaults, or leave them unbounded.
+TEST_CASE("step plan: s_corr's reference shape and response speed are the C ABI's defaults", "[plan]") {
+    Plan plan;
+    const pbf_solver_params& p = plan.desc.solver;
+    CHECK(p.scorr_k == kScorrReferenceK);
+    CHECK(p.scorr_n == kScorrReferenceN);
+    CHECK(p.scorr_dq == kScorrReferenceDq);
+    CHECK(p.sound_speed == kScorrResponseSpeed);
+
+    WorldConstants c = derive_constants(plan.desc, plan.materials);
+    CHECK(c.scorr_bounded == 0u);
+    // The bound's reference term, scorr_ref_k min(ratio^4, cap), is the defaults' own term,
+    // scorr_k sat(ratio^4 / cap) (their shape has no excess: its scale is the cap).
+    CHECK(c.scorr_k == Approx(c.scorr_ref_k * kScorrPowerCap).epsilon(1e-6));
+    CHECK(c.scorr_ref_inv_w_dq == Approx(c.scorr_inv_w_dq).epsilon(1e-6));
+
+    plan.desc.solver.scorr_k = 0.05f;  // weaker than the defaults at their shape: nothing to bound
+    CHECK(derive_constants(plan.desc, plan.materials).scorr_bounded == 0u);
+    plan.desc.solver.scorr_k = 0.5f;
+    CHECK(derive_constants(plan.desc, plan.materials).scorr_bounded == 1u);
+    plan.desc.solver.scorr_k = 0.05f;
+    plan.desc.solver.scorr_dq = 0.6f;  // another shape at any k
+    CHECK(derive_constants(plan.desc, plan.materials).scorr_bounded == 1u);
+    plan.desc.solver.scorr_k = 0.0f;  // s_corr off
+    CHECK(derive_constants(plan.desc, plan.materials).scorr_bounded == 0u);
+}
