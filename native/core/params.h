@@ -178,6 +178,7 @@ struct StepContext {
     float ldc_k;           // LDC's K (1/s²)
     float scorr_k;         // s_corr's k of this substep: WorldConstants::scorr_k · min(1/(1 + γ), 1/(2γ²))
     float scorr_ref_k;     // the default k's, relaxed the same way (WorldConstants::scorr_bounded)
+    float scorr_gap_push;  // bounded s_corr: the relaxation / (2 m/ρ0), turning a gap into a push
     float xsph_c;          // XSPH factor of this substep (the user's c is per 1/60 s)
     float speed_limit;     // min(max_speed, the travel cap · h / Δt)
     ColliderView colliders;

@@ -446,12 +446,22 @@ using LambdaOp = LambdaPass<false>;
 // Compiled only into the Δ pass of such worlds (DeltaBounded): in the others' kernels even an
 // untaken branch took registers the hot loop needs.
 template <bool kBounded>
-PBF_HD float scorr_push(const WorldConstants& s, const StepContext& ctx, float w) {
+PBF_HD float scorr_push(const WorldConstants& s, const StepContext& ctx, float w, float r2, float grad_len,
+                        float lambda_sum) {
     const float weight = scorr_weight(w * s.scorr_inv_w_dq, s.scorr_n, s.scorr_a, s.scorr_b);
     if (!kBounded) return ctx.scorr_k * weight;
     const float ratio = w * s.scorr_ref_inv_w_dq;
     const float reference = ctx.scorr_ref_k * fminf(ratio * ratio * ratio * ratio, kScorrPowerCap);
-    return fminf(ctx.scorr_k * weight, reference + ctx.scorr_k * fmaxf(weight - s.scorr_rest_weight, 0.0f));
+    // The rise answers a pair closer than the rest spacing. Where neither particle is compressed
+    // (λ_i + λ_j = 0: in a stream too sparse for λ, where a nozzle emits a particle near another)
+    // s_corr alone moves the pair, and there the rise moves each of the two at most half their
+    // gap to the rest spacing per substep, relaxed as the whole term is: the pair is brought to
+    // the rest spacing over s_corr's time scale instead of being thrown apart in one substep.
+    // In compressed water the rise adds to λ's push, stiffening it against clumping, unchanged.
+    float rise = ctx.scorr_k * fmaxf(weight - s.scorr_rest_weight, 0.0f);
+    if (lambda_sum == 0.0f)
+        rise = fminf(rise, fmaxf(2.0f * s.radius - sqrtf(r2), 0.0f) * ctx.scorr_gap_push / fmaxf(grad_len, 1e-30f));
+    return fminf(ctx.scorr_k * weight, reference + rise);
 }
 
 // Δp_i = (1/ρ0) Σ_j (λ_i + λ_j + s_corr) ∇W(x_i - x_j), s_corr = -k scorr_weight (sph.h); Jacobi:
@@ -494,8 +504,9 @@ struct DeltaPass {
                 const Vec3 d = xi - xyz(pj);
                 const float r2 = length_sq(d);
                 if (r2 >= s.h2) return;
-                const float scorr = -scorr_push<kScorrBounded>(s, ctx, poly6(r2, s.h2, s.poly6_coef));
                 const Vec3 grad = pair_gradient(d, r2, s.h, s.spiky_coef, i, j);
+                const float scorr = -scorr_push<kScorrBounded>(s, ctx, poly6(r2, s.h2, s.poly6_coef), r2,
+                                                               kScorrBounded ? length(grad) : 0.0f, lambda_i + pj.w);
                 dp += grad * (lambda_i + pj.w + scorr);
                 if (split) dp_old += grad * (old.w * lambda_i + old_push[j].w * pj.w);
             });

@@ -447,6 +447,7 @@ StepContext substep_context(const pbf_solver_params& p, const WorldConstants& s,
     const float scorr_relax = std::fmin(1.0f / (1.0f + g), 0.5f / (g * g));
     c.scorr_k = s.scorr_k * scorr_relax;
     c.scorr_ref_k = s.scorr_ref_k * scorr_relax;
+    c.scorr_gap_push = 0.5f * scorr_relax / (s.mass * s.inv_rest_density);
     // XSPH's c is per 1/60 s: a substep of Δt applies 1 - (1 - c)^(60 Δt), so the smoothing per
     // second does not depend on the substep count.
     c.xsph_c = xsph_factor(p.xsph_c, sub_dt);
