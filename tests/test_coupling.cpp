@@ -7,9 +7,9 @@
 // their bounds (Archimedes' torque, the floating fraction). The bounds are what the library owes,
 // so they stay as they are; the tag keeps the suite green while they fail and turns it red once
 // they pass (then remove the tag). Both errors shrink with the particle size, and the "resolved"
-// cases at the end (12 diameters, density held within 0.3 %) pass. docs/physics.md (Two-way
-// coupling) has the figures from 6 to 24 diameters, docs/perf.md ("Two-way coupling at 6
-// diameters") what was measured and tried.
+// cases (12 diameters, density held within 0.3 %: test_coupling_resolved.cpp) pass.
+// docs/physics.md (Two-way coupling) has the figures from 6 to 24 diameters, docs/perf.md
+// ("Two-way coupling at 6 diameters") what was measured and tried.
 #include "coupling_scenes.h"
 
 using namespace coupling;
@@ -83,20 +83,4 @@ TEST_CASE("coupling: force calls refuse what they cannot answer", "[coupling][ap
 TEST_CASE("coupling: 256 dynamic kinematic boxes each record their own push, and with the floor carry the water",
           "[coupling][colliders]") {
     check_many_boxes(PBF_BACKEND_CPU);
-}
-
-// The same checks where docs/physics.md (Two-way coupling) says buoyancy is accurate: the box 12
-// particle diameters across (radius 0.01 m) and the fluid held within 0.3 % of its rest density
-// (adaptive iterations, up to 16). The [gpu] twins also run at 24 diameters.
-TEST_CASE(
-    "coupling: resolved (12 particle diameters, density held within 0.3 %), a submerged box feels rho g V within 5 %",
-    "[coupling]") {
-    check_archimedes(PBF_BACKEND_CPU, resolved(0.01f));
-}
-
-TEST_CASE(
-    "coupling: resolved (12 particle diameters, density held within 0.3 %), a box of 500 kg/m3 floats half "
-    "submerged within 5 %",
-    "[coupling]") {
-    check_floating(PBF_BACKEND_CPU, resolved(0.01f));
 }
