@@ -443,11 +443,17 @@ using LambdaOp = LambdaPass<false>;
 // defaults', k_ref · min((W/W(0.2 h))^4, 2), plus what the given term rises above its own value
 // at s: pairs closer than s, which clump, still meet the given term's rise, and the push stays
 // continuous in r.
+// What the push adds above the defaults' k_ref w₀(r) is returned in *beyond as well: the Δ pass
+// moves positions by that part without giving it velocity. s_corr is not a constraint with a
+// state to reach but a push repeated every substep: a large k's rise, taken as velocity, throws
+// pairs apart faster than anything in the scene moves (in compressed water too, where λ already
+// pushes them apart). Moved in x alone it still undoes clumping and brings neither momentum nor
+// kinetic energy, and the defaults' part acts as it does in every world.
 // Compiled only into the Δ pass of such worlds (DeltaBounded): in the others' kernels even an
 // untaken branch took registers the hot loop needs.
 template <bool kBounded>
 PBF_HD float scorr_push(const WorldConstants& s, const StepContext& ctx, float w, float r2, float grad_len,
-                        float lambda_sum) {
+                        float lambda_sum, float* beyond = nullptr) {
     const float weight = scorr_weight(w * s.scorr_inv_w_dq, s.scorr_n, s.scorr_a, s.scorr_b);
     if (!kBounded) return ctx.scorr_k * weight;
     const float ratio = w * s.scorr_ref_inv_w_dq;
@@ -457,11 +463,13 @@ PBF_HD float scorr_push(const WorldConstants& s, const StepContext& ctx, float w
     // s_corr alone moves the pair, and there the rise moves each of the two at most half their
     // gap to the rest spacing per substep, relaxed as the whole term is: the pair is brought to
     // the rest spacing over s_corr's time scale instead of being thrown apart in one substep.
-    // In compressed water the rise adds to λ's push, stiffening it against clumping, unchanged.
+    // In compressed water the rise adds to λ's push, stiffening it against clumping.
     float rise = ctx.scorr_k * fmaxf(weight - s.scorr_rest_weight, 0.0f);
     if (lambda_sum == 0.0f)
         rise = fminf(rise, fmaxf(2.0f * s.radius - sqrtf(r2), 0.0f) * ctx.scorr_gap_push / fmaxf(grad_len, 1e-30f));
-    return fminf(ctx.scorr_k * weight, reference + rise);
+    const float push = fminf(ctx.scorr_k * weight, reference + rise);
+    if (beyond) *beyond = fmaxf(push - reference, 0.0f);
+    return push;
 }
 
 // Δp_i = (1/ρ0) Σ_j (λ_i + λ_j + s_corr) ∇W(x_i - x_j), s_corr = -k scorr_weight (sph.h); Jacobi:
@@ -505,10 +513,12 @@ struct DeltaPass {
                 const float r2 = length_sq(d);
                 if (r2 >= s.h2) return;
                 const Vec3 grad = pair_gradient(d, r2, s.h, s.spiky_coef, i, j);
-                const float scorr = -scorr_push<kScorrBounded>(s, ctx, poly6(r2, s.h2, s.poly6_coef), r2,
-                                                               kScorrBounded ? length(grad) : 0.0f, lambda_i + pj.w);
+                float beyond = 0.0f;
+                const float scorr =
+                    -scorr_push<kScorrBounded>(s, ctx, poly6(r2, s.h2, s.poly6_coef), r2,
+                                               kScorrBounded ? length(grad) : 0.0f, lambda_i + pj.w, &beyond);
                 dp += grad * (lambda_i + pj.w + scorr);
-                if (split) dp_old += grad * (old.w * lambda_i + old_push[j].w * pj.w);
+                if (split) dp_old += grad * (old.w * lambda_i + old_push[j].w * pj.w - beyond);
             });
             // The boundary's share of ∇C_i, weighted by λ_i alone (the boundary has no λ): the
             // walls', and the colliders' from the λ pass, which recorded their reaction

@@ -205,9 +205,11 @@ private:
         // errors move positions (γ > 2: passes.h, old_error_weight) the iterations keep the old
         // error's share of λ and its displacement there, and the last Δ pass writes the
         // velocities into spare_, the Jacobi buffer that pass does not use, as neighbours still
-        // read old_push.w in it. Elsewhere (every game frame's substeps) the split is skipped, its
-        // shares all 0, and Δp runs its kernel compiled without it (DeltaNoSplit).
-        Vec4* const old_push = old_error_weight(ctx.error_damping) > 0.0f ? vel_ : nullptr;
+        // read old_push.w in it. A world whose s_corr is bounded keeps the split at every Δt: its
+        // rise above the defaults' push moves positions without velocity (scorr_push). Elsewhere
+        // (every game frame's substeps) the split is skipped, its shares all 0, and Δp runs its
+        // kernel compiled without it (DeltaNoSplit).
+        Vec4* const old_push = old_error_weight(ctx.error_damping) > 0.0f || s.scorr_bounded ? vel_ : nullptr;
         for (uint32_t it = 0; it < in.iterations; ++it) {
             exec_.profile_mark(kStageLambda);
             for_each_pass<LambdaPass>(plain, bound_, s, ctx, cell_begin_, masks, it == 0 ? 1u : 0u, pos_, pred_,
