@@ -515,7 +515,8 @@ PBF_API pbf_result PBF_CALL pbf_world_emit_block(pbf_world_id world, const pbf_b
                                                  uint32_t* out_emitted);
 
 typedef enum pbf_emitter_type {
-    PBF_EMITTER_NOZZLE = 1,     /* emits particles_per_second through a disc, along direction */
+    PBF_EMITTER_NOZZLE = 1,     /* emits particles_per_second through a disc, along direction;
+                                   points of the disc inside a collider emit nothing */
     PBF_EMITTER_DRAIN = 2,      /* removes particles inside box_min..box_max at each step */
     PBF_EMITTER_TYPE_FORCE32 = 0x7FFFFFFF
 } pbf_emitter_type;

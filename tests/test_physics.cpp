@@ -273,14 +273,14 @@ TEST_CASE("particle ids wrap past 0xFFFFFFFE to 0 and never take the dead marker
     CHECK(particle_id(0xFFFFFFFEu, 1u) == 0u);
     CHECK(particle_id(0xFFFFFFFEu, 0xFFFFFFFFull) == 0xFFFFFFFEu);  // a whole cycle later: the same id
     // Through the emission ops: a counter 2 short of the marker emits ..FD, ..FE, 0, 1.
-    uint32_t count = 0, next_id = 0xFFFFFFFDu;
+    uint32_t count = 0, next_id = 0xFFFFFFFDu, blocked = 0;
     unsigned long long emitted = 0;
     std::vector<Vec4> pos(8), vel(8);
     std::vector<uint32_t> ids(8, 7u);
     const EmitBlockOp block{&count, &next_id,      8u,         Vec3{0, 0, 0}, 0.1f,      2u,
                             2u,     Vec3{0, 0, 0}, pos.data(), vel.data(),    ids.data()};
     for (uint32_t k = 0; k < 4; ++k) block(k);
-    CommitEmissionOp{&count, &next_id, &emitted, 8u, 4u}(0);
+    CommitEmissionOp{&count, &next_id, &emitted, &blocked, 8u, 4u}(0);
     CHECK(ids[0] == 0xFFFFFFFDu);
     CHECK(ids[1] == 0xFFFFFFFEu);
     CHECK(ids[2] == 0u);

@@ -695,7 +695,13 @@ struct EmitBlockOp {
 };
 
 // Nozzle: n particles spread over a disc by a golden-angle spiral, and along the direction by
-// how far they would have travelled since their emission time within the substep.
+// how far they would have travelled since their emission time within the substep. Where the
+// disc reaches into a collider, a point closer than one radius to its inside (at the substep's
+// start pose) emits nothing: the water has no room there. Its slot is marked dead, as a drain
+// marks one, so the next grid build drops it, and *blocked counts it, which the commit leaves
+// out of the emitted total. Emitted inside, the prediction projected the particle out as a
+// velocity of depth / Δt; moved out at emission, the points of the disc inside piled onto the
+// collider's surface, where they overlapped.
 struct EmitNozzleOp {
     const uint32_t* count;
     const uint32_t* next_id;
@@ -709,6 +715,9 @@ struct EmitNozzleOp {
     uint32_t* ids;
     uint8_t* materials = nullptr;
     uint8_t material = 0;
+    WorldConstants s{};
+    ColliderView colliders{};  // at the substep's poses; none: every point emits
+    uint32_t* blocked = nullptr;
     PBF_HD void operator()(uint32_t k) const {
         const uint32_t slot = *count + k;
         if (slot >= capacity) return;
@@ -719,16 +728,25 @@ struct EmitNozzleOp {
         const Vec3 p = center + tangent * (r * cosf(angle)) + bitangent * (r * sinf(angle)) + direction * travelled;
         positions[slot] = make_vec4(p, 1.0f);
         velocities[slot] = make_vec4(direction * speed, 0.0f);
+        Vec3 out = p;
+        if (colliders.count > 0 && push_out_of_colliders(s, colliders, colliders.prev, out)) {
+            ids[slot] = kDeadId;
+            atomic_add_u32(blocked, 1u);
+            return;
+        }
         ids[slot] = particle_id(*next_id, k);
         if (materials) materials[slot] = material;
     }
 };
 
-// Run as one thread after an emission of `requested` particles: advances count and ids.
+// Run as one thread after an emission of `requested` particles: advances count and ids. The
+// slots a nozzle left dead (*blocked) count until the next grid build drops them, but were never
+// emitted.
 struct CommitEmissionOp {
     uint32_t* count;
     uint32_t* next_id;
     unsigned long long* emitted_total;
+    uint32_t* blocked;
     uint32_t capacity;
     uint32_t requested;
     PBF_HD void operator()(uint32_t) const {
@@ -736,7 +754,8 @@ struct CommitEmissionOp {
         const uint32_t added = requested < room ? requested : room;
         *count += added;
         *next_id = particle_id(*next_id, added);
-        *emitted_total += added;
+        *emitted_total += added - *blocked;
+        *blocked = 0;
     }
 };
 

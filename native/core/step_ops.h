@@ -19,7 +19,7 @@ struct DeviceCounters {
     uint32_t count;  // live particles in slots [0, count)
     uint32_t next_id;
     uint32_t drained;  // drained this step, folded into drained_total
-    uint32_t pad;
+    uint32_t blocked;  // points of the current nozzle emission inside a collider: not emitted
     unsigned long long emitted_total;
     unsigned long long drained_total;
     IterationControl control;

@@ -118,7 +118,10 @@ private:
                             vel_,
                             ids_,
                             materials_,
-                            nz.material};
+                            nz.material,
+                            s,
+                            ctx.colliders,
+                            &counters_->blocked};
             exec_.for_each(nz.count, op);
             commit_emission(nz.count);
             materials_moved_ |= nz.material != 0;
@@ -354,7 +357,7 @@ private:
 
     void commit_emission(uint32_t requested) {
         exec_.for_each(1, CommitEmissionOp{&counters_->count, &counters_->next_id, &counters_->emitted_total,
-                                           config_.capacity, requested});
+                                           &counters_->blocked, config_.capacity, requested});
         grid_valid_ = density_valid_ = false;
         emitted_since_density_ = true;
     }

@@ -741,7 +741,10 @@ namespace Pbf.Interop
 
     public enum pbf_emitter_type : int
     {
-        /// <summary>emits particles_per_second through a disc, along direction</summary>
+        /// <summary>
+        /// emits particles_per_second through a disc, along direction;
+        /// points of the disc inside a collider emit nothing
+        /// </summary>
         PBF_EMITTER_NOZZLE = 1,
         /// <summary>removes particles inside box_min..box_max at each step</summary>
         PBF_EMITTER_DRAIN = 2,
