@@ -548,7 +548,20 @@ struct DeltaPass {
             }
         }
         if (finish_positions) {
-            const Vec3 v = limit_speed(ctx, (c - xyz(positions[i]) - xyz(old)) * ctx.inv_dt);
+            const Vec3 x = xyz(positions[i]);
+            const Vec3 moved = (c - x - xyz(old)) * ctx.inv_dt;
+            const Vec3 v = limit_speed(ctx, moved);
+            // The speed limit holds the position as well as the velocity: no particle crosses more
+            // than the limit allows in a substep (the neighbour search's reach). Cut in v alone,
+            // the position kept a move its velocity no longer had, and the next substep met
+            // neighbours closer than the motion explains, whose push drove a jet along a wall on
+            // at the limit. Where the limit cuts, the position is taken back along the same move
+            // and projected again (no reaction recorded: the contacts were).
+            if (v.x != moved.x || v.y != moved.y || v.z != moved.z) {
+                ColliderView quiet = F::colliders(ctx);
+                quiet.impulses = nullptr;
+                c = collide(s, quiet, x + xyz(old) + v * ctx.dt, x);
+            }
             finish_velocities[i] = make_vec4(v, 0.0f);
             if (!kPlain && ctx.colliders.count > 0) c = free_from_walls(s, ctx.colliders, c);
             finish_positions[i] = make_vec4(c, density[i] * s.inv_rest_density);
