@@ -282,9 +282,9 @@ PBF_HD float old_error_weight(float gamma) {
     const float u = gamma > 2.0f ? 1.0f - 2.0f / gamma : 0.0f;
     return u * u;
 }
-PBF_HD float old_error_share(float target, float c0, float gamma) {
+PBF_HD float old_error_share(float target, float c0, float weight) {
     if (!(target > 0.0f)) return 0.0f;
-    return fminf(c0, target) / target * old_error_weight(gamma);
+    return fminf(c0, target) / target * weight;
 }
 
 // v += (g + f_ldc) Δt ; x* = x + v Δt, projected out of colliders and walls.
@@ -303,7 +303,7 @@ struct PredictOp {
         // particle further, and at Δt ≪ τ the rise counted as new error went into velocity in one
         // substep (at 1e-5 s, 24 m/s per 1 % of compression). So C₀ moves toward the error at x
         // itself where that is larger, by the weight old_error_share gives positions (0 at γ ≤ 2).
-        const float positional = old_error_weight(ctx.error_damping);
+        const float positional = ctx.positional_weight;
         if (positional > 0.0f) {
             const float w = positions[i].w;
             positions[i].w = w + positional * fmaxf(density[i] * s.inv_rest_density - w, 0.0f);
@@ -418,7 +418,7 @@ struct LambdaPass {
         if (old_push) {
             float share;
             if (record) {
-                share = old_error_share(target, c0, ctx.error_damping);
+                share = old_error_share(target, c0, ctx.positional_weight);
                 old_push[i] = make_vec4(Vec3{0.0f, 0.0f, 0.0f}, share);
             } else {
                 share = old_push[i].w;

@@ -96,7 +96,7 @@ public:
 
 private:
     void substep(const WorldConstants& s, const SubstepInput& in) {
-        const StepContext& ctx = in.ctx;
+        StepContext ctx = in.ctx;
         exec_.profile_mark(kStageEmitDrain);
         // Emission and drains first, so the grid builds below drop drained particles.
         for (const NozzleEmission& nz : in.nozzles) {
@@ -135,14 +135,22 @@ private:
 
         // 0. Overlaps no motion made (a collider created or teleported into the fluid, a block
         // emitted into one): settled in x, which gives no velocity.
-        if (in.settle_overlaps) settle(s, ctx, in.iterations);
+        if (in.settle_overlaps) {
+            settle(s, ctx, in.iterations);
+            // What the settling iterations leave is the same overlap, no motion either: removed in
+            // the positions too, as an old error is at small Δt, and without LDC's push, which
+            // would turn its density gradient into velocity (docs/physics.md, Overlaps).
+            ctx.positional_weight = 1.0f;
+            ctx.ldc_k = 0.0f;
+            for (float& k : ctx.material_ldc_k) k = 0.0f;
+        }
         // 0b. Contact penetration a particle starts the substep with (a wall or a second
         // collider pushed it back in, or a mesh field's approximate projection left it short) is
         // no motion of the substep: projected out in the prediction it became velocity, depth /
         // Δt (100 m/s from a step of 1e-7 s). So where old errors move positions (γ > 2,
         // passes.h old_error_weight) it is removed in x by the same weight, as pre-stabilization
         // removes contacts (Macklin et al. 2014), with no reaction recorded.
-        const float contact_weight = old_error_weight(ctx.error_damping);
+        const float contact_weight = ctx.positional_weight;
         if (contact_weight > 0.0f && ctx.colliders.count > 0 && !in.settle_overlaps) {
             exec_.for_each(bound_, SettleOverlapOp{s, ctx.colliders, pos_, contact_weight});
             grid_valid_ = density_valid_ = masks_valid_ = false;
@@ -159,7 +167,7 @@ private:
         // those the corrections brought within h, and the λ pass, walking the new grid, took
         // the difference for compression this substep's motion made (new error, removed as
         // velocity in one substep: 100 m/s from a step of 1.6e-7 s after a block struck a wall).
-        if (old_error_weight(ctx.error_damping) > 0.0f) grid_valid_ = density_valid_ = false;
+        if (ctx.positional_weight > 0.0f) grid_valid_ = density_valid_ = false;
         if (s.ldc_enabled || emitted_since_density_ || ctx.error_damping > 1.0f) {
             exec_.profile_mark(kStageGridX);
             if (!grid_valid_) build_grid(s, false);
@@ -212,7 +220,7 @@ private:
         // rise above the defaults' push moves positions without velocity (scorr_push). Elsewhere
         // (every game frame's substeps) the split is skipped, its shares all 0, and Δp runs its
         // kernel compiled without it (DeltaNoSplit).
-        Vec4* const old_push = old_error_weight(ctx.error_damping) > 0.0f || s.scorr_bounded ? vel_ : nullptr;
+        Vec4* const old_push = ctx.positional_weight > 0.0f || s.scorr_bounded ? vel_ : nullptr;
         for (uint32_t it = 0; it < in.iterations; ++it) {
             exec_.profile_mark(kStageLambda);
             for_each_pass<LambdaPass>(plain, bound_, s, ctx, cell_begin_, masks, it == 0 ? 1u : 0u, pos_, pred_,

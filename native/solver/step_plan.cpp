@@ -432,6 +432,7 @@ StepContext substep_context(const pbf_solver_params& p, const WorldConstants& s,
     // velocity larger than about error · sound_speed.
     const float tau = s.h / p.sound_speed;
     c.error_damping = std::fmin(error_damping(tau, s.h, length(s.gravity), sub_dt), 1e6f);
+    c.positional_weight = old_error_weight(c.error_damping);
     c.ldc_k = p.ldc_gain / (sub_dt * sub_dt + tau * tau);
     // s_corr answers an arrangement (clumping) that persists, so it pushes again every substep:
     // k/(1 + γ) while Δt ≥ τ (γ ≤ 1), then k/(2γ²), an acceleration of about k/(2τ²) as Δt → 0,
