@@ -59,6 +59,15 @@ TEST_CASE("step plan: fixed substeps split the frame step evenly, settling only 
         CHECK(in.substeps[k].iterations == p.desc.solver.iterations);
         CHECK(in.substeps[k].settle_overlaps == (k == 0));
     }
+    // The settling substep removes what the settling leaves in the positions (weight 1), with no
+    // LDC push; the others keep the substep's own weight and K.
+    const StepContext& settling = in.substeps[0].ctx;
+    const StepContext& later = in.substeps[1].ctx;
+    CHECK(settling.positional_weight == 1.0f);
+    CHECK(settling.ldc_k == 0.0f);
+    for (float k : settling.material_ldc_k) CHECK(k == 0.0f);
+    CHECK(later.positional_weight == old_error_weight(later.error_damping));
+    CHECK(later.ldc_k > 0.0f);
 }
 
 TEST_CASE("step plan: a nozzle emits its rate over the frame whatever the substep count", "[plan]") {

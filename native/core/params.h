@@ -177,7 +177,7 @@ struct StepContext {
     float error_damping;   // γ = τ / Δt: an error present at the substep's start relaxes by 1/(1 + γ)
     // The share of such an error that moves positions without giving velocity: (1 - 2/γ)² at
     // γ > 2, 0 below (passes.h, old_error_weight); 1 in the substep that settles overlaps no
-    // motion made (Solver::substep), whose leftover compression is no motion either.
+    // motion made (step_plan.cpp), whose leftover compression is no motion either.
     float positional_weight;
     float ldc_k;           // LDC's K (1/s²)
     float scorr_k;         // s_corr's k of this substep: WorldConstants::scorr_k · min(1/(1 + γ), 1/(2γ²))

@@ -96,7 +96,7 @@ public:
 
 private:
     void substep(const WorldConstants& s, const SubstepInput& in) {
-        StepContext ctx = in.ctx;
+        const StepContext& ctx = in.ctx;
         exec_.profile_mark(kStageEmitDrain);
         // Emission and drains first, so the grid builds below drop drained particles.
         for (const NozzleEmission& nz : in.nozzles) {
@@ -135,15 +135,9 @@ private:
 
         // 0. Overlaps no motion made (a collider created or teleported into the fluid, a block
         // emitted into one): settled in x, which gives no velocity.
-        if (in.settle_overlaps) {
-            settle(s, ctx, in.iterations);
-            // What the settling iterations leave is the same overlap, no motion either: removed in
-            // the positions too, as an old error is at small Δt, and without LDC's push, which
-            // would turn its density gradient into velocity (docs/physics.md, Overlaps).
-            ctx.positional_weight = 1.0f;
-            ctx.ldc_k = 0.0f;
-            for (float& k : ctx.material_ldc_k) k = 0.0f;
-        }
+        // What they leave is removed in the positions in this substep, without LDC's push (its
+        // context: step_plan.cpp, plan_step).
+        if (in.settle_overlaps) settle(s, ctx, in.iterations);
         // 0b. Contact penetration a particle starts the substep with (a wall or a second
         // collider pushed it back in, or a mesh field's approximate projection left it short) is
         // no motion of the substep: projected out in the prediction it became velocity, depth /

@@ -524,6 +524,15 @@ void plan_step(const pbf_solver_params& p, const WorldConstants& c, const Materi
         in.ctx = ctx;
         in.iterations = iterations;
         in.settle_overlaps = k == 0 && (frame.overlaps_pending || input->colliders_cut);
+        if (in.settle_overlaps) {
+            // What the settling iterations leave is the same overlap, no motion either: removed in
+            // the positions too, as an old error is at small Δt (weight 1), and without LDC's
+            // push, which would turn its density gradient into velocity (docs/physics.md,
+            // Overlaps).
+            in.ctx.positional_weight = 1.0f;
+            in.ctx.ldc_k = 0.0f;
+            for (float& k : in.ctx.material_ldc_k) k = 0.0f;
+        }
         for (EmitterState& e : *emitters) {
             if (!e.desc.enabled) continue;
             if (e.desc.type == PBF_EMITTER_DRAIN)
