@@ -302,7 +302,8 @@ struct PredictOp {
         // (positions.w): usually a slight overestimate. But that correction can compress a
         // particle further, and at Δt ≪ τ the rise counted as new error went into velocity in one
         // substep (at 1e-5 s, 24 m/s per 1 % of compression). So C₀ moves toward the error at x
-        // itself where that is larger, by the weight old_error_share gives positions (0 at γ ≤ 2).
+        // itself where that is larger, by the weight old_error_share gives positions
+        // (StepContext::positional_weight: 0 at γ ≤ 2 outside a substep that settles overlaps).
         const float positional = ctx.positional_weight;
         if (positional > 0.0f) {
             const float w = positions[i].w;
