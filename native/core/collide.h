@@ -292,8 +292,15 @@ PBF_HD Vec3 collide(const WorldConstants& s, const ColliderView& cv, Vec3 p, Vec
 // overlapped layers keep their order and spacing outside a flat face, where ending all at r
 // outside piled them onto one sheet, whose particles have no direction between them to be
 // separated along (the settling iterations that follow spread them only within it).
+// Where the mirror carries a particle past a wall, it is folded back in by the same reflection
+// at the wall: clamped, the overlapped layers beyond the wall piled onto its face as one sheet,
+// which the settling iterations leave compressed (8 % in a tilted plane created over a tank's
+// water), and the pressure of that sheet threw water along the wall at 13 m/s.
+PBF_HD float fold_into(float p, float lo, float hi) { return p < lo ? 2.0f * lo - p : p > hi ? 2.0f * hi - p : p; }
 PBF_HD Vec3 project_out_at_start(const WorldConstants& s, const ColliderView& cv, Vec3 p, bool mirror = false) {
-    push_out_of_colliders(s, cv, cv.prev, p, mirror);
+    if (push_out_of_colliders(s, cv, cv.prev, p, mirror) && mirror)
+        p = Vec3{fold_into(p.x, s.wall_min.x, s.wall_max.x), fold_into(p.y, s.wall_min.y, s.wall_max.y),
+                 fold_into(p.z, s.wall_min.z, s.wall_max.z)};
     return clamp_into_walls(s, cv, cv.prev, p);
 }
 
