@@ -150,7 +150,6 @@ struct WorldConstants {
     float scorr_rest_weight;   // scorr_weight at the rest spacing
     float scorr_ref_inv_w_dq;  // 1 / W(0.2 h), the reference shape's
     float scorr_ref_k;         // the default k, in the units of scorr_k
-    float scorr_ref_rest_weight;  // the reference shape's min((W/W(0.2 h))^4, 2) at the rest spacing
     // velocity post-processing
     float vorticity_epsilon, max_speed;
     uint32_t ldc_enabled;
@@ -183,8 +182,6 @@ struct StepContext {
     float ldc_k;           // LDC's K (1/s²)
     float scorr_k;         // s_corr's k of this substep: WorldConstants::scorr_k · min(1/(1 + γ), 1/(2γ²))
     float scorr_ref_k;     // the default k's, relaxed the same way (WorldConstants::scorr_bounded)
-    float scorr_rest_k;      // scorr_k for the push up to the rest spacing's weight: at most (60 Δt)² of k
-    float scorr_ref_rest_k;  // the default k's, the same way
     float scorr_gap_push;  // bounded s_corr: the relaxation / (2 m/ρ0), turning a gap into a push
     float xsph_c;          // XSPH factor of this substep (the user's c is per 1/60 s)
     float speed_limit;     // min(max_speed, the travel cap · h / Δt)

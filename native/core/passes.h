@@ -456,15 +456,9 @@ template <bool kBounded>
 PBF_HD float scorr_push(const WorldConstants& s, const StepContext& ctx, float w, float r2, float grad_len,
                         float lambda_sum, float* beyond = nullptr) {
     const float weight = scorr_weight(w * s.scorr_inv_w_dq, s.scorr_n, s.scorr_a, s.scorr_b);
-    // Up to the rest spacing's weight at its own (per 1/60 s) strength, the rise above it at k
-    // (StepContext::scorr_rest_k, solver/step_plan.cpp).
-    const float at_rest = fminf(weight, s.scorr_rest_weight);
-    const float pushed = ctx.scorr_rest_k * at_rest + ctx.scorr_k * (weight - at_rest);
-    if (!kBounded) return pushed;
+    if (!kBounded) return ctx.scorr_k * weight;
     const float ratio = w * s.scorr_ref_inv_w_dq;
-    const float ref_weight = fminf(ratio * ratio * ratio * ratio, kScorrPowerCap);
-    const float ref_at_rest = fminf(ref_weight, s.scorr_ref_rest_weight);
-    const float reference = ctx.scorr_ref_rest_k * ref_at_rest + ctx.scorr_ref_k * (ref_weight - ref_at_rest);
+    const float reference = ctx.scorr_ref_k * fminf(ratio * ratio * ratio * ratio, kScorrPowerCap);
     // The rise answers a pair closer than the rest spacing. Where neither particle is compressed
     // (λ_i + λ_j = 0: in a stream too sparse for λ, where a nozzle emits a particle near another)
     // s_corr alone moves the pair, and there the rise moves each of the two at most half their
@@ -474,7 +468,7 @@ PBF_HD float scorr_push(const WorldConstants& s, const StepContext& ctx, float w
     float rise = ctx.scorr_k * fmaxf(weight - s.scorr_rest_weight, 0.0f);
     if (lambda_sum == 0.0f)
         rise = fminf(rise, fmaxf(2.0f * s.radius - sqrtf(r2), 0.0f) * ctx.scorr_gap_push / fmaxf(grad_len, 1e-30f));
-    const float push = fminf(pushed, reference + rise);
+    const float push = fminf(ctx.scorr_k * weight, reference + rise);
     if (beyond) *beyond = fmaxf(push - reference, 0.0f);
     return push;
 }

@@ -68,9 +68,6 @@ constexpr float kScorrPowerCap = 2.0f;
 // sound_speed): its time scale is h / sound_speed or h / this, whichever is longer
 // (solver/step_plan.cpp, substep_context).
 constexpr float kScorrResponseSpeed = 40.0f;
-// The substep below which s_corr's push at the rest spacing is a force, per second what it is at
-// this substep (solver/step_plan.cpp, substep_context): a quarter of a 1/60 s frame.
-constexpr float kScorrRestStep = 1.0f / 240.0f;
 
 // s_corr's reference shape (Macklin & Müller 2013): Δq = 0.2 h, n = 4, and k = 0.1: the defaults.
 constexpr float kScorrReferenceDq = 0.2f;

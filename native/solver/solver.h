@@ -294,7 +294,7 @@ private:
         StepContext settling = ctx;
         settling.colliders.impulses = nullptr;
         settling.error_damping = kSettleDamping;
-        settling.scorr_k = settling.scorr_rest_k = 0.0f;
+        settling.scorr_k = 0.0f;
         const uint32_t settle_iterations = std::max(iterations, kSettleIterations);
         for (uint32_t done = 0; done < settle_iterations; done += kSettleRound) {
             // Each round starts from x, binned anew, so the particles it moves meet the

@@ -341,7 +341,6 @@ WorldConstants derive_constants(const pbf_world_desc& desc, const MaterialTable&
     s.scorr_k *= shape.scale;
     s.scorr_rest_weight = scorr_weight(w_rest * s.scorr_inv_w_dq, s.scorr_n, s.scorr_a, s.scorr_b);
     s.scorr_ref_inv_w_dq = inv_w_dq_ref;
-    s.scorr_ref_rest_weight = std::fmin(scorr_power(w_rest * inv_w_dq_ref, kScorrReferenceN), kScorrPowerCap);
     s.scorr_bounded = p.scorr_k > 0.0f && !(p.scorr_k <= kScorrReferenceK && p.scorr_n == kScorrReferenceN &&
                                             p.scorr_dq == kScorrReferenceDq);
     s.scorr_ref_k = kScorrReferenceK / (scales.rest_gradient_norm2 * (1.0f + p.relaxation));
@@ -449,21 +448,6 @@ StepContext substep_context(const pbf_solver_params& p, const WorldConstants& s,
     const float scorr_relax = std::fmin(1.0f / (1.0f + g), 0.5f / (g * g));
     c.scorr_k = s.scorr_k * scorr_relax;
     c.scorr_ref_k = s.scorr_ref_k * scorr_relax;
-    // Its push up to the rest spacing's weight (what a fluid at rest feels: at a free surface it
-    // is not balanced, so it pushes the surface outward) is, below substeps of kScorrRestStep, a
-    // force: per second what it is at kScorrRestStep, (Δt / kScorrRestStep)² of that per substep.
-    // Relaxed as above alone it grew as 1/Δt² down to Δt = τ: at 43 fixed substeps a slab at rest
-    // in zero gravity reached 1.1 m/s within 1 s, against 0.05 m/s at one substep, energy the
-    // fluid never had. At the game's substeps (up to 4 per 1/60 s) nothing changes: a resting
-    // pool needs the push there (it holds the surface up against the residual compression; a
-    // per-1/60 s force sank a pool at 4 substeps 1.1 % below its depth). The rise above that
-    // weight, which separates clumped pairs, still pushes every substep as above.
-    const float g_rest = std::fmin(std::fmax(tau, s.h / kScorrResponseSpeed) / kScorrRestStep, 1e6f);
-    const float at_rest_step = std::fmin(1.0f / (1.0f + g_rest), 0.5f / (g_rest * g_rest));
-    const float shorter = sub_dt / kScorrRestStep;
-    const float rest_relax = shorter >= 1.0f ? scorr_relax : std::fmin(scorr_relax, at_rest_step * shorter * shorter);
-    c.scorr_rest_k = s.scorr_k * rest_relax;
-    c.scorr_ref_rest_k = s.scorr_ref_k * rest_relax;
     c.scorr_gap_push = 0.5f * scorr_relax / (s.mass * s.inv_rest_density);
     // XSPH's c is per 1/60 s: a substep of Δt applies 1 - (1 - c)^(60 Δt), so the smoothing per
     // second does not depend on the substep count.
