@@ -293,9 +293,9 @@ PBF_HD Vec3 collide(const WorldConstants& s, const ColliderView& cv, Vec3 p, Vec
 // outside piled them onto one sheet, whose particles have no direction between them to be
 // separated along (the settling iterations that follow spread them only within it).
 // Where the mirror carries a particle past a wall, it is folded back in by the same reflection
-// at the wall: clamped, the overlapped layers beyond the wall piled onto its face as one sheet,
-// which the settling iterations leave compressed (8 % in a tilted plane created over a tank's
-// water), and the pressure of that sheet threw water along the wall at 13 m/s.
+// at the wall: clamped, the overlapped layers beyond the wall would pile onto its face as one
+// sheet, which the settling iterations leave compressed and whose pressure throws water along
+// the wall (docs/physics.md, Overlaps).
 PBF_HD float fold_into(float p, float lo, float hi) { return p < lo ? 2.0f * lo - p : p > hi ? 2.0f * hi - p : p; }
 PBF_HD Vec3 project_out_at_start(const WorldConstants& s, const ColliderView& cv, Vec3 p, bool mirror = false) {
     if (push_out_of_colliders(s, cv, cv.prev, p, mirror) && mirror)
