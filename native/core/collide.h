@@ -231,6 +231,18 @@ PBF_HD bool push_out_of_colliders(const WorldConstants& s, const ColliderView& c
     return inside;
 }
 
+// Where a push out of one collider landed p inside another (a sphere sunk into a floor plane,
+// a box resting on a capsule: shells that overlap), pushes out of them again, alternately, up to
+// kProjectRounds - 1 times or until p overlaps none: alternating moves it along both surfaces to
+// where it clears them, where there is such a place near. Pushed once, a particle in such a
+// wedge stayed inside the collider pushed first, and the substep's projection out of it became
+// velocity, depth / Δt.
+PBF_HD void push_out_in_rounds(const WorldConstants& s, const ColliderView& cv, const ColliderPose* poses, Vec3& p) {
+    if (cv.count < 2) return;
+    for (uint32_t round = 1; round < kProjectRounds; ++round)
+        if (!push_out_of_colliders(s, cv, poses, p)) return;
+}
+
 // Frees a particle that ends a substep held inside a box by a wall (wall_detour), in x alone:
 // the substep's velocity is already taken, and the next starts clear of the box. Only a
 // particle on a wall (within the clamp's restitution of it) can be held so; the others pay six
@@ -298,9 +310,11 @@ PBF_HD Vec3 collide(const WorldConstants& s, const ColliderView& cv, Vec3 p, Vec
 // the wall (docs/physics.md, Overlaps).
 PBF_HD float fold_into(float p, float lo, float hi) { return p < lo ? 2.0f * lo - p : p > hi ? 2.0f * hi - p : p; }
 PBF_HD Vec3 project_out_at_start(const WorldConstants& s, const ColliderView& cv, Vec3 p, bool mirror = false) {
-    if (push_out_of_colliders(s, cv, cv.prev, p, mirror) && mirror)
+    if (!push_out_of_colliders(s, cv, cv.prev, p, mirror)) return clamp_into_walls(s, cv, cv.prev, p);
+    if (mirror)
         p = Vec3{fold_into(p.x, s.wall_min.x, s.wall_max.x), fold_into(p.y, s.wall_min.y, s.wall_max.y),
                  fold_into(p.z, s.wall_min.z, s.wall_max.z)};
+    push_out_in_rounds(s, cv, cv.prev, p);
     return clamp_into_walls(s, cv, cv.prev, p);
 }
 

@@ -143,9 +143,11 @@ private:
         // no motion of the substep: projected out in the prediction it became velocity, depth /
         // Δt (100 m/s from a step of 1e-7 s). So where old errors move positions (γ > 2,
         // passes.h old_error_weight) it is removed in x by the same weight, as pre-stabilization
-        // removes contacts (Macklin et al. 2014), with no reaction recorded.
+        // removes contacts (Macklin et al. 2014), with no reaction recorded. After a settling too:
+        // its iterations move x, and where a wedge between colliders has no room near, they
+        // leave some particles in contact.
         const float contact_weight = ctx.positional_weight;
-        if (contact_weight > 0.0f && ctx.colliders.count > 0 && !in.settle_overlaps) {
+        if (contact_weight > 0.0f && ctx.colliders.count > 0) {
             exec_.for_each(bound_, SettleOverlapOp{s, ctx.colliders, pos_, contact_weight});
             grid_valid_ = density_valid_ = masks_valid_ = false;
         }
