@@ -257,8 +257,8 @@ TEST_CASE("valid inputs: one step of 1e-7 s on a pool around a sphere sunk into 
 // 0.031 m3 over the tank's 0.36 m2) plus the at-rest allowance.
 namespace {
 struct SunkSphere {
-    double top = 0.0;      // m/s, the fastest particle after any step
-    double lowest = 1e9;   // m, the lowest particle centre after any step
+    double top = 0.0;     // m/s, the fastest particle after any step
+    double lowest = 1e9;  // m, the lowest particle centre after any step
 };
 SunkSphere sphere_sunk_into_slab(float dt, double seconds) {
     pbf_world_id w = create(tank(PBF_BACKEND_CPU, 0.02f, 0.6f, 0.6f, 0.6f, 16384));
