@@ -214,8 +214,9 @@ PBF_HD Vec3 clamp_to_walls(const WorldConstants& s, Vec3 p) {
 // Moves p out of every collider it overlaps at `poses`, to `radius` outside the surface, plus
 // its depth inside where `mirror` (no sweep, no friction, no reaction recorded); returns whether
 // it was inside one.
+// A particle within `slack` of that distance counts as outside.
 PBF_HD bool push_out_of_colliders(const WorldConstants& s, const ColliderView& cv, const ColliderPose* poses, Vec3& p,
-                                  bool mirror = false) {
+                                  bool mirror = false, float slack = 0.0f) {
     const Vec3 r{s.radius, s.radius, s.radius};
     bool inside = false;
     for_each_collider_on_path(cv, p, p, s.radius, [&](uint32_t k) {
@@ -223,7 +224,7 @@ PBF_HD bool push_out_of_colliders(const WorldConstants& s, const ColliderView& c
         if (!overlaps(c.bounds, p - r, p + r)) return;
         Vec3 n;
         const float d = collider_distance(c, poses[k], p, n, cv.meshes);
-        if (d < s.radius) {
+        if (d < s.radius - slack) {
             p += n * (s.radius - d + (mirror ? fmaxf(-d, 0.0f) : 0.0f));
             inside = true;
         }
@@ -267,13 +268,18 @@ PBF_HD Vec3 free_from_walls(const WorldConstants& s, const ColliderView& cv, Vec
 // the colliders at `poses` (push_out_of_colliders: the geometry's resolution of a wedge, not a
 // contact's response) and clamped again, up to kProjectRounds times. A particle that meets no
 // wall pays one comparison.
+// The rounds end once the clamp leaves p within kWedgeSlack of a radius of the collider's
+// reach. Alternated to convergence, every particle a collider pressed into a pocket of the walls
+// (a body in a corner) ended on the pocket's one clear point, all on one position, with no
+// direction between them; stopped that close to it, each ends where its own path brings it.
+constexpr float kWedgeSlack = 1e-2f;
 PBF_HD Vec3 clamp_into_walls(const WorldConstants& s, const ColliderView& cv, const ColliderPose* poses, Vec3 p) {
     for (uint32_t round = 0;; ++round) {
         const Vec3 walled = clamp_to_walls(s, p);
         if (cv.count == 0 || round + 1 == kProjectRounds || (walled.x == p.x && walled.y == p.y && walled.z == p.z))
             return walled;
         p = walled;
-        if (!push_out_of_colliders(s, cv, poses, p)) return p;
+        if (!push_out_of_colliders(s, cv, poses, p, false, kWedgeSlack * s.radius)) return p;
     }
 }
 
