@@ -250,11 +250,10 @@ TEST_CASE("valid inputs: one step of 1e-7 s on a pool around a sphere sunk into 
 // A settled pool 0.3 m deep on a floor slab (a static box 0.2 m thick across a tank 1 m tall:
 // level geometry), then a static sphere of radius 0.2 m created into it, sunk 0.05 m into the
 // slab. The water at its foot is wedged between two colliders whose shells overlap: pushed out
-// of one into the other once, it was left in contact, and the substep's projection out of it
-// became velocity (3.5 m/s at 1/60 s steps, 21 m/s at 1e-3 s, 100 m/s at 1.5e-4 s). The pushes now
-// alternate until a particle clears both (core/collide.h, push_out_in_rounds), and the contact
-// a settling leaves is removed in x. Bound: the fall over the surface's rise (the displaced
-// 0.031 m3 over the tank's 0.36 m2) plus the at-rest allowance.
+// of one into the other once, it stays in contact, and the substep's projection out of it
+// becomes velocity, so the pushes alternate until a particle clears both (core/collide.h,
+// push_out_in_rounds) and the contact a settling leaves is removed in x. Bound: the fall over
+// the surface's rise (the displaced 0.031 m3 over the tank's 0.36 m2) plus the at-rest allowance.
 namespace {
 struct SunkSphere {
     double top = 0.0;     // m/s, the fastest particle after any step
@@ -293,7 +292,7 @@ TEST_CASE("valid inputs: a sphere created sunk into a floor slab under a pool fl
 }
 
 // The same at 1e-3 s steps: what the settling leaves relaxes in too few steps' time (open:
-// docs/physics.md, Overlaps; 7.8 m/s, 4.4 with 128 settling iterations instead of 32).
+// docs/physics.md, Overlaps).
 TEST_CASE("valid inputs: a sphere created sunk into a floor slab under a pool flings no water at 1e-3 s steps",
           "[valid][collide][!shouldfail]") {
     const SunkSphere r = sphere_sunk_into_slab(1e-3f, 0.1);
