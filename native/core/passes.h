@@ -134,16 +134,19 @@ struct DensityOp {
 // For overlaps no motion made: a collider created or teleported into the fluid, a block emitted
 // into one. The solver runs these on the first substep after such a change (Solver::settle).
 // x moves out of the colliders it overlaps at the start poses: mirrored (project_out_at_start)
-// all the way, or by `weight` of a plain projection (the substeps' contact pre-stabilization,
-// Solver::substep, whose penetrations are a contact's, a fraction of a radius).
+// all the way (`mirror`: the settling and the contacts its iterations leave, which a plain
+// projection would pile onto the surface the settling cleared), or by `weight` of a plain
+// projection (the substeps' contact pre-stabilization, Solver::substep, whose penetrations are a
+// contact's, a fraction of a radius).
 struct SettleOverlapOp {
     WorldConstants s;
     ColliderView colliders;
     Vec4* positions;
     float weight = 1.0f;
+    bool mirror = false;
     PBF_HD void operator()(uint32_t i) const {
         const Vec4 x = positions[i];
-        const Vec3 out = project_out_at_start(s, colliders, xyz(x), weight == 1.0f);
+        const Vec3 out = project_out_at_start(s, colliders, xyz(x), mirror);
         positions[i] = make_vec4(weight == 1.0f ? out : xyz(x) + (out - xyz(x)) * weight, x.w);
     }
 };

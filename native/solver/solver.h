@@ -145,10 +145,10 @@ private:
         // passes.h old_error_weight) it is removed in x by the same weight, as pre-stabilization
         // removes contacts (Macklin et al. 2014), with no reaction recorded. After a settling too:
         // its iterations move x, and where a wedge between colliders has no room near, they
-        // leave some particles in contact.
+        // leave some particles in contact, which are mirrored out as the settling's own were.
         const float contact_weight = ctx.positional_weight;
         if (contact_weight > 0.0f && ctx.colliders.count > 0) {
-            exec_.for_each(bound_, SettleOverlapOp{s, ctx.colliders, pos_, contact_weight});
+            exec_.for_each(bound_, SettleOverlapOp{s, ctx.colliders, pos_, contact_weight, in.settle_overlaps});
             grid_valid_ = density_valid_ = masks_valid_ = false;
         }
         // 1. ρ at the current positions (grid of x): LDC needs it, and so does the λ pass's error
@@ -292,7 +292,7 @@ private:
     // density pass of the substep then takes what is left as the error the particles start
     // with, which relaxes over τ (docs/physics.md, Overlaps).
     void settle(const WorldConstants& s, const StepContext& ctx, uint32_t iterations) {
-        if (ctx.colliders.count > 0) exec_.for_each(bound_, SettleOverlapOp{s, ctx.colliders, pos_});
+        if (ctx.colliders.count > 0) exec_.for_each(bound_, SettleOverlapOp{s, ctx.colliders, pos_, 1.0f, true});
         StepContext settling = ctx;
         settling.colliders.impulses = nullptr;
         settling.error_damping = kSettleDamping;
