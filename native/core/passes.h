@@ -113,7 +113,10 @@ PBF_HD float density_at(const WorldConstants& s, const ColliderView& colliders, 
     return rho * s.mass + boundary_at(s, colliders, xi).density_ratio * s.rest_density;
 }
 
-// SPH density at the current positions; also stores ρ/ρ0 in positions' w (for colouring).
+// SPH density at the current positions; in the step it also stores ρ/ρ0 in positions' w (the
+// error C₀ the next substep starts from, and the colour). A read of the stats between steps
+// sums ρ alone (`store_ratio` false): the w the step left is that C₀, and a read must not change
+// what the next step does.
 // With masks (the last substep's, while the particle order is unchanged) it replays them.
 struct DensityOp {
     WorldConstants s;
@@ -122,10 +125,11 @@ struct DensityOp {
     Vec4* positions;
     float* density;
     NeighborMasks masks;  // rows null: walk the grid
+    bool store_ratio = true;
     PBF_HD void operator()(uint32_t i) const {
         const float rho = density_at(s, colliders, cell_begin, masks, positions, i, xyz(positions[i]));
         density[i] = rho;
-        positions[i].w = rho * s.inv_rest_density;
+        if (store_ratio) positions[i].w = rho * s.inv_rest_density;
     }
 };
 

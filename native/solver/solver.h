@@ -432,10 +432,12 @@ public:
 
     Status read_stats(const WorldConstants& s, StatsReadback* out) override {
         exec_.activate();
-        if (!density_valid_) {  // the grid is valid between API calls: one density pass suffices
-            exec_.for_each(bound_, DensityOp{s, colliders_.at_rest(), cell_begin_, pos_, density_, valid_masks()});
-            density_valid_ = true;
-            emitted_since_density_ = false;
+        // The grid is valid between API calls: one density pass suffices. It leaves positions.w
+        // and the step's own density bookkeeping as they were (DensityOp, store_ratio): reading
+        // the stats or not gives the same next step.
+        if (!density_valid_) {
+            exec_.for_each(bound_,
+                           DensityOp{s, colliders_.at_rest(), cell_begin_, pos_, density_, valid_masks(), false});
         }
         return stats_.read(s, particles(), diffuse_, out);
     }
