@@ -445,7 +445,8 @@ typedef struct pbf_world_info {
 } pbf_world_info;
 PBF_API pbf_result PBF_CALL pbf_world_get_info(pbf_world_id world, pbf_world_info* out_info);
 
-/* Statistics of the last step (all zero before the first). Waits for the step to finish. */
+/* Statistics of the last step (all zero before the first). Waits for the step to finish. Reading
+ * them changes nothing: a world whose stats are read steps as it would unread. */
 typedef struct pbf_step_stats {
     uint32_t struct_size;
     uint32_t particle_count;

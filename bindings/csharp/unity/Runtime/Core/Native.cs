@@ -655,7 +655,10 @@ namespace Pbf.Interop
         public ulong grid_bytes;
     }
 
-    /// <summary>Statistics of the last step (all zero before the first). Waits for the step to finish.</summary>
+    /// <summary>
+    /// Statistics of the last step (all zero before the first). Waits for the step to finish. Reading
+    /// them changes nothing: a world whose stats are read steps as it would unread.
+    /// </summary>
     [StructLayout(LayoutKind.Sequential)]
     public struct pbf_step_stats
     {
