@@ -12,6 +12,7 @@
 // status is 1 when any world failed.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <cstddef>
 #include <cstring>
@@ -153,6 +154,7 @@ Case shrink(Case c, const RunResult& first, pbf_backend backend, RunResult& last
     c.frames = first.frame + 1;
     last = first;
     for (const std::string& p : parts(build(c, backend, error))) {
+        if (std::find(c.drops.begin(), c.drops.end(), p) != c.drops.end()) continue;  // a repro's, off already
         Case trial = c;
         trial.drops.push_back(p);
         WorldSpec w = build(trial, backend, error);

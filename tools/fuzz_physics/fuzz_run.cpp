@@ -552,12 +552,29 @@ bool Runner::check_step(int frame, float dt, const State& pre, const pbf_step_st
     }
     // ---- no two particles on one position ----
     {
-        std::vector<std::array<float, 3>> p(post.n);
-        for (uint32_t i = 0; i < post.n; ++i) p[i] = {post.pos[4 * i], post.pos[4 * i + 1], post.pos[4 * i + 2]};
-        std::sort(p.begin(), p.end());
-        for (size_t i = 1; i < p.size(); ++i)
-            if (p[i] == p[i - 1]) {
-                o << "two particles at (" << p[i][0] << ", " << p[i][1] << ", " << p[i][2] << ")";
+        std::vector<uint32_t> order(post.n);
+        for (uint32_t i = 0; i < post.n; ++i) order[i] = i;
+        const auto at = [&](uint32_t i) {
+            return std::array<float, 3>{post.pos[4 * i], post.pos[4 * i + 1], post.pos[4 * i + 2]};
+        };
+        std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return at(a) < at(b); });
+        for (size_t k = 1; k < order.size(); ++k)
+            if (at(order[k]) == at(order[k - 1])) {
+                const std::array<float, 3> p = at(order[k]);
+                o << "two particles at (" << p[0] << ", " << p[1] << ", " << p[2] << ")";
+                // Where each came from names the mechanism (a wall's clamp, a collider's pocket).
+                for (const uint32_t i : {order[k - 1], order[k]}) {
+                    o << "; id " << post.ids[i];
+                    const auto was = before.find(post.ids[i]);
+                    if (was == before.end()) {
+                        o << " new this step";
+                        continue;
+                    }
+                    const uint32_t j = was->second;
+                    o << " from (" << pre.pos[4 * j] << ", " << pre.pos[4 * j + 1] << ", " << pre.pos[4 * j + 2]
+                      << ") at (" << pre.vel[4 * j] << ", " << pre.vel[4 * j + 1] << ", " << pre.vel[4 * j + 2]
+                      << ") m/s";
+                }
                 f = {"coincident", o.str()};
                 return false;
             }
