@@ -3,12 +3,15 @@
 // the comments here say which quantity each line stands for.
 #include "fuzz_run.h"
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstring>
 #include <sstream>
 #include <tuple>
 #include <unordered_map>
 #include <unordered_set>
+#include <utility>
 
 namespace fuzz {
 
@@ -552,18 +555,15 @@ bool Runner::check_step(int frame, float dt, const State& pre, const pbf_step_st
     }
     // ---- no two particles on one position ----
     {
-        std::vector<uint32_t> order(post.n);
-        for (uint32_t i = 0; i < post.n; ++i) order[i] = i;
-        const auto at = [&](uint32_t i) {
-            return std::array<float, 3>{post.pos[4 * i], post.pos[4 * i + 1], post.pos[4 * i + 2]};
-        };
-        std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return at(a) < at(b); });
-        for (size_t k = 1; k < order.size(); ++k)
-            if (at(order[k]) == at(order[k - 1])) {
-                const std::array<float, 3> p = at(order[k]);
-                o << "two particles at (" << p[0] << ", " << p[1] << ", " << p[2] << ")";
+        // Each position with its particle's index, sorted: equal positions end side by side.
+        std::vector<std::pair<std::array<float, 3>, uint32_t>> p(post.n);
+        for (uint32_t i = 0; i < post.n; ++i) p[i] = {{post.pos[4 * i], post.pos[4 * i + 1], post.pos[4 * i + 2]}, i};
+        std::sort(p.begin(), p.end());
+        for (size_t k = 1; k < p.size(); ++k)
+            if (p[k].first == p[k - 1].first) {
+                o << "two particles at (" << p[k].first[0] << ", " << p[k].first[1] << ", " << p[k].first[2] << ")";
                 // Where each came from names the mechanism (a wall's clamp, a collider's pocket).
-                for (const uint32_t i : {order[k - 1], order[k]}) {
+                for (const uint32_t i : {p[k - 1].second, p[k].second}) {
                     o << "; id " << post.ids[i];
                     const auto was = before.find(post.ids[i]);
                     if (was == before.end()) {
